@@ -1,0 +1,117 @@
+"""Context: one moderngl context with its program cache, texture pool and full-screen triangle.
+
+It is passed explicitly to every pass and renderer, never kept in a module global. ``Context()``
+creates a headless EGL context (OpenGL 4.3 core or newer); ``Context.wrap(gl)`` adopts the context
+of a window (the viewer). ``ILLUSIO_GL_BACKEND`` overrides the backend (e.g. ``x11``).
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import moderngl
+import numpy as np
+
+from .errors import APT_HINT, GLUnavailable
+from .fullscreen import FullscreenTriangle
+from .programs import ProgramCache
+from .textures import TexturePool, TextureSpec, readback, upload
+
+__all__ = ["Context", "REQUIRED_GL"]
+
+REQUIRED_GL = 430
+
+
+class Context:
+    """The GPU side of illusio.
+
+    Attributes: ``gl`` (moderngl.Context), ``programs`` (ProgramCache), ``textures`` (TexturePool),
+    ``fullscreen`` (FullscreenTriangle).
+    """
+
+    def __init__(self, gl: moderngl.Context | None = None, *, backend: str | None = None):
+        if gl is None:
+            gl = _create_headless(backend)
+        if gl.version_code < REQUIRED_GL:
+            raise GLUnavailable(
+                f"OpenGL {gl.version_code // 100}.{gl.version_code // 10 % 10} found "
+                f"({gl.info.get('GL_RENDERER', '?')}); illusio needs OpenGL 4.3 core. "
+                f"Install Mesa ({APT_HINT}) or a newer GPU driver"
+            )
+        self.gl = gl
+        self.programs = ProgramCache(gl)
+        self.textures = TexturePool(gl)
+        self.fullscreen = FullscreenTriangle(gl)
+        self._framebuffers: dict[tuple, moderngl.Framebuffer] = {}
+
+    @classmethod
+    def wrap(cls, gl: moderngl.Context) -> "Context":
+        """Adopt an existing context (a window's)."""
+        return cls(gl)
+
+    # -- small conveniences every pass uses -------------------------------------------------
+    def program(self, path: str, **defines: Any):
+        return self.programs.get(path, **defines)
+
+    def acquire(self, size: tuple[int, int], components: int = 4, dtype: str = "f4", **kw) -> moderngl.Texture:
+        return self.textures.acquire(TextureSpec((int(size[0]), int(size[1])), components, dtype, **kw))
+
+    def release(self, *textures: moderngl.Texture) -> None:
+        self.textures.release(*textures)
+
+    def upload(self, array: np.ndarray, **kw) -> moderngl.Texture:
+        return upload(self.gl, array, **kw)
+
+    def readback(self, texture: moderngl.Texture, components: int | None = None) -> np.ndarray:
+        return readback(texture, components)
+
+    def framebuffer(self, colour: list[moderngl.Texture], depth: bool | moderngl.Texture = False) -> moderngl.Framebuffer:
+        """A framebuffer over ``colour`` textures (cached by their GL names), with an optional depth
+        attachment (``True``: a depth renderbuffer of the same size, kept with the framebuffer)."""
+        key = (tuple(t.glo for t in colour), depth.glo if isinstance(depth, moderngl.Texture) else bool(depth))
+        fbo = self._framebuffers.get(key)
+        if fbo is None:
+            size = colour[0].size if colour else depth.size
+            depth_attachment = depth if isinstance(depth, moderngl.Texture) else (self.gl.depth_renderbuffer(size) if depth else None)
+            fbo = self.gl.framebuffer(color_attachments=colour, depth_attachment=depth_attachment)
+            self._framebuffers[key] = fbo
+        return fbo
+
+    def info(self) -> dict[str, str]:
+        """Renderer, vendor and version strings of the driver."""
+        i = self.gl.info
+        return {
+            "renderer": i.get("GL_RENDERER", "?"),
+            "vendor": i.get("GL_VENDOR", "?"),
+            "version": i.get("GL_VERSION", "?"),
+            "glsl": i.get("GL_SHADING_LANGUAGE_VERSION", "?"),
+            "version_code": str(self.gl.version_code),
+            "max_texture_size": str(i.get("GL_MAX_TEXTURE_SIZE", "?")),
+        }
+
+    def finish(self) -> None:
+        """Block until the GPU has done all queued work (for timing)."""
+        self.gl.finish()
+
+    def release_all(self) -> None:
+        for fbo in self._framebuffers.values():
+            fbo.release()
+        self._framebuffers.clear()
+        self.textures.clear()
+        self.gl.release()
+
+
+def _create_headless(backend: str | None) -> moderngl.Context:
+    backend = backend or os.environ.get("ILLUSIO_GL_BACKEND", "egl")
+    kwargs = {"standalone": True, "require": REQUIRED_GL}
+    if backend and backend != "default":
+        kwargs["backend"] = backend
+    try:
+        return moderngl.create_context(**kwargs)
+    except Exception as exc:  # glcontext raises plain Exception/OSError on missing libraries
+        reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise GLUnavailable(
+            f"cannot create a headless OpenGL 4.3 context through {backend} ({reason}); "
+            f"on Debian/Ubuntu: {APT_HINT}"
+        ) from None

@@ -1,0 +1,253 @@
+"""Image files in and out.
+
+Arrays at every public boundary are float32 (H, W, C), row 0 at the top, linear values in [0, 1].
+8-bit files hold sRGB-encoded colour (decoded on read, encoded on write) unless ``srgb=False``;
+16-bit PNG, ``.npy`` and EXR hold linear values. Data images (depth maps, ids) are read with
+``srgb=False`` so that their values are not transformed.
+
+Writes are atomic: the file is written under a temporary name in the same folder, then renamed.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from typing import Iterable
+
+import numpy as np
+
+from .errors import InputError, OutputError
+
+__all__ = [
+    "read_image",
+    "write_image",
+    "srgb_to_linear",
+    "linear_to_srgb",
+    "atomic_output",
+    "check_output_path",
+    "as_image",
+]
+
+_PIL_FORMATS = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp"}
+
+
+def srgb_to_linear(values: np.ndarray) -> np.ndarray:
+    """Decode sRGB-encoded values in [0, 1] to linear (IEC 61966-2-1)."""
+    v = np.asarray(values, dtype=np.float32)
+    return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4).astype(np.float32)
+
+
+def linear_to_srgb(values: np.ndarray) -> np.ndarray:
+    """Encode linear values in [0, 1] to sRGB (IEC 61966-2-1); input is clipped to [0, 1]."""
+    v = np.clip(np.asarray(values, dtype=np.float32), 0.0, 1.0)
+    return np.where(v <= 0.0031308, v * 12.92, 1.055 * v ** (1 / 2.4) - 0.055).astype(np.float32)
+
+
+def as_image(array: np.ndarray, name: str = "image") -> np.ndarray:
+    """Return ``array`` as float32 (H, W, C); a 2-D array becomes one channel.
+
+    Raises InputError for anything that is not a non-empty 2-D or 3-D array with 1-4 channels.
+    """
+    a = np.asarray(array)
+    if a.ndim == 2:
+        a = a[:, :, None]
+    if a.ndim != 3 or a.shape[0] == 0 or a.shape[1] == 0 or not 1 <= a.shape[2] <= 4:
+        raise InputError(f"{name}: expected an H×W or H×W×C array with 1-4 channels, got shape {a.shape}")
+    return a.astype(np.float32, copy=False)
+
+
+def read_image(path: str | os.PathLike, srgb: bool | None = None) -> np.ndarray:
+    """Read an image file as float32 (H, W, C) with values in [0, 1] (``.npy`` and EXR: as stored).
+
+    ``srgb``: decode sRGB to linear. ``None`` (default) decodes 8-bit files and leaves 16-bit and
+    float files as they are; pass ``False`` to read data such as depth maps unchanged.
+    Raises InputError naming the file when it is missing, unreadable or empty.
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: no such file")
+    ext = p.suffix.lower()
+    try:
+        if ext == ".npy":
+            data = np.load(p, allow_pickle=False)
+            if not np.issubdtype(data.dtype, np.number):
+                raise InputError(f"{p}: .npy array is not numeric (dtype {data.dtype})")
+            return as_image(data, str(p))
+        if ext == ".exr":
+            import imageio.v3 as iio
+
+            try:
+                data = iio.imread(p)
+            except (OSError, ValueError, ImportError) as exc:
+                raise InputError(f"{p}: cannot read EXR ({_exr_hint(exc)})") from None
+            return as_image(data, str(p))
+        if ext == ".png" and _png_bit_depth(p) == 16:
+            arr, bits = _read_png16(p), 16
+        else:
+            from PIL import Image, UnidentifiedImageError
+
+            try:
+                with Image.open(p) as im:
+                    im.load()
+                    arr, bits = _pil_to_array(im)
+            except UnidentifiedImageError:
+                raise InputError(f"{p}: not an image file pillow can read") from None
+    except InputError:
+        raise
+    except (OSError, ValueError, SyntaxError) as exc:
+        raise InputError(f"{p}: cannot read image ({exc})") from None
+    img = as_image(arr.astype(np.float32) / float(2**bits - 1), str(p))
+    if srgb is None:
+        srgb = bits == 8
+    if srgb:
+        rgb = srgb_to_linear(img[..., :3])
+        img = np.concatenate([rgb, img[..., 3:]], axis=2) if img.shape[2] > 3 else rgb
+    return img
+
+
+def _png_bit_depth(p: Path) -> int:
+    """Bit depth from a PNG's IHDR chunk (pillow reads 16-bit colour PNGs as 8-bit)."""
+    with open(p, "rb") as fh:
+        head = fh.read(26)
+    if len(head) < 26 or head[:8] != b"\x89PNG\r\n\x1a\n":
+        raise InputError(f"{p}: not a PNG file (bad signature)")
+    return head[24]
+
+
+def _read_png16(p: Path) -> np.ndarray:
+    import png  # pypng: pillow cannot read or write 16-bit colour PNG
+
+    try:
+        width, height, rows, info = png.Reader(filename=str(p)).asDirect()
+        arr = np.vstack([np.asarray(r, dtype=np.uint16) for r in rows])
+    except png.Error as exc:
+        raise InputError(f"{p}: corrupt PNG ({exc})") from None
+    return arr.reshape(height, width, info["planes"])
+
+
+def _pil_to_array(im) -> tuple[np.ndarray, int]:
+    """Pixels of a PIL image and their bit depth (8 or 16)."""
+    if im.mode in ("I;16", "I;16B", "I;16L", "I"):
+        arr = np.asarray(im, dtype=np.uint32)
+        return np.clip(arr, 0, 65535), 16
+    if im.mode == "F":
+        raise InputError("floating-point TIFF is not supported: save as .npy or 16-bit PNG")
+    if im.mode not in ("L", "LA", "RGB", "RGBA"):
+        im = im.convert("RGBA" if "A" in im.getbands() else "RGB")
+    return np.asarray(im), 8
+
+
+def _exr_hint(exc: Exception) -> str:
+    return f"{type(exc).__name__}: {str(exc).splitlines()[0]}; imageio needs an EXR backend, e.g. pip install 'imageio[pyav]'"
+
+
+def check_output_path(output: str | os.PathLike, inputs: Iterable[str | os.PathLike] = ()) -> Path:
+    """Refuse an output path that names one of the inputs; return it as a Path."""
+    out = Path(output)
+    for inp in inputs:
+        if inp is None:
+            continue
+        ip = Path(inp)
+        if ip.exists() and out.exists() and os.path.samefile(out, ip):
+            raise OutputError(f"{out}: output would overwrite the input {ip}; choose another output path")
+        if out.resolve() == ip.resolve():
+            raise OutputError(f"{out}: output would overwrite the input {ip}; choose another output path")
+    if out.exists() and out.is_dir():
+        raise OutputError(f"{out}: is a folder, expected a file path")
+    return out
+
+
+class atomic_output:
+    """Context manager yielding a temporary path next to ``path``; renamed onto it on success.
+
+    On an exception the temporary file is removed and ``path`` is left untouched.
+    """
+
+    def __init__(self, path: str | os.PathLike):
+        self.path = Path(path)
+        self.tmp: Path | None = None
+
+    def __enter__(self) -> Path:
+        parent = self.path.parent
+        try:
+            parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=f".{self.path.stem}.tmp-", suffix=self.path.suffix, dir=parent)
+        except OSError as exc:
+            raise OutputError(f"{self.path}: cannot write here ({exc.strerror})") from None
+        os.close(fd)
+        self.tmp = Path(tmp)
+        return self.tmp
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        assert self.tmp is not None
+        if exc_type is None:
+            try:
+                os.replace(self.tmp, self.path)
+            except OSError as err:
+                self.tmp.unlink(missing_ok=True)
+                raise OutputError(f"{self.path}: cannot write ({err.strerror})") from None
+        else:
+            self.tmp.unlink(missing_ok=True)
+        return False
+
+
+def write_image(path: str | os.PathLike, image: np.ndarray, bit_depth: int = 8, srgb: bool | None = None) -> Path:
+    """Write ``image`` (float (H, W, C) or (H, W), row 0 at the top) atomically; return the path.
+
+    ``.png``: 8-bit (sRGB-encoded unless ``srgb=False``) or 16-bit (linear unless ``srgb=True``);
+    ``.jpg``/others pillow writes: 8-bit; ``.npy``: float32 as is; ``.exr``: float32 through imageio.
+    Values are clipped to [0, 1] for integer formats. NaN is refused.
+    """
+    p = Path(path)
+    img = as_image(image, "image to write")
+    ext = p.suffix.lower()
+    if ext == ".npy":
+        with atomic_output(p) as tmp:
+            with open(tmp, "wb") as fh:
+                np.save(fh, img)
+        return p
+    if np.isnan(img).any():
+        raise OutputError(f"{p}: image holds NaN values; refusing to write it")
+    if ext == ".exr":
+        import imageio.v3 as iio
+
+        with atomic_output(p) as tmp:
+            try:
+                iio.imwrite(tmp, img, extension=".exr")
+            except (OSError, ValueError, ImportError) as exc:
+                raise OutputError(f"{p}: cannot write EXR ({_exr_hint(exc)})") from None
+        return p
+    if ext not in _PIL_FORMATS:
+        raise OutputError(f"{p}: unknown image format {ext!r}; use .png, .jpg, .npy or .exr")
+    if bit_depth not in (8, 16) or (bit_depth == 16 and ext != ".png"):
+        raise OutputError(f"{p}: {bit_depth}-bit output is not available for {ext}")
+    if srgb is None:
+        srgb = bit_depth == 8
+    if srgb:
+        rgb = linear_to_srgb(img[..., :3])
+        img = np.concatenate([rgb, np.clip(img[..., 3:], 0, 1)], axis=2) if img.shape[2] > 3 else rgb
+    img = np.clip(img, 0.0, 1.0)
+    if bit_depth == 16:
+        return _write_png16(p, img)
+    from PIL import Image
+
+    q = np.round(img * 255).astype(np.uint8)
+    pil = Image.fromarray(q[..., 0] if img.shape[2] == 1 else q)
+    if ext in (".jpg", ".jpeg") and pil.mode in ("RGBA", "LA"):
+        pil = pil.convert("RGB" if pil.mode == "RGBA" else "L")
+    with atomic_output(p) as tmp:
+        pil.save(tmp, format=Image.registered_extensions()[ext])
+    return p
+
+
+def _write_png16(p: Path, img: np.ndarray) -> Path:
+    """16-bit PNG through pypng (pillow cannot write 16-bit colour)."""
+    import png
+
+    h, w, c = img.shape
+    q = np.round(img * 65535).astype(np.uint16)
+    mode = {1: "L", 2: "LA", 3: "RGB", 4: "RGBA"}[c] + ";16"
+    with atomic_output(p) as tmp:
+        png.from_array(q.reshape(h, w * c), mode).save(str(tmp))
+    return p

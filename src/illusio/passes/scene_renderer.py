@@ -1,0 +1,114 @@
+"""Scene -> image: G-buffer, cube shadow maps and deferred shading composed in plain Python.
+
+``SceneRenderer`` keeps compiled passes and the GPU copy of the last scene, so a window can call
+:meth:`SceneRenderer.render` every frame with a changed view or parameters at no set-up cost.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import moderngl
+import numpy as np
+
+from ..core.context import Context
+from ..core.errors import InputError
+from ..scene.camera import View
+from ..scene.scene import Scene
+from .gbuffer import GBuffer, GBufferPass
+from .gpu_scene import GpuScene
+from .lights import emitters_from_lights
+from .shading import MAX_EMITTERS, ShadingParams, ShadingPass
+from .shadows import ShadowPass
+
+__all__ = ["SceneRenderer", "RenderSettings", "render_scene", "MAX_SIZE"]
+
+MAX_SIZE = 8192
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """shadows: cube shadow maps on/off; shadow_tile_size: pixels per cube face;
+    exposure: scale on the linear result."""
+
+    shadows: bool = True
+    shadow_tile_size: int = 512
+    exposure: float = 1.0
+
+
+def check_size(size) -> tuple[int, int]:
+    try:
+        w, h = (int(v) for v in size)
+    except (TypeError, ValueError):
+        raise InputError(f"image size must be (width, height), got {size!r}") from None
+    if not (1 <= w <= MAX_SIZE and 1 <= h <= MAX_SIZE):
+        raise InputError(f"image size {w}×{h} is out of range (1..{MAX_SIZE} per side)")
+    return w, h
+
+
+class SceneRenderer:
+    """Owns the G-buffer, shadow and shading passes for one context."""
+
+    def __init__(self, ctx: Context, settings: RenderSettings = RenderSettings()):
+        self.ctx = ctx
+        self.settings = settings
+        self.gbuffer_pass = GBufferPass(ctx)
+        self.shading_pass = ShadingPass(ctx)
+        self._shadow_passes: dict[int, ShadowPass] = {}
+        self._gpu_scene: GpuScene | None = None
+
+    def prepare(self, scene: Scene) -> GpuScene:
+        """The GPU copy of ``scene``, uploaded on first use (call :meth:`invalidate` after edits)."""
+        if self._gpu_scene is None or self._gpu_scene.scene is not scene:
+            self.invalidate()
+            self._gpu_scene = GpuScene(self.ctx, scene)
+        return self._gpu_scene
+
+    def invalidate(self) -> None:
+        if self._gpu_scene is not None:
+            self._gpu_scene.release()
+            self._gpu_scene = None
+
+    def gbuffer(self, scene: Scene, view: View, size) -> GBuffer:
+        """The G-buffer textures (pooled: release them)."""
+        return self.gbuffer_pass(self.prepare(scene), view, check_size(size))
+
+    def render_texture(self, scene: Scene, view: View, size, settings: RenderSettings | None = None) -> moderngl.Texture:
+        """Linear radiance as an RGBA float32 texture (pooled: release it)."""
+        s = settings or self.settings
+        size = check_size(size)
+        gpu = self.prepare(scene)
+        gbuf = self.gbuffer_pass(gpu, view, size)
+        emitters = emitters_from_lights(scene.lights, s.shadows, MAX_EMITTERS)
+        atlas = matrices = None
+        if s.shadows and (emitters.shadow_row >= 0).any():
+            lo, hi = scene.bounds()
+            far = float(np.linalg.norm(hi - lo)) * 2 + 1.0
+            shadow = self._shadow_passes.setdefault(s.shadow_tile_size, ShadowPass(self.ctx, s.shadow_tile_size))
+            atlas, matrices = shadow(gpu, emitters.shadow_positions, 0.02, far)
+        params = ShadingParams(scene.ambient, scene.background, s.exposure)
+        out = self.shading_pass(gbuf, emitters, view.pose.position, params, atlas, matrices, s.shadow_tile_size)
+        gbuf.release()
+        if atlas is not None:
+            self.ctx.release(atlas)
+        return out
+
+    def render(self, scene: Scene, view: View | None = None, size=(640, 480), settings: RenderSettings | None = None) -> np.ndarray:
+        """Float32 (H, W, 3) linear colour in [0, 1], row 0 on top."""
+        tex = self.render_texture(scene, view or scene.camera(), size, settings)
+        try:
+            return np.clip(self.ctx.readback(tex, 3), 0.0, 1.0)
+        finally:
+            self.ctx.release(tex)
+
+
+def render_scene(scene: Scene, view: View | None = None, size=(640, 480), ctx: Context | None = None,
+                 settings: RenderSettings = RenderSettings()) -> np.ndarray:
+    """One-shot render of ``scene`` (its ``main`` camera by default); creates a context if needed."""
+    own = ctx is None
+    ctx = ctx or Context()
+    try:
+        return SceneRenderer(ctx, settings).render(scene, view, size)
+    finally:
+        if own:
+            ctx.release_all()

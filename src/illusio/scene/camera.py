@@ -1,0 +1,210 @@
+"""Cameras, poses, physical screens and stereo rigs.
+
+Conventions: world right-handed, y up, metres; the camera looks down its −z axis; angles in degrees.
+Pixel coordinates: x to the right, y down, (0, 0) at the top-left corner of the top-left pixel.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ..core.errors import InputError
+from .transforms import frustum, look_at
+
+__all__ = ["Camera", "Pose", "View", "Screen", "StereoRig"]
+
+
+@dataclass(frozen=True)
+class Camera:
+    """Perspective projection only (where the camera is comes from :class:`Pose`).
+
+    fov_y: vertical field of view, degrees. near, far: clip distances, metres.
+    shift: lens shift (x right, y up) as the tangent of the angle between the view axis and the
+      centre of the frustum window; (0, 0) is a symmetric frustum. Stereo rigs use it for off-axis
+      frusta (no toe-in).
+    """
+
+    fov_y: float = 50.0
+    near: float = 0.05
+    far: float = 100.0
+    shift: tuple[float, float] = (0.0, 0.0)
+
+    def __post_init__(self):
+        if not 0.0 < self.fov_y < 180.0:
+            raise InputError(f"camera fov_y must be in ]0, 180[ degrees, got {self.fov_y}")
+        if not 0.0 < self.near < self.far:
+            raise InputError(f"camera clip distances need 0 < near < far, got near={self.near}, far={self.far}")
+
+    def projection(self, aspect: float) -> np.ndarray:
+        """OpenGL projection matrix for an image of width/height ``aspect``."""
+        t = math.tan(math.radians(self.fov_y) / 2)
+        sx, sy = self.shift
+        n = self.near
+        return frustum(n * (-t * aspect + sx), n * (t * aspect + sx), n * (-t + sy), n * (t + sy), n, self.far)
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Where the camera is: eye position, the point it looks at, and the up direction."""
+
+    position: tuple[float, float, float] = (0.0, 0.0, 3.0)
+    target: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    up: tuple[float, float, float] = (0.0, 1.0, 0.0)
+
+    def __post_init__(self):
+        for name in ("position", "target", "up"):
+            v = np.asarray(getattr(self, name), dtype=float)
+            if v.shape != (3,) or not np.isfinite(v).all():
+                raise InputError(f"pose {name} must be 3 finite numbers, got {getattr(self, name)}")
+            object.__setattr__(self, name, tuple(float(x) for x in v))
+        if np.allclose(self.position, self.target):
+            raise InputError("pose position and target coincide")
+
+    @classmethod
+    def orbit(cls, target=(0.0, 0.0, 0.0), distance: float = 3.0, azimuth: float = 0.0, elevation: float = 0.0) -> "Pose":
+        """Eye on a sphere around ``target``: azimuth about +y from +z towards +x, elevation up from
+        the horizontal plane, both in degrees."""
+        az, el = math.radians(azimuth), math.radians(elevation)
+        offset = np.array([math.cos(el) * math.sin(az), math.sin(el), math.cos(el) * math.cos(az)]) * distance
+        return cls(tuple(np.asarray(target, dtype=float) + offset), tuple(target))
+
+    def matrix(self) -> np.ndarray:
+        """World -> camera matrix."""
+        return look_at(self.position, self.target, self.up)
+
+    def axes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(right, up, forward) unit vectors in world space."""
+        m = self.matrix().astype(np.float64)
+        return m[0, :3], m[1, :3], -m[2, :3]
+
+    def translated(self, offset) -> "Pose":
+        o = np.asarray(offset, dtype=float)
+        return Pose(tuple(np.asarray(self.position) + o), tuple(np.asarray(self.target) + o), self.up)
+
+
+@dataclass(frozen=True)
+class View:
+    """A pose seen through a camera."""
+
+    pose: Pose = field(default_factory=Pose)
+    camera: Camera = field(default_factory=Camera)
+
+    def view_matrix(self) -> np.ndarray:
+        return self.pose.matrix()
+
+    def projection_matrix(self, aspect: float) -> np.ndarray:
+        return self.camera.projection(aspect)
+
+    def project(self, points: np.ndarray, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+        """Pixel coordinates (N, 2) (x right, y down) and linear depths (N,) (metres along the view
+        axis) of world ``points`` (N, 3) in an image of ``size`` = (width, height)."""
+        w, h = size
+        p = np.c_[np.asarray(points, dtype=np.float64), np.ones(len(points))]
+        cam = p @ self.view_matrix().astype(np.float64).T
+        clip = cam @ self.projection_matrix(w / h).astype(np.float64).T
+        ndc = clip[:, :2] / clip[:, 3:4]
+        px = np.c_[(ndc[:, 0] + 1) * 0.5 * w, (1 - ndc[:, 1]) * 0.5 * h]
+        return px, -cam[:, 2]
+
+    def ray_directions(self, size: tuple[int, int]) -> np.ndarray:
+        """World-space unit directions (H, W, 3) through each pixel centre."""
+        w, h = size
+        proj = self.projection_matrix(w / h).astype(np.float64)
+        xs = (np.arange(w) + 0.5) / w * 2 - 1
+        ys = 1 - (np.arange(h) + 0.5) / h * 2
+        nx, ny = np.meshgrid(xs, ys)
+        # invert the frustum mapping at z = -1 in camera space
+        cx = (nx + proj[0, 2]) / proj[0, 0]
+        cy = (ny + proj[1, 2]) / proj[1, 1]
+        d = np.stack([cx, cy, -np.ones_like(cx)], axis=-1)
+        rot = self.view_matrix().astype(np.float64)[:3, :3]
+        d = d @ rot  # camera -> world (rot is orthonormal: inverse is transpose)
+        return d / np.linalg.norm(d, axis=-1, keepdims=True)
+
+
+@dataclass(frozen=True)
+class Screen:
+    """A physical display and the viewer in front of it.
+
+    diagonal_cm: d, the screen diagonal. aspect: a = width/height. width_px: w_p.
+    height_px: defaults to width_px / aspect. viewing_distance_cm: f, eye to screen.
+    eye_separation_cm: e, between the pupils.
+    """
+
+    diagonal_cm: float = 53.0
+    aspect: float = 16 / 9
+    width_px: int = 1920
+    height_px: int | None = None
+    viewing_distance_cm: float = 100.0
+    eye_separation_cm: float = 6.5
+
+    def __post_init__(self):
+        for name in ("diagonal_cm", "aspect", "width_px", "viewing_distance_cm", "eye_separation_cm"):
+            if not getattr(self, name) > 0:
+                raise InputError(f"screen {name} must be positive, got {getattr(self, name)}")
+        if self.height_px is None:
+            object.__setattr__(self, "height_px", int(round(self.width_px / self.aspect)))
+
+    @property
+    def width_cm(self) -> float:
+        """w = a·d / √(1 + a²)."""
+        return self.aspect * self.diagonal_cm / math.sqrt(1 + self.aspect**2)
+
+    @property
+    def height_cm(self) -> float:
+        return self.diagonal_cm / math.sqrt(1 + self.aspect**2)
+
+    @property
+    def pixels_per_cm(self) -> float:
+        return self.width_px / self.width_cm
+
+    @property
+    def fov_y(self) -> float:
+        """Vertical angle the screen subtends at the viewer's eye, degrees."""
+        return math.degrees(2 * math.atan(self.height_cm / 2 / self.viewing_distance_cm))
+
+
+@dataclass(frozen=True)
+class StereoRig:
+    """Left and right views with parallel axes and off-axis frusta (no toe-in).
+
+    view: the cyclopean (centre) view. eye_separation: distance between the two eyes in world
+    units (metres). screen_distance: distance of the zero-parallax plane along the view axis: a
+    point there projects to the same pixel in both images; farther points have uncrossed parallax.
+    """
+
+    view: View
+    eye_separation: float = 0.065
+    screen_distance: float = 1.0
+
+    def __post_init__(self):
+        if not self.eye_separation >= 0:
+            raise InputError(f"eye separation must be ≥ 0, got {self.eye_separation}")
+        if not self.screen_distance > 0:
+            raise InputError(f"screen distance must be positive, got {self.screen_distance}")
+
+    def eye(self, side: int) -> View:
+        """side = −1 for the left eye, +1 for the right."""
+        right, _, _ = self.view.pose.axes()
+        offset = right * (side * self.eye_separation / 2)
+        sx, sy = self.view.camera.shift
+        shift = (sx - side * self.eye_separation / 2 / self.screen_distance, sy)
+        return View(self.view.pose.translated(offset), replace(self.view.camera, shift=shift))
+
+    @property
+    def left(self) -> View:
+        return self.eye(-1)
+
+    @property
+    def right(self) -> View:
+        return self.eye(+1)
+
+    @classmethod
+    def from_screen(cls, screen: Screen, pose: Pose, metres_per_cm: float = 0.01, near: float = 0.05, far: float = 100.0) -> "StereoRig":
+        """A rig that reproduces the viewer's geometry: the field of view the screen subtends, the
+        eye separation and the viewing distance, scaled to the world by ``metres_per_cm``."""
+        camera = Camera(fov_y=screen.fov_y, near=near, far=far)
+        return cls(View(pose, camera), screen.eye_separation_cm * metres_per_cm, screen.viewing_distance_cm * metres_per_cm)
