@@ -85,7 +85,6 @@ class Context:
             "renderer": i.get("GL_RENDERER", "?"),
             "vendor": i.get("GL_VENDOR", "?"),
             "version": i.get("GL_VERSION", "?"),
-            "glsl": i.get("GL_SHADING_LANGUAGE_VERSION", "?"),
             "version_code": str(self.gl.version_code),
             "max_texture_size": str(i.get("GL_MAX_TEXTURE_SIZE", "?")),
         }

@@ -218,4 +218,9 @@ def _read_with_trimesh(p: Path):
     faces = np.asarray(loaded.faces, dtype=np.int64).reshape(-1, 3)
     uv = getattr(loaded.visual, "uv", None)
     uvs = np.asarray(uv, dtype=np.float32) if uv is not None and len(uv) == len(vertices) else None
+    if p.suffix.lower() == ".stl" and len(vertices):
+        # STL stores three separate corners per facet: weld identical positions so that the
+        # surface is connected (smooth normals, and topology for curvature)
+        vertices, inverse = np.unique(vertices, axis=0, return_inverse=True)
+        faces = inverse.reshape(-1)[faces]
     return vertices, faces, uvs

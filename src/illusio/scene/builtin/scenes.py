@@ -113,10 +113,10 @@ def office() -> Scene:
     _place(s, "chair-back", shapes.box((0.46, 0.5, 0.05)), (cx, 0.78, cz + 0.22), rotate=(-8, 0, 0), material=seat)
     _legs(s, "chair", (cx, 0, cz), 0.46, 0.46, 0.43, steel, 0.03)
     # four rectangular ceiling lamps: glowing panels with an area light each
-    for k, (x, z) in enumerate(((-2.0, -1.4), (2.0, -1.4), (-2.0, 1.4), (2.0, 1.4))):
+    for k, (x, z) in enumerate(((-2.0, -1.8), (2.0, -1.8), (-2.0, 0.4), (2.0, 0.4))):
         _place(s, f"lamp-{k}", shapes.box((1.2, 0.04, 0.6)), (x, 2.97, z), material=Material(colour=(1, 1, 1), emission=(1.0, 1.0, 0.97)), tags=("lamp",))
         s.lights.append(AreaLight((x, 2.945, z), (1.2, 0, 0), (0, 0, 0.6), (1.0, 0.98, 0.94), 6.0, samples=2, name=f"lamp-{k}"))
-    s.cameras["main"] = View(Pose((3.5, 1.75, 2.6), (-0.6, 0.75, -0.9)), Camera(60.0, 0.05, 30.0))
+    s.cameras["main"] = View(Pose((3.5, 1.7, 2.7), (-0.6, 1.15, -0.9)), Camera(65.0, 0.05, 30.0))
     s.cameras["top"] = View(Pose((0.0, 2.9, 2.9), (0.0, 0.5, -0.5)), Camera(70.0, 0.05, 30.0))
     return s
 
@@ -141,7 +141,7 @@ def museum() -> Scene:
         _place(s, f"painting-{k}", shapes.plane((1.6, 1.1)), (x, 2.4, -4.935), rotate=(90, 0, 0), material=Material(texture=art ** 1.5, colour=(1, 1, 1)))
     plinth = Material(colour=(0.92, 0.92, 0.9), specular=0.05)
     exhibits = [
-        ("torus-knot", shapes.torus_knot(), 0.32, Material(colour=(0.8, 0.6, 0.2), specular=0.5, shininess=90)),
+        ("torus-knot", shapes.torus_knot(), 0.42, Material(colour=(0.8, 0.6, 0.2), specular=0.5, shininess=90)),
         ("blob", shapes.blob(), 0.38, Material(colour=(0.45, 0.28, 0.16), specular=0.35, shininess=40)),
         ("gear", shapes.gear(), 0.42, Material(colour=(0.55, 0.57, 0.6), specular=0.6, shininess=100)),
         ("superquadric", shapes.superquadric((0.3, 0.6)), 0.38, Material(colour=(0.15, 0.35, 0.55), specular=0.4, shininess=60)),

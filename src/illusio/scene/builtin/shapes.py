@@ -77,7 +77,7 @@ def torus_knot(p: int = 2, q: int = 3, major: float = 1.0, minor: float = 0.4, t
     ref = c - core  # points away from the torus core: a periodic, twist-free reference
     n = ref - (ref * tangent).sum(1, keepdims=True) * tangent
     n /= np.linalg.norm(n, axis=1, keepdims=True)
-    b = np.cross(tangent, n)
+    b = np.cross(n, tangent)  # (n, b, tangent) right-handed: the tube's faces wind outward
     a = np.linspace(0, 2 * np.pi, sides + 1)[:, None, None]
     pts = c[None] + tube * (np.cos(a) * n[None] + np.sin(a) * b[None])
     return _grid_mesh(pts, True, True, "torus-knot")

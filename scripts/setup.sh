@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Set up illusio on a fresh Debian/Ubuntu machine: system GL libraries (installed when running as
+# root, otherwise the one apt-get line is printed), a virtual environment in .venv, the package.
+# Usage: scripts/setup.sh [pip extra, e.g. test]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+extra="${1:-}"
+
+need=()
+have_lib() { ldconfig -p 2>/dev/null | grep -q "$1"; }
+have_lib 'libEGL.so.1' || need+=(libegl1)
+have_lib 'libGL.so.1' || need+=(libgl1)
+ls /usr/lib/*/dri/swrast_dri.so /usr/lib/*/dri/*_dri.so >/dev/null 2>&1 || need+=(libgl1-mesa-dri)
+python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
+if [ ${#need[@]} -gt 0 ]; then
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    echo "setup: installing ${need[*]}" >&2
+    DEBIAN_FRONTEND=noninteractive apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${need[@]}" >/dev/null
+  else
+    echo "setup: missing system packages; run as root:" >&2
+    echo "  apt-get install -y --no-install-recommends ${need[*]}" >&2
+    exit 1
+  fi
+fi
+
+python3 -c 'import sys; sys.exit(sys.version_info < (3, 10))' || { echo "setup: Python 3.10 or newer is needed" >&2; exit 1; }
+[ -x .venv/bin/python ] || python3 -m venv .venv
+.venv/bin/python -m pip install -q --upgrade pip >/dev/null
+if [ -n "$extra" ]; then
+  .venv/bin/python -m pip install -q -e ".[$extra]"
+else
+  .venv/bin/python -m pip install -q -e .
+fi

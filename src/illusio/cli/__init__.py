@@ -1,0 +1,1 @@
+"""The ``illusio`` command line (typer)."""

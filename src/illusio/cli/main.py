@@ -1,0 +1,42 @@
+"""The ``illusio`` command: one typer app, one module per command.
+
+Errors a user can cause (IllusioError) print one line on stderr and exit with status 2, without a
+traceback; mesh repair warnings print one line each.
+"""
+
+from __future__ import annotations
+
+import sys
+import warnings
+
+import typer
+
+from ..core.errors import IllusioError
+from . import demo, info, render
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+                  help="illusio: perception-driven rendering on a headless OpenGL core.")
+app.command("info")(info.info)
+app.command("render")(render.render)
+app.command("demo")(demo.demo)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"illusio: warning: {' '.join(str(message).split())}", file=sys.stderr)
+
+
+def run(argv: list[str] | None = None) -> None:
+    """Console-script entry point."""
+    warnings.showwarning = _show_warning
+    try:
+        app(args=argv, standalone_mode=True)
+    except IllusioError as exc:
+        print(f"illusio: error: {exc.one_line()}", file=sys.stderr)
+        sys.exit(2)
+    except KeyboardInterrupt:
+        print("illusio: interrupted", file=sys.stderr)
+        sys.exit(130)
+
+
+if __name__ == "__main__":
+    run()

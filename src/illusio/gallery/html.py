@@ -1,0 +1,63 @@
+"""Write the gallery page: a static index.html next to the images (relative links only)."""
+
+from __future__ import annotations
+
+import html
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..core.images import atomic_output
+
+__all__ = ["Item", "Section", "write_gallery"]
+
+
+@dataclass
+class Item:
+    """One image: its path relative to the gallery folder, a caption, and optional details."""
+
+    image: str
+    caption: str
+    details: str = ""
+
+
+@dataclass
+class Section:
+    title: str
+    text: str = ""
+    items: list[Item] = field(default_factory=list)
+
+
+_STYLE = """
+body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1400px; background: #111; color: #ddd; }
+h1 { font-weight: 600; } h2 { border-bottom: 1px solid #444; padding-bottom: .3em; margin-top: 2em; }
+.grid { display: grid; grid-template-columns: repeat(auto-fill, minmax(420px, 1fr)); gap: 1.2em; }
+figure { margin: 0; background: #1b1b1b; padding: .6em; border-radius: 6px; }
+figure img { width: 100%; display: block; image-rendering: auto; }
+figcaption { margin-top: .4em; } .details { color: #999; font-size: .85em; }
+"""
+
+
+def write_gallery(out_dir: str | Path, title: str, sections: list[Section], footer: str = "") -> Path:
+    """Write ``out_dir/index.html`` atomically and return its path."""
+    out = Path(out_dir)
+    parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
+             f"<style>{_STYLE}</style></head><body><h1>{html.escape(title)}</h1>"]
+    for s in sections:
+        parts.append(f"<h2>{html.escape(s.title)}</h2>")
+        if s.text:
+            parts.append(f"<p>{html.escape(s.text)}</p>")
+        parts.append("<div class='grid'>")
+        for it in s.items:
+            src = html.escape(it.image, quote=True)
+            parts.append(f"<figure><a href='{src}'><img src='{src}' alt='{html.escape(it.caption, quote=True)}'></a>"
+                         f"<figcaption>{html.escape(it.caption)}"
+                         + (f"<div class='details'>{html.escape(it.details)}</div>" if it.details else "")
+                         + "</figcaption></figure>")
+        parts.append("</div>")
+    if footer:
+        parts.append(f"<p class='details'>{html.escape(footer)}</p>")
+    parts.append("</body></html>\n")
+    path = out / "index.html"
+    with atomic_output(path) as tmp:
+        tmp.write_text("\n".join(parts))
+    return path

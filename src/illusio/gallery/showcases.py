@@ -1,0 +1,56 @@
+"""The showcases ``illusio demo`` runs, in order. A technique adds its own here when it lands."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Callable
+
+from ..core.context import Context
+from ..core.images import write_image
+from ..passes.scene_renderer import SceneRenderer
+from ..scene.builtin import SCENES, SHAPES, builtin_scene, shape, turntable
+from .html import Item, Section
+
+__all__ = ["SHOWCASES", "builtin_scenes", "builtin_shapes"]
+
+
+def builtin_scenes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
+    """Every built-in scene through each of its cameras."""
+    renderer = SceneRenderer(ctx)
+    section = Section("Built-in scenes", "Procedural scenes rendered with the shared core: G-buffer, cube shadow maps, "
+                      "Lambert + Phong shading from point and rectangular area lights.")
+    for name in SCENES:
+        scene = builtin_scene(name)
+        for cam_name, view in scene.cameras.items():
+            t0 = time.perf_counter()
+            img = renderer.render(scene, view, size)
+            ms = (time.perf_counter() - t0) * 1000
+            rel = f"scenes/{name}-{cam_name}.png"
+            write_image(out_dir / rel, img)
+            tris = renderer.prepare(scene).triangle_count
+            section.items.append(Item(rel, f"{name} — camera '{cam_name}'",
+                                      f"{len(scene.nodes)} nodes, {tris:,} triangles, {len(scene.lights)} lights; "
+                                      f"{size[0]}×{size[1]} in {ms:.0f} ms on {ctx.info()['renderer']}"))
+    return section
+
+
+def builtin_shapes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
+    """Each procedural shape on the turntable."""
+    renderer = SceneRenderer(ctx)
+    section = Section("Built-in shapes", "Procedural meshes (no data files), each on the turntable scene.")
+    small = (max(1, size[0] // 2), max(1, size[1] // 2))
+    for name in SHAPES:
+        scene = turntable(shape(name))
+        img = renderer.render(scene, None, small)
+        rel = f"shapes/{name}.png"
+        write_image(out_dir / rel, img)
+        m = scene.node("subject").mesh
+        section.items.append(Item(rel, name, f"{len(m.vertices):,} vertices, {len(m.faces):,} triangles"))
+    return section
+
+
+SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]] = [
+    ("scenes", builtin_scenes),
+    ("shapes", builtin_shapes),
+]

@@ -1,0 +1,81 @@
+"""The command line as a user meets it: exit codes, one-line errors, files written."""
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from illusio.core import read_image
+
+
+def illusio(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "illusio", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=300)
+
+
+def assert_one_line_error(result, *words):
+    assert result.returncode == 2, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert "Traceback" not in result.stderr
+    assert lines[0].startswith("illusio: error:")
+    for w in words:
+        assert w in lines[0]
+
+
+def test_missing_corrupt_and_nan_meshes_give_one_line_and_status_2(tmp_path):
+    assert_one_line_error(illusio("render", tmp_path / "missing.obj", "-o", tmp_path / "x.png"), "missing.obj")
+    corrupt = tmp_path / "corrupt.ply"
+    corrupt.write_bytes(b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n")
+    assert_one_line_error(illusio("render", corrupt, "-o", tmp_path / "x.png"), "corrupt.ply")
+    nan = tmp_path / "nan.obj"
+    nan.write_text("v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n")
+    assert_one_line_error(illusio("render", nan, "-o", tmp_path / "x.png"), "nan.obj", "not finite")
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_output_over_input_is_refused_and_input_kept(tmp_path):
+    mesh = tmp_path / "tri.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    before = mesh.read_bytes()
+    assert_one_line_error(illusio("render", mesh, "-o", mesh), "overwrite")
+    assert mesh.read_bytes() == before
+
+
+def test_bad_options_are_one_line_errors(tmp_path):
+    assert_one_line_error(illusio("render", "office", "--size", "big", "-o", tmp_path / "x.png"), "--size")
+    assert_one_line_error(illusio("render", "office", "--camera", "nope", "-o", tmp_path / "x.png"), "nope")
+    assert_one_line_error(illusio("render", "kitchen", "-o", tmp_path / "x.png"), "kitchen")
+
+
+def test_render_writes_a_picture_of_the_scene(tmp_path):
+    out = tmp_path / "office.png"
+    r = illusio("render", "office", "--size", "160x100", "-o", out)
+    assert r.returncode == 0, r.stderr
+    img = read_image(out)
+    assert img.shape == (100, 160, 3)
+    assert img.std() > 0.03  # not a blank frame
+    assert (img.max(axis=2) > 0.9).sum() > 20  # the glowing ceiling lamps are in view
+
+
+def test_info_reports_renderer_and_versions():
+    r = illusio("info")
+    assert r.returncode == 0, r.stderr
+    assert "GL renderer" in r.stdout and "moderngl" in r.stdout and "illusio" in r.stdout
+
+
+def test_demo_writes_gallery_with_existing_images(tmp_path):
+    r = illusio("demo", "--out", tmp_path / "g", "--size", "160x100")
+    assert r.returncode == 0, r.stderr
+    page = (tmp_path / "g" / "index.html").read_text()
+    import re
+
+    images = re.findall(r"<img src='([^']+)'", page)
+    assert len(images) >= 4 + 8
+    for rel in images:
+        assert (tmp_path / "g" / rel).is_file()
+    assert all(f"scenes/{n}-main.png" in page for n in ("living-room", "office", "museum", "turntable"))
+
+
+def test_demo_unknown_showcase_is_an_error(tmp_path):
+    assert_one_line_error(illusio("demo", "--out", tmp_path, "--only", "nope"), "nope")
