@@ -1,0 +1,1 @@
+"""Benchmarks: one module per technique, each timing it against its baseline in one run."""

@@ -1,0 +1,64 @@
+"""Time named cases over repeated runs (warm-up, then median/min/max) and write JSON.
+
+A case is a callable that does one complete unit of work and waits for the GPU to finish
+(``ctx.finish()`` or a readback), so wall time measures the work itself.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+import statistics
+import time
+from dataclasses import asdict, dataclass
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Callable
+
+
+@dataclass
+class Timing:
+    name: str
+    runs: int
+    median_ms: float
+    min_ms: float
+    max_ms: float
+    notes: str = ""
+
+
+def time_case(name: str, fn: Callable[[], object], repeat: int = 10, warmup: int = 2, notes: str = "") -> Timing:
+    for _ in range(warmup):
+        fn()
+    samples = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        samples.append((time.perf_counter() - t0) * 1000)
+    return Timing(name, repeat, statistics.median(samples), min(samples), max(samples), notes)
+
+
+def machine(ctx) -> dict:
+    import os
+
+    info = ctx.info()
+    return {"renderer": info["renderer"], "gl_version": info["version"], "cpu_count": os.cpu_count(),
+            "platform": platform.platform(), "python": platform.python_version()}
+
+
+def write_results(path: Path, suite: str, ctx, timings: list[Timing], ratios: dict[str, float]) -> dict:
+    data = {"suite": suite, "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+            "machine": machine(ctx), "timings": [asdict(t) for t in timings], "ratios": ratios}
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(data, indent=2))
+    tmp.replace(path)
+    return data
+
+
+def print_table(timings: list[Timing], ratios: dict[str, float]) -> None:
+    width = max(len(t.name) for t in timings)
+    print(f"{'case':<{width}}  {'median ms':>10}  {'min':>8}  {'max':>8}  runs")
+    for t in timings:
+        print(f"{t.name:<{width}}  {t.median_ms:>10.2f}  {t.min_ms:>8.2f}  {t.max_ms:>8.2f}  {t.runs}")
+    for k, v in ratios.items():
+        print(f"ratio {k}: {v:.2f}")
