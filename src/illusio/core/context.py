@@ -71,6 +71,9 @@ class Context:
         attachment (``True``: a depth renderbuffer of the same size, kept with the framebuffer)."""
         key = (tuple(t.glo for t in colour), depth.glo if isinstance(depth, moderngl.Texture) else bool(depth))
         fbo = self._framebuffers.get(key)
+        if fbo is not None and any(a is not t for a, t in zip(fbo.color_attachments, colour)):
+            fbo.release()  # a GL name was reused by a new texture: the cached one is stale
+            fbo = None
         if fbo is None:
             size = colour[0].size if colour else depth.size
             depth_attachment = depth if isinstance(depth, moderngl.Texture) else (self.gl.depth_renderbuffer(size) if depth else None)
