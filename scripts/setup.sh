@@ -7,7 +7,8 @@ cd "$(dirname "$0")/.."
 extra="${1:-}"
 
 need=()
-have_lib() { ldconfig -p 2>/dev/null | grep -q "$1"; }
+ldconfig_bin=$(command -v ldconfig || echo /sbin/ldconfig)  # /sbin is not on every user's PATH
+have_lib() { "$ldconfig_bin" -p 2>/dev/null | grep -q "$1"; }
 have_lib 'libEGL.so.1' || need+=(libegl1)
 have_lib 'libGL.so.1' || need+=(libgl1)
 ls /usr/lib/*/dri/swrast_dri.so /usr/lib/*/dri/*_dri.so >/dev/null 2>&1 || need+=(libgl1-mesa-dri)
