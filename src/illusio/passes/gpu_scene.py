@@ -67,10 +67,11 @@ class GpuScene:
         key = (program.glo, id(node.mesh))
         vao = self._vaos.get(key)
         if vao is None:
-            names = [n for n in ("in_position", "in_normal", "in_uv") if program.get(n, None) is not None]
-            fmt = " ".join(f if n in names else f"{f[0]}x4" for n, f in
-                           (("in_position", "3f"), ("in_normal", "3f"), ("in_uv", "2f")))
-            vao = self.ctx.gl.vertex_array(program, [(gm.vbo, _packed(fmt), *names)], gm.ibo)
+            # interleaved position, normal, uv; attributes the program lacks are skipped as padding
+            layout = (("in_position", 3), ("in_normal", 3), ("in_uv", 2))
+            names = [n for n, _ in layout if program.get(n, None) is not None]
+            fmt = " ".join(f"{k}f" if n in names else f"{4 * k}x" for n, k in layout)
+            vao = self.ctx.gl.vertex_array(program, [(gm.vbo, fmt, *names)], gm.ibo)
             self._vaos[key] = vao
         return vao
 
@@ -97,17 +98,6 @@ class GpuScene:
         self._vaos.clear()
         self._meshes.clear()
         self._textures.clear()
-
-
-def _packed(fmt: str) -> str:
-    """'3f 3f 2f' with skipped attributes written as padding ('3x4' -> '12x')."""
-    out = []
-    for part in fmt.split():
-        if part.endswith("x4"):
-            out.append(f"{int(part[0]) * 4}x")
-        else:
-            out.append(part)
-    return " ".join(out)
 
 
 def set_uniform(program, name: str, value) -> None:

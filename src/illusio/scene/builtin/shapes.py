@@ -12,8 +12,9 @@ __all__ = ["sphere", "torus", "torus_knot", "superquadric", "gear", "blob", "box
            "plane", "SHAPES", "shape"]
 
 
-def _grid_mesh(points: np.ndarray, wrap_u: bool, wrap_v: bool, name: str) -> Mesh:
-    """Mesh of a (nv+1, nu+1, 3) grid of points; seams (wrap) share normals, keep their own uvs."""
+def _grid_mesh(points: np.ndarray, name: str) -> Mesh:
+    """Mesh of a (nv+1, nu+1, 3) grid of points. Coincident points (seams, poles) share normals
+    but keep their own uvs; triangles collapsed at the poles are dropped."""
     rows, cols, _ = points.shape
     idx = np.arange(rows * cols).reshape(rows, cols)
     a, b = idx[:-1, :-1].ravel(), idx[:-1, 1:].ravel()
@@ -28,17 +29,13 @@ def _grid_mesh(points: np.ndarray, wrap_u: bool, wrap_v: bool, name: str) -> Mes
     welded_faces = weld[faces]
     ok = (welded_faces[:, 0] != welded_faces[:, 1]) & (welded_faces[:, 1] != welded_faces[:, 2]) & (welded_faces[:, 0] != welded_faces[:, 2])
     faces = faces[ok]
-    normals = vertex_normals(np.zeros((weld.max() + 1, 3), np.float32) + _first_rows(v, weld), weld[faces])[weld]
+    welded = np.zeros((weld.max() + 1, 3), np.float32)
+    welded[weld] = v
+    normals = vertex_normals(welded, weld[faces])[weld]
     used = np.zeros(len(v), bool)
     used[faces.ravel()] = True
     remap = np.cumsum(used) - 1
     return Mesh(v[used], remap[faces], normals[used], uvs[used], name=name)
-
-
-def _first_rows(v: np.ndarray, weld: np.ndarray) -> np.ndarray:
-    out = np.zeros((weld.max() + 1, 3), np.float32)
-    out[weld] = v
-    return out
 
 
 def sphere(radius: float = 1.0, segments: int = 64, rings: int = 32) -> Mesh:
@@ -47,7 +44,7 @@ def sphere(radius: float = 1.0, segments: int = 64, rings: int = 32) -> Mesh:
     ph = np.linspace(-np.pi / 2, np.pi / 2, rings + 1)
     t, p = np.meshgrid(th, ph)
     pts = np.stack([np.cos(p) * np.cos(t), np.sin(p), -np.cos(p) * np.sin(t)], axis=-1) * radius
-    return _grid_mesh(pts, True, False, "sphere")
+    return _grid_mesh(pts, "sphere")
 
 
 def torus(major: float = 1.0, minor: float = 0.35, segments: int = 96, sides: int = 32) -> Mesh:
@@ -57,7 +54,7 @@ def torus(major: float = 1.0, minor: float = 0.35, segments: int = 96, sides: in
     t, p = np.meshgrid(th, ph)
     r = major + minor * np.cos(p)
     pts = np.stack([r * np.cos(t), minor * np.sin(p), -r * np.sin(t)], axis=-1)
-    return _grid_mesh(pts, True, True, "torus")
+    return _grid_mesh(pts, "torus")
 
 
 def torus_knot(p: int = 2, q: int = 3, major: float = 1.0, minor: float = 0.4, tube: float = 0.18,
@@ -80,7 +77,7 @@ def torus_knot(p: int = 2, q: int = 3, major: float = 1.0, minor: float = 0.4, t
     b = np.cross(n, tangent)  # (n, b, tangent) right-handed: the tube's faces wind outward
     a = np.linspace(0, 2 * np.pi, sides + 1)[:, None, None]
     pts = c[None] + tube * (np.cos(a) * n[None] + np.sin(a) * b[None])
-    return _grid_mesh(pts, True, True, "torus-knot")
+    return _grid_mesh(pts, "torus-knot")
 
 
 def superquadric(exponents=(0.4, 0.4), size=(1.0, 1.0, 1.0), segments: int = 96, rings: int = 64) -> Mesh:
@@ -96,7 +93,7 @@ def superquadric(exponents=(0.4, 0.4), size=(1.0, 1.0, 1.0), segments: int = 96,
     t, p = np.meshgrid(th, ph)
     pts = np.stack([spow(np.cos(p), e2) * spow(np.cos(t), e1) * size[0], spow(np.sin(p), e2) * size[1],
                     -spow(np.cos(p), e2) * spow(np.sin(t), e1) * size[2]], axis=-1)
-    return _grid_mesh(pts, True, False, "superquadric")
+    return _grid_mesh(pts, "superquadric")
 
 
 def blob(radius: float = 1.0, bumpiness: float = 0.18, seed: int = 7, subdivisions: int = 128) -> Mesh:
@@ -212,7 +209,7 @@ def cone(radius: float = 0.5, height: float = 1.0, top_radius: float = 0.0, segm
     t, y = np.meshgrid(th, hh)
     r = np.where(y == 0, radius, top_radius)
     pts = np.stack([r * np.cos(t), y, -r * np.sin(t)], axis=-1)
-    return _grid_mesh(pts, True, False, "cone")
+    return _grid_mesh(pts, "cone")
 
 
 SHAPES = {
