@@ -1,0 +1,100 @@
+"""Depth maps for stereograms: checks on user input, files (white = near), and renders of a 3D scene.
+
+D is float32 (H, W) in [0, 1] with 0 = near and 1 = far (the paper's D); files and the CLI use the
+opposite, brightness convention (white = near), as depth maps are usually drawn.
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import moderngl
+import numpy as np
+
+from ..core.context import Context
+from ..core.errors import InputError
+from ..core.images import read_image
+from ..passes.gbuffer import GBufferPass
+from ..passes.gpu_scene import GpuScene, set_uniform
+from ..scene.camera import View
+from ..scene.scene import Scene
+
+__all__ = ["check_depth", "read_depth", "HiddenDepthPass", "OBJECT_RANGE"]
+
+#: the share of [0, 1] a rendered object spans in front of the far background
+OBJECT_RANGE = 0.8
+
+
+def check_depth(depth, name: str = "depth map") -> np.ndarray:
+    """D as float32 (H, W) in [0, 1]; a clear error for anything else, a warning if it is flat."""
+    d = np.asarray(depth)
+    if d.ndim == 3 and d.shape[2] in (1, 3, 4):
+        d = d[..., 0]
+    if d.ndim != 2 or d.size == 0:
+        raise InputError(f"{name} must be a non-empty 2-D array, got shape {np.shape(depth)}")
+    if d.dtype.kind not in "fiub":
+        raise InputError(f"{name} must be numeric, got {d.dtype}")
+    d = d.astype(np.float32)
+    if not np.isfinite(d).all():
+        raise InputError(f"{name} has NaN or infinite values")
+    if d.min() < 0 or d.max() > 1:
+        raise InputError(f"{name} values must lie in [0, 1], got [{d.min():g}, {d.max():g}]")
+    if d.max() == d.min():
+        warnings.warn(f"{name} is all one value ({float(d.min()):g}): the stereogram will show a flat plane")
+    return d
+
+
+def read_depth(path: str | Path) -> np.ndarray:
+    """A depth file as D (0 = near): a grey image (8 or 16-bit; white = near) or a .npy array of the
+    same convention (values outside [0, 1] are rescaled from their min..max)."""
+    p = Path(path)
+    if p.suffix.lower() == ".npy":
+        try:
+            a = np.load(p, allow_pickle=False)
+        except (OSError, ValueError) as exc:
+            raise InputError(f"cannot read depth array {p}: {exc}") from None
+        a = np.asarray(a, np.float64)
+        if a.ndim == 3 and a.shape[2] == 1:
+            a = a[..., 0]
+        if a.ndim != 2 or a.size == 0:
+            raise InputError(f"depth array {p} must be 2-D and non-empty, got shape {a.shape}")
+        if not np.isfinite(a).all():
+            raise InputError(f"depth array {p} has NaN or infinite values")
+        if a.min() < 0 or a.max() > 1:
+            span = a.max() - a.min()
+            a = (a - a.min()) / span if span > 0 else np.zeros_like(a)
+        height = a
+    else:
+        img = read_image(p, srgb=False)  # depth is data, not colour: no sRGB decoding
+        height = img[..., :3].mean(axis=2) if img.shape[2] >= 3 else img[..., 0]
+    return check_depth(1.0 - np.asarray(height, np.float32), f"depth map {p.name}")
+
+
+class HiddenDepthPass:
+    """A scene's G-buffer depth → D (R32F texture, pooled), the nearest point of the scene's bounding
+    sphere at 0, its farthest at :data:`OBJECT_RANGE`, the background at 1."""
+
+    def __init__(self, ctx: Context):
+        self.ctx = ctx
+        self.gbuffer = GBufferPass(ctx)
+        self.program = ctx.program("sis/shaders/hidden_depth.glsl")
+
+    def __call__(self, gpu_scene: GpuScene, view: View, size: tuple[int, int]) -> moderngl.Texture:
+        gbuf = self.gbuffer(gpu_scene, view, size)
+        lo, hi = gpu_scene.scene.bounds()
+        centre = (np.asarray(lo) + np.asarray(hi)) / 2
+        radius = float(np.linalg.norm(np.asarray(hi) - np.asarray(lo))) / 2
+        distance = float(-(view.view_matrix() @ np.append(centre, 1.0))[2])
+        out = self.ctx.acquire(size, 1, "f4")
+        fbo = self.ctx.framebuffer([out])
+        fbo.use()
+        fbo.viewport = (0, 0, *size)
+        gbuf["depth"].use(0)
+        gbuf["object_id"].use(1)
+        for name, value in (("g_depth", 0), ("g_object_id", 1), ("front", max(distance - radius, 1e-4)),
+                            ("back", distance + radius), ("object_range", OBJECT_RANGE)):
+            set_uniform(self.program, name, value)
+        self.ctx.fullscreen.draw(self.program)
+        gbuf.release()
+        return out

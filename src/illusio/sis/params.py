@@ -1,0 +1,81 @@
+"""Every knob of an autostereogram, with units, defaults and the paper's symbols (Dehos et al. 2014).
+
+The CLI, the gallery and the viewer read their defaults from here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from ..core.errors import InputError
+from ..scene.camera import Screen
+from .physics import depth_range, max_separation_px
+
+__all__ = ["StereogramParams", "ALGORITHMS", "PATTERNS"]
+
+#: sequential: S[x] ← S[x − s(x)] row by row (section 3.3); strip: Algorithm 1, one render pass per
+#: strip of W_s columns; fast: every pixel follows its chain of links back to the first strip in one
+#: pass; symmetric: Thimbleby, Inglis & Witten (1994), links centred on each point, hidden surfaces removed.
+ALGORITHMS = ("sequential", "strip", "fast", "symmetric")
+#: built-in patterns; any other value is a path to an image used as a tiled texture
+PATTERNS = ("random-dot", "grey-dots", "colour-dots", "pink-noise", "snow")
+
+
+@dataclass(frozen=True)
+class StereogramParams:
+    """How depth becomes a stereogram.
+
+    algorithm: one of :data:`ALGORITHMS`.
+    strip_width: W_s, pixels — the separation of the nearest depth (Algorithm 1's strip width).
+    depth_factor: β, pixels — separations span [W_s, W_s + β] from near (D = 0) to far (D = 1).
+    exact: map depth through equation (3) on ``screen`` (linear in the simulated depth f' between the
+        f'_min, f'_max that W_s and W_s + β stand for) instead of the linear W_s + β·D.
+    screen: the physical display (d, a, w_p, f, e of Table 1); gives e_p for the range checks and the
+        hidden-surface test of the symmetric algorithm.
+    pattern: one of :data:`PATTERNS` or an image path (tiled, its period scaled to W_s + β).
+    dot_size: pixels per random dot.
+    guides: draw two guide dots W_s + β apart near the top.
+    cross_eyed: for viewing with crossed eyes (the depth is flipped so that near stays near).
+    invert: flip the depth map (D → 1 − D) before anything else.
+    oversample: compute at this many times the width and average back (smooths depth terracing).
+    seed: for every random pattern.
+    """
+
+    algorithm: str = "fast"
+    strip_width: float = 100.0
+    depth_factor: float = 50.0
+    exact: bool = False
+    screen: Screen = field(default_factory=Screen)
+    pattern: str = "random-dot"
+    dot_size: int = 1
+    guides: bool = False
+    cross_eyed: bool = False
+    invert: bool = False
+    oversample: int = 1
+    seed: int = 0
+
+    def __post_init__(self):
+        if self.algorithm not in ALGORITHMS:
+            raise InputError(f"unknown algorithm {self.algorithm!r}; choose one of {', '.join(ALGORITHMS)}")
+        depth_range(self.strip_width, self.depth_factor, self.screen)  # raises on W_s, β out of range
+        if self.strip_width < 2:
+            raise InputError(f"strip width W_s = {self.strip_width:g} px is too small (at least 2 px)")
+        if not 1 <= int(self.oversample) <= 8 or int(self.oversample) != self.oversample:
+            raise InputError(f"oversample must be an integer in 1..8, got {self.oversample}")
+        if not 1 <= int(self.dot_size) <= 64:
+            raise InputError(f"dot size must be in 1..64 pixels, got {self.dot_size}")
+
+    @property
+    def far_separation(self) -> float:
+        """W_s + β: the separation of the farthest depth, pixels (also the guide-dot spacing)."""
+        return self.strip_width + self.depth_factor
+
+    @property
+    def eye_separation_px(self) -> float:
+        """e_p of the screen, pixels."""
+        return max_separation_px(self.screen)
+
+    @property
+    def depth_range_cm(self) -> tuple[float, float]:
+        """[f'_min, f'_max]: the depths behind the screen these separations simulate (equation 4)."""
+        return depth_range(self.strip_width, self.depth_factor, self.screen)

@@ -1,0 +1,231 @@
+"""The autostereogram algorithms stated plainly, in NumPy and numba: the specification the GPU passes
+are tested against (Dehos et al. 2014, sections 3.3–3.4; Thimbleby, Inglis & Witten 1994).
+
+Conventions shared by every function here and by the shaders:
+
+* ``depth`` D: float32 (H, W) in [0, 1], 0 = nearest, 1 = farthest (the paper's D).
+* ``separation`` s: float32 (H, W), pixels between the two pixels that show a point; a pixel uses the
+  rounded value ``floor(s + 0.5)``.
+* ``pattern`` T: float32 (H_T, W_T, C), tiled: T[y mod H_T, x mod W_T], rows counted from the top.
+* ``row_start``: int32 (H,), the column where each row's stereogram starts (0 for a whole image; the
+  left edge of the host surface in a 3D scene). Each row's first strip is the ``first_strip`` columns
+  from there: W_s + β in Algorithm 1.
+* Left-anchored algorithms (sequential, strip, chain; the fast GPU pass is the sequential one) make S[x] = S[x − s(x)]: a pixel repeats the one
+  s to its left. The symmetric algorithm links x − s/2 and x − s/2 + s for the point at x.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..scene.camera import Screen
+from .physics import depth_range, separation_px
+
+__all__ = ["separation", "rounded", "sequential", "strip", "chain", "symmetric", "occlusion_separation",
+           "upsample_depth", "downsample", "strip_passes"]
+
+
+def upsample_depth(depth: np.ndarray, factor: int) -> np.ndarray:
+    """Depth at ``factor`` times the width, interpolated linearly between pixel centres (clamped at
+    the edges) — what the separation shader does when oversampling."""
+    d = np.asarray(depth, np.float32)
+    if factor == 1:
+        return d
+    h, w = d.shape
+    pos = (np.arange(w * factor, dtype=np.float32) + np.float32(0.5)) / np.float32(factor) - np.float32(0.5)
+    pos = np.clip(pos, 0, w - 1).astype(np.float32)
+    i0 = np.floor(pos).astype(np.int64)
+    i1 = np.minimum(i0 + 1, w - 1)
+    t = (pos - i0).astype(np.float32)
+    return (d[:, i0] * (np.float32(1) - t) + d[:, i1] * t).astype(np.float32)
+
+
+def separation(depth: np.ndarray, strip_width: float, depth_factor: float, exact: bool = False,
+               screen: Screen | None = None, invert: bool = False, oversample: int = 1) -> np.ndarray:
+    """Depth → separation, pixels (at ``oversample`` times the width, separations scaled alike).
+
+    Linear (the paper's approximation): s = W_s + β·D. Exact: D is linear in the simulated depth,
+    f' = f'_min + D·(f'_max − f'_min) with [f'_min, f'_max] from equation (4) at W_s and W_s + β, and
+    s = e'_p(f') by equation (3). Both give W_s at D = 0 and W_s + β at D = 1.
+    """
+    d = upsample_depth(np.asarray(depth, np.float32), oversample)
+    if invert:
+        d = np.float32(1) - d
+    n = np.float32(oversample)
+    if not exact:
+        return ((np.float32(strip_width) + np.float32(depth_factor) * d) * n).astype(np.float32)
+    screen = screen or Screen()
+    near, far = depth_range(strip_width, depth_factor, screen)
+    f_prime = np.float32(near) + d * np.float32(far - near)
+    return (separation_px(f_prime, screen).astype(np.float32) * n).astype(np.float32)
+
+
+def rounded(sep: np.ndarray) -> np.ndarray:
+    """The whole-pixel separation a pixel uses: floor(s + 0.5)."""
+    return np.floor(np.asarray(sep, np.float32) + np.float32(0.5)).astype(np.int32)
+
+
+def _rows(row_start, height):
+    if row_start is None:
+        return np.zeros(height, np.int32)
+    return np.asarray(row_start, np.int32)
+
+
+@njit(cache=True)
+def _texel(pattern, x, y, shift):
+    ht, wt = pattern.shape[0], pattern.shape[1]
+    return pattern[y % ht, (x - shift) % wt]
+
+
+@njit(cache=True)
+def _sequential(sep_px, pattern, strip_width, first_strip, row_start, out):
+    h, w = sep_px.shape
+    for y in range(h):
+        for x in range(w):
+            s = sep_px[y, x]
+            if x - row_start[y] < first_strip:
+                out[y, x] = _texel(pattern, x, y, s - strip_width)
+            else:
+                out[y, x] = out[y, x - s]
+    return out
+
+
+def sequential(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
+               row_start: np.ndarray | None = None) -> np.ndarray:
+    """Section 3.3, left to right along each row: the first strip (x − row_start < ``first_strip``)
+    samples the pattern shifted by s − W_s (Algorithm 1's x − βD), every later pixel copies
+    S[x − s(x)]. Returns float32 (H, W, C)."""
+    sep_px = rounded(sep)
+    h, w = sep_px.shape
+    pattern = np.ascontiguousarray(pattern, np.float32)
+    out = np.zeros((h, w, pattern.shape[2]), np.float32)
+    return _sequential(sep_px, pattern, int(strip_width), int(first_strip), _rows(row_start, h), out)
+
+
+def strip_passes(width: int, strip_width: int, first_strip: int) -> int:
+    """How many passes Algorithm 1 takes for rows of ``width`` pixels: the first strip, then one per
+    W_s columns (20 for Full HD with W_s = 100, β = 50)."""
+    return 1 + max(0, -(-(width - first_strip) // strip_width))
+
+
+def _first_strip_values(sep_px, pattern, strip_width):
+    h, w = sep_px.shape
+    ys, xs = np.mgrid[0:h, 0:w]
+    ht, wt = pattern.shape[:2]
+    return pattern[ys % ht, (xs - (sep_px - strip_width)) % wt]
+
+
+def strip(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
+          row_start: np.ndarray | None = None) -> np.ndarray:
+    """Algorithm 1: the first strip from the pattern, then strips of W_s columns, each computed all at
+    once from the strips before it (every pixel of a strip reads at least W_s to its left)."""
+    sep_px = rounded(sep)
+    h, w = sep_px.shape
+    rows = _rows(row_start, h)
+    out = _first_strip_values(sep_px, np.asarray(pattern, np.float32), strip_width).astype(np.float32)
+    ys, xs = np.mgrid[0:h, 0:w]
+    rel = xs - rows[:, None]
+    for k in range(1, strip_passes(w + int(rows.max(initial=0)), strip_width, first_strip)):
+        lo = first_strip + (k - 1) * strip_width
+        band = (rel >= lo) & (rel < lo + strip_width)
+        out[band] = out[ys[band], xs[band] - sep_px[band]]
+    return out
+
+
+def chain(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
+         row_start: np.ndarray | None = None) -> np.ndarray:
+    """Every pixel independently follows its chain x → x − s(x) → … until it lands in the first strip,
+    and takes the pattern value there: the same image as :func:`sequential`, with no order between
+    pixels."""
+    sep_px = rounded(sep)
+    h, w = sep_px.shape
+    rows = _rows(row_start, h)
+    ys, xs = np.mgrid[0:h, 0:w]
+    at = xs.copy()
+    while True:
+        moving = at - rows[:, None] >= first_strip
+        if not moving.any():
+            break
+        at[moving] -= sep_px[ys[moving], at[moving]]
+    ht, wt = pattern.shape[:2]
+    shift = sep_px[ys, at] - strip_width
+    return np.asarray(pattern, np.float32)[ys % ht, (at - shift) % wt]
+
+
+def occlusion_separation(sep: float, offset: float, eye_separation: float) -> float:
+    """The separation a point of the sight line from a point of separation ``sep`` to one eye has,
+    ``offset`` pixels to the side: σ(t) = e_p − e_p (e_p − s) / (e_p − 2t).
+
+    Derived from equations (3)–(4) with the eyes centred on the point: σ(0) = s, and σ reaches 0 (the
+    screen) at t = s/2. A surface at that column with a smaller separation (nearer) hides the point.
+    """
+    return eye_separation - eye_separation * (eye_separation - sep) / (eye_separation - 2.0 * offset)
+
+
+@njit(cache=True)
+def _symmetric(sep, pattern, near_separation, eye_separation, row_start, out, same):
+    h, w = sep.shape
+    e = np.float32(eye_separation)
+    for y in range(h):
+        for x in range(w):
+            same[x] = x
+        r0 = row_start[y]
+        for x in range(r0, w):
+            sf = sep[y, x]
+            s = np.int32(np.floor(sf + np.float32(0.5)))
+            left = x - s // 2
+            right = left + s
+            if left < r0 or right >= w:
+                continue
+            visible = True
+            t = 1
+            while True:
+                sigma = e - e * (e - sf) / (e - np.float32(2 * t))
+                if sigma <= near_separation:
+                    break  # nothing can be nearer than the near plane
+                if (x - t >= r0 and sep[y, x - t] < sigma) or (x + t < w and sep[y, x + t] < sigma):
+                    visible = False
+                    break
+                t += 1
+            if not visible:
+                continue
+            # record left ≡ right, keeping each chain of same[] sorted left to right
+            k = same[left]
+            while k != left and k != right:
+                if k < right:
+                    left = k
+                else:
+                    left, right = right, k
+                k = same[left]
+            same[left] = right
+        for x in range(w - 1, -1, -1):
+            if same[x] == x:
+                out[y, x] = _texel(pattern, x, y, 0)
+            else:
+                out[y, x] = out[y, same[x]]
+    return out
+
+
+def symmetric(sep: np.ndarray, pattern: np.ndarray, near_separation: float, eye_separation: float,
+              row_start: np.ndarray | None = None) -> np.ndarray:
+    """Thimbleby, Inglis & Witten (1994): for each point x, the pixels x − ⌊s/2⌋ and x − ⌊s/2⌋ + s must
+    match, unless the point is hidden from one eye (hidden-surface removal with
+    :func:`occlusion_separation`; ``near_separation`` is W_s, nothing is nearer). Constraints are
+    recorded as links to the right; pixels at the right end of a chain take the pattern, and colours
+    run right to left. No left-to-right bias."""
+    sep = np.ascontiguousarray(sep, np.float32)
+    h, w = sep.shape
+    pattern = np.ascontiguousarray(pattern, np.float32)
+    out = np.zeros((h, w, pattern.shape[2]), np.float32)
+    same = np.zeros(w, np.int32)
+    return _symmetric(sep, pattern, np.float32(near_separation), np.float32(eye_separation),
+                      _rows(row_start, h), out, same)
+
+
+def downsample(image: np.ndarray, factor: int) -> np.ndarray:
+    """Average each run of ``factor`` columns (undoes the oversampled width)."""
+    if factor == 1:
+        return image
+    h, w, c = image.shape
+    return image[:, : w - w % factor].reshape(h, w // factor, factor, c).mean(axis=2, dtype=np.float32)

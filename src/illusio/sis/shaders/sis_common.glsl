@@ -1,0 +1,29 @@
+// Shared by the stereogram passes: the separation map, the tiled pattern and each row's start.
+// Coordinates are GL pixels (row 0 at the bottom); the pattern is indexed by image rows (row 0 at the
+// top) so that it tiles the same way as sis/reference.py.
+uniform sampler2D separation_map;   // R32F, pixels between the two pixels of a point
+uniform sampler2D pattern;          // the tiled pattern, uploaded with the row flip
+uniform isampler2D row_starts;      // (H, 1): first column of each GL row's stereogram
+uniform bool use_row_starts;
+uniform int image_height;
+uniform int strip_width;            // W_s, whole pixels
+uniform int first_strip;            // W_s + β, whole pixels
+
+int rounded_separation(ivec2 p) {
+    return int(floor(texelFetch(separation_map, p, 0).r + 0.5));
+}
+
+int row_start(int y) {
+    return use_row_starts ? texelFetch(row_starts, ivec2(y, 0), 0).r : 0;
+}
+
+// T[y mod H_T, (x - shift) mod W_T] with y counted from the top of the image
+vec4 pattern_texel(int x, int y, int shift) {
+    ivec2 size = textureSize(pattern, 0);
+    int y_top = image_height - 1 - y;
+    int row = size.y - 1 - y_top % size.y;
+    int v = x - shift;
+    if (v < 0) v += size.x * (-v / size.x + 1);  // GLSL's % is undefined for negative operands
+    int col = v % size.x;
+    return texelFetch(pattern, ivec2(col, row), 0);
+}

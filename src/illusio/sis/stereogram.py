@@ -1,0 +1,172 @@
+"""Single-image stereograms from a depth map: the Renderer a window keeps, and a one-shot function."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..core.context import Context
+from ..core.errors import InputError
+from . import reference
+from .depth import check_depth
+from .fast import ChainPass, FastPass
+from .inputs import StereogramInputs, pixel_widths
+from .params import StereogramParams
+from .patterns import make_pattern
+from .separation import SeparationPass
+from .sequential import SequentialPass
+from .snow import SnowPass
+from .strip import StripPass
+from .symmetric import SymmetricPass
+
+__all__ = ["StereogramRenderer", "stereogram", "stereogram_cpu", "draw_guides", "quantise"]
+
+
+def quantise(pattern: np.ndarray) -> np.ndarray:
+    """The pattern as the GPU holds it (8 bits per channel), as float32 in [0, 1]."""
+    return (np.round(np.clip(pattern, 0, 1) * 255) / 255).astype(np.float32)
+
+
+def draw_guides(image: np.ndarray, spacing: float) -> np.ndarray:
+    """Two guide dots ``spacing`` pixels apart (the far separation), centred near the top: when the
+    eyes converge behind the screen correctly, the two dots in the middle of the four seen fuse."""
+    img = np.array(image, np.float32, copy=True)
+    h, w = img.shape[:2]
+    r = max(2.0, min(h, w) / 90)
+    cy = max(2 * r, 0.05 * h)
+    ys, xs = np.mgrid[0:h, 0:w]
+    for cx in (w / 2 - spacing / 2, w / 2 + spacing / 2):
+        dist = np.hypot(xs + 0.5 - cx, ys + 0.5 - cy)
+        img[dist <= r * 1.5] = 1.0
+        img[dist <= r] = 0.0
+    return img
+
+
+class StereogramRenderer:
+    """Owns the compiled stereogram passes for one context; call :meth:`render_texture` (GPU in, GPU
+    out) or :meth:`render` (arrays) every frame with changed parameters."""
+
+    def __init__(self, ctx: Context):
+        self.ctx = ctx
+        self.separation_pass = SeparationPass(ctx)
+        self._algorithms: dict[str, object] = {}
+        self._snow: SnowPass | None = None
+        self._pattern_key = None
+        self._pattern_texture: moderngl.Texture | None = None
+
+    def algorithm_pass(self, name: str):
+        if name not in self._algorithms:
+            cls = {"sequential": SequentialPass, "strip": StripPass, "fast": FastPass, "chain": ChainPass,
+                   "symmetric": SymmetricPass}[name]
+            self._algorithms[name] = cls(self.ctx)
+        return self._algorithms[name]
+
+    def pattern_texture(self, params: StereogramParams, size: tuple[int, int], frame: int = 0) -> tuple[moderngl.Texture, bool]:
+        """The pattern for a stereogram of ``size`` (logical pixels) and whether the caller must release
+        it (GPU snow is made per frame; the others are uploaded once and kept)."""
+        w, h = size
+        n = params.oversample
+        if params.pattern == "snow":
+            if self._snow is None:
+                self._snow = SnowPass(self.ctx)
+            return self._snow((w * n, h), params.seed, frame, params.dot_size, n), True
+        key = (params.pattern, w, h, params.seed, params.dot_size, n, params.far_separation)
+        if key != self._pattern_key:
+            if self._pattern_texture is not None:
+                self._pattern_texture.release()
+            array = make_pattern(params.pattern, w, h, int(round(params.far_separation)), params.seed, params.dot_size, 0, n)
+            self._pattern_texture = self.ctx.upload((quantise(array) * 255).round().astype(np.uint8), filter="nearest")
+            self._pattern_key = key
+        return self._pattern_texture, False
+
+    def compute(self, separation: moderngl.Texture, pattern: moderngl.Texture, params: StereogramParams,
+                row_starts: moderngl.Texture | None = None, max_row_start: int = 0, min_row_start: int = 0,
+                algorithm: str | None = None) -> moderngl.Texture:
+        """Separation map + pattern → the stereogram, RGBA8 texture (pooled: release it). ``algorithm``
+        overrides ``params.algorithm``: any but "fast", which starts from depth (see render_texture),
+        plus "chain"."""
+        algorithm = algorithm or params.algorithm
+        strip_width, first_strip = pixel_widths(params)
+        inputs = StereogramInputs(separation, pattern, strip_width, first_strip, row_starts)
+        if algorithm == "fast":
+            raise InputError("the fast pass starts from depth: use render_texture")
+        p = self.algorithm_pass(algorithm)
+        if algorithm == "symmetric":
+            n = params.oversample
+            return p(inputs, params.strip_width * n, params.eye_separation_px * n)
+        if algorithm == "strip":
+            return p(inputs, max_row_start, min_row_start)
+        return p(inputs)
+
+    def render_texture(self, depth: moderngl.Texture, params: StereogramParams, frame: int = 0,
+                       row_starts: moderngl.Texture | None = None, max_row_start: int = 0,
+                       min_row_start: int = 0) -> moderngl.Texture:
+        """D (R32F texture) → stereogram texture at ``oversample`` times the width (pooled).
+        ``max_row_start``, ``min_row_start``: range of ``row_starts`` (strip algorithm only)."""
+        pattern, owned = self.pattern_texture(params, depth.size, frame)
+        if params.algorithm == "fast":  # fused: no separation map
+            out = self.algorithm_pass("fast")(depth, pattern, params, row_starts)
+        else:
+            sep = self.separation_pass(depth, params)
+            out = self.compute(sep, pattern, params, row_starts, max_row_start, min_row_start)
+            self.ctx.release(sep)
+        if owned:
+            self.ctx.release(pattern)
+        return out
+
+    def render(self, depth: np.ndarray, params: StereogramParams = StereogramParams(), frame: int = 0) -> np.ndarray:
+        """D (float32 (H, W), 0 = near) → stereogram, float32 (H, W, 3) in [0, 1]."""
+        d = check_depth(depth)
+        tex = self.ctx.upload(d, filter="nearest")
+        try:
+            out = self.render_texture(tex, params, frame)
+            image = self.ctx.readback(out, 3)
+            self.ctx.release(out)
+        finally:
+            tex.release()
+        return finish(image, params)
+
+    def release(self) -> None:
+        if self._pattern_texture is not None:
+            self._pattern_texture.release()
+            self._pattern_texture = None
+            self._pattern_key = None
+
+
+def finish(image: np.ndarray, params: StereogramParams) -> np.ndarray:
+    """Average the oversampled width back and draw the guide dots."""
+    image = reference.downsample(image, params.oversample)
+    return draw_guides(image, params.far_separation) if params.guides else image
+
+
+def stereogram_cpu(depth: np.ndarray, params: StereogramParams = StereogramParams(), frame: int = 0) -> np.ndarray:
+    """The same image as :func:`stereogram`, computed by the NumPy/numba reference."""
+    d = check_depth(depth)
+    h, w = d.shape
+    n = params.oversample
+    sep = reference.separation(d, params.strip_width, params.depth_factor, params.exact, params.screen,
+                               params.invert != params.cross_eyed, n)
+    pattern = quantise(make_pattern(params.pattern, w, h, int(round(params.far_separation)), params.seed,
+                                    params.dot_size, frame, n))
+    strip_width, first_strip = pixel_widths(params)
+    if params.algorithm == "symmetric":
+        image = reference.symmetric(sep, pattern, params.strip_width * n, params.eye_separation_px * n)
+    else:
+        run = reference.sequential if params.algorithm == "fast" else getattr(reference, params.algorithm)
+        image = run(sep, pattern, strip_width, first_strip)
+    return finish(image, params)
+
+
+def stereogram(depth: np.ndarray, params: StereogramParams = StereogramParams(), ctx: Context | None = None,
+               cpu: bool = False, frame: int = 0) -> np.ndarray:
+    """One stereogram from D (float32 (H, W) in [0, 1], 0 = near): float32 (H, W, 3), row 0 on top.
+    ``cpu``: use the reference instead of the GPU (same image)."""
+    if cpu:
+        return stereogram_cpu(depth, params, frame)
+    own = ctx is None
+    ctx = ctx or Context()
+    try:
+        return StereogramRenderer(ctx).render(depth, params, frame)
+    finally:
+        if own:
+            ctx.release_all()
