@@ -19,6 +19,11 @@ from .reference import rounded
 __all__ = ["decode_separation", "expected_separation", "DecodeReport", "check", "separation_to_depth"]
 
 
+#: a rival separation whose mean squared difference is within this of the best one makes a pixel
+#: ambiguous (for black-and-white dots and the 7×3 window: fewer than ~2 of 21 dots decide)
+AMBIGUITY_MARGIN = 0.1
+
+
 def _box_sum(a: np.ndarray, radius_x: int, radius_y: int) -> np.ndarray:
     """Sum over a (2·radius_y + 1) × (2·radius_x + 1) window, zero outside the image."""
     c = np.pad(a, ((radius_y + 1, radius_y), (radius_x + 1, radius_x))).cumsum(0).cumsum(1)
@@ -27,12 +32,27 @@ def _box_sum(a: np.ndarray, radius_x: int, radius_y: int) -> np.ndarray:
     return c[ky:ky + h, kx:kx + w] - c[:h, kx:kx + w] - c[ky:ky + h, :w] + c[:h, :w]
 
 
+def _costs(img, lo, hi, rx, ry):
+    """Yield (s, cost) for every candidate separation: windowed sum of squared differences between
+    the pixels at x and x − s (inf where x − s falls outside the image)."""
+    h, w, _ = img.shape
+    for s in range(lo, hi + 1):
+        diff = np.zeros((h, w), np.float32)
+        diff[:, s:] = ((img[:, s:] - img[:, :-s]) ** 2).sum(axis=2)
+        cost = _box_sum(diff, rx, ry)
+        cost[:, : s + rx] = np.inf
+        yield s, cost
+
+
 def decode_separation(image: np.ndarray, min_separation: int, max_separation: int,
-                      window: tuple[int, int] = (7, 3)) -> tuple[np.ndarray, np.ndarray]:
+                      window: tuple[int, int] = (7, 3), ambiguity: bool = False):
     """Per-pixel separation (int32, 0 where no partner fits in the image) and its matching cost
     (mean squared difference per pixel and channel; lower is surer).
 
     image: float32 (H, W, C). window: (width, height) of the matching window, odd numbers.
+    ambiguity: also return a bool map of pixels where a separation more than 1 px away from the best
+    matches (almost, :data:`AMBIGUITY_MARGIN`) as well (the doubled images at occlusion edges of left-anchored stereograms: where a chain
+    forks, two separations repeat the same dots).
     """
     img = np.asarray(image, np.float32)
     if img.ndim == 2:
@@ -44,17 +64,19 @@ def decode_separation(image: np.ndarray, min_separation: int, max_separation: in
     rx, ry = window[0] // 2, window[1] // 2
     best = np.full((h, w), np.inf, np.float32)
     best_s = np.zeros((h, w), np.int32)
-    for s in range(lo, hi + 1):
-        diff = np.zeros((h, w), np.float32)
-        diff[:, s:] = ((img[:, s:] - img[:, :-s]) ** 2).sum(axis=2)
-        diff[:, :s] = np.inf  # no partner inside the image
-        cost = _box_sum(np.where(np.isfinite(diff), diff, 0), rx, ry)
-        cost[:, : s + rx] = np.inf
+    for s, cost in _costs(img, lo, hi, rx, ry):
         better = cost < best
         best[better] = cost[better]
         best_s[better] = s
     norm = (2 * rx + 1) * (2 * ry + 1) * img.shape[2]
-    return best_s, best / norm
+    if not ambiguity:
+        return best_s, best / norm
+    rival = np.full((h, w), np.inf, np.float32)
+    for s, cost in _costs(img, lo, hi, rx, ry):
+        far = np.abs(best_s - s) > 1
+        rival[far] = np.minimum(rival[far], cost[far])
+    with np.errstate(invalid="ignore"):  # inf − inf where no partner fits: not ambiguous
+        return best_s, best / norm, (rival - best) / norm <= AMBIGUITY_MARGIN
 
 
 def expected_separation(sep: np.ndarray, anchor: str = "left") -> np.ndarray:
@@ -81,16 +103,19 @@ def expected_separation(sep: np.ndarray, anchor: str = "left") -> np.ndarray:
 class DecodeReport:
     """matched: fraction of checked pixels whose decoded separation is within ``tolerance`` px of the
     expected one; checked: how many pixels were checked (those with a partner in the stereogram and a
-    window of one depth, i.e. not at an occlusion edge); mean_error: mean |decoded − expected| there."""
+    window of one depth, not ambiguous); ambiguous: pixels left out because two separations match
+    equally well (doubled images where a chain forks at an occlusion edge); mean_error: mean
+    |decoded − expected| over the checked pixels."""
 
     matched: float
     checked: int
     mean_error: float
     tolerance: int
+    ambiguous: int = 0
 
     def __str__(self) -> str:
         return (f"{self.matched:.2%} of {self.checked:,} checked pixels within {self.tolerance} px "
-                f"(mean error {self.mean_error:.3f} px)")
+                f"(mean error {self.mean_error:.3f} px; {self.ambiguous:,} ambiguous pixels left out)")
 
 
 def check(image: np.ndarray, sep: np.ndarray, first_strip: int, anchor: str = "left", tolerance: int = 1,
@@ -98,7 +123,8 @@ def check(image: np.ndarray, sep: np.ndarray, first_strip: int, anchor: str = "l
     """Decode ``image`` and compare with the separation ``sep`` it was made from.
 
     Checked pixels: past each row's first strip, with one expected separation (±1) over the matching
-    window at both ends of the link (pixels at depth edges are where occlusion lives).
+    window at both ends of the link (pixels at depth edges are where occlusion lives), and not
+    ambiguous (see :func:`decode_separation`; their number is reported).
     """
     expected = expected_separation(sep, anchor)
     known = expected[expected > 0]
@@ -106,7 +132,7 @@ def check(image: np.ndarray, sep: np.ndarray, first_strip: int, anchor: str = "l
         raise InputError("no pixel has a partner: the image is narrower than one separation")
     lo, hi = int(known.min()) - 2, int(known.max()) + 2
     lo = max(lo, 1)
-    decoded, _ = decode_separation(image, lo, hi, window)
+    decoded, _, ambiguous = decode_separation(image, lo, hi, window, ambiguity=True)
     h, w = expected.shape
     rx, ry = window[0] // 2, window[1] // 2
     e = np.where(expected > 0, expected, 0).astype(np.float32)
@@ -124,11 +150,13 @@ def check(image: np.ndarray, sep: np.ndarray, first_strip: int, anchor: str = "l
     rows = np.zeros(h, np.int32) if row_start is None else np.asarray(row_start, np.int32)
     mask = (expected > 0) & flat & (xs - rows[:, None] >= first_strip + rx) & (partner >= rx) & (xs < w - rx)
     mask &= flat[ys, np.clip(partner, 0, w - 1)]
+    left_out = int((mask & ambiguous).sum())
+    mask &= ~ambiguous
     n = int(mask.sum())
     if n == 0:
         raise InputError("no pixel can be checked: the image is too small for its separations")
     err = np.abs(decoded[mask] - expected[mask])
-    return DecodeReport(float((err <= tolerance).mean()), n, float(err.mean()), tolerance)
+    return DecodeReport(float((err <= tolerance).mean()), n, float(err.mean()), tolerance, left_out)
 
 
 def separation_to_depth(sep: np.ndarray, strip_width: float, depth_factor: float) -> np.ndarray:

@@ -1,0 +1,100 @@
+"""Every GPU stereogram pass against its reference on fresh random inputs (exact: the pattern is
+8-bit and separations are whole pixels, so images must agree bit for bit)."""
+
+import numpy as np
+import pytest
+
+from illusio.scene.camera import Screen
+from illusio.sis import reference as R
+from illusio.sis.decode import check
+from illusio.sis.params import StereogramParams
+from illusio.sis.patterns import snow
+from illusio.sis.snow import SnowPass
+from illusio.sis.stereogram import StereogramRenderer, quantise, stereogram_cpu
+from tests.sis.test_reference import smooth_depth
+
+
+def random_depth(rng, h, w):
+    # multiples of 1/4096: W_s + β·D is exact in float32 on both sides, so no rounding ties differ
+    return (rng.integers(0, 4097, (h, w)) / 4096).astype(np.float32)
+
+
+@pytest.mark.parametrize("algorithm", ["sequential", "strip", "fast", "symmetric"])
+def test_gpu_matches_reference(ctx, rng, algorithm):
+    h, w = int(rng.integers(20, 50)), int(rng.integers(300, 700))
+    depth = random_depth(rng, h, w) if algorithm != "symmetric" else smooth_depth(rng, h, w)
+    params = StereogramParams(algorithm=algorithm, strip_width=float(rng.integers(40, 90)),
+                              depth_factor=float(rng.integers(10, 40)), pattern="colour-dots",
+                              dot_size=int(rng.integers(1, 4)), seed=int(rng.integers(1 << 30)))
+    gpu = StereogramRenderer(ctx).render(depth, params)
+    cpu = stereogram_cpu(depth, params)
+    np.testing.assert_array_equal(gpu, cpu)
+
+
+def test_chain_pass_matches_reference_with_row_starts(ctx, rng):
+    h, w = 37, 480
+    sep = R.separation(random_depth(rng, h, w), 50, 30)
+    pattern = quantise(rng.random((23, 77, 3)))
+    rows = rng.integers(0, 100, h).astype(np.int32)
+    renderer = StereogramRenderer(ctx)
+    sep_t = ctx.upload(sep, filter="nearest")
+    pat_t = ctx.upload((pattern * 255).round().astype(np.uint8), filter="nearest")
+    rows_t = ctx.upload(rows[::-1].reshape(1, h).copy(), filter="nearest")  # GL rows count from the bottom
+    expected = R.sequential(sep, pattern, 50, 80, rows)
+    for algorithm in ("chain", "strip", "sequential", "symmetric"):
+        p = StereogramParams(strip_width=50, depth_factor=30)
+        out = renderer.compute(sep_t, pat_t, p, rows_t, max_row_start=int(rows.max()), min_row_start=int(rows.min()),
+                               algorithm=algorithm)
+        got = ctx.readback(out, 3)
+        ctx.release(out)
+        want = R.symmetric(sep, pattern, 50, p.eye_separation_px, rows) if algorithm == "symmetric" else expected
+        np.testing.assert_array_equal(got, want, err_msg=algorithm)
+    for t in (sep_t, pat_t, rows_t):
+        t.release()
+
+
+def test_separation_pass_exact_and_oversampled(ctx, rng, tolerance=None):
+    depth = rng.random((13, 57)).astype(np.float32)
+    renderer = StereogramRenderer(ctx)
+    tex = ctx.upload(depth, filter="nearest")
+    for exact, n, invert in ((False, 1, False), (True, 1, False), (False, 3, True), (True, 2, False)):
+        p = StereogramParams(strip_width=90, depth_factor=60, exact=exact, oversample=n, invert=invert,
+                             screen=Screen(aspect=16 / 10))
+        out = renderer.separation_pass(tex, p)
+        got = ctx.readback(out)[..., 0]
+        ctx.release(out)
+        want = R.separation(depth, 90, 60, exact, p.screen, invert, n)
+        np.testing.assert_allclose(got, want, rtol=1e-5, atol=1e-3)
+    tex.release()
+
+
+def test_snow_pass_matches_reference(ctx, rng):
+    seed, frame = int(rng.integers(1 << 31)), int(rng.integers(1000))
+    out = SnowPass(ctx)((61, 29), seed, frame, 2)
+    got = ctx.readback(out, 3)
+    ctx.release(out)
+    np.testing.assert_allclose(got, quantise(snow(61, 29, seed, frame, 2)), atol=1 / 255 + 1e-6)
+    assert not np.array_equal(snow(61, 29, seed, frame), snow(61, 29, seed, frame + 1))
+
+
+@pytest.mark.parametrize("algorithm", ["sequential", "strip", "fast", "symmetric"])
+def test_every_gpu_algorithm_decodes_back_to_its_depth(ctx, rng, algorithm):
+    h, w = 100, 500
+    depth = smooth_depth(rng, h, w)
+    params = StereogramParams(algorithm=algorithm, strip_width=60, depth_factor=30, seed=int(rng.integers(1 << 30)))
+    image = StereogramRenderer(ctx).render(depth, params)
+    report = check(image, R.separation(depth, 60, 30), 90, "centre" if algorithm == "symmetric" else "left")
+    assert report.matched >= 0.99, str(report)
+    assert report.checked >= 0.5 * h * w, str(report)
+
+
+def test_oversampled_stereogram_keeps_its_size_and_guides(ctx, rng):
+    depth = smooth_depth(rng, 60, 300)
+    p = StereogramParams(strip_width=50, depth_factor=30, oversample=4, guides=True)
+    image = StereogramRenderer(ctx).render(depth, p)
+    assert image.shape == (60, 300, 3)
+    assert 0 < image.mean() < 1
+    # the guide dots: black discs centred (W_s + β) apart near the top
+    y = int(max(4, 0.05 * 60))
+    for cx in (150 - 40, 150 + 40):
+        assert image[y, cx].max() == 0.0
