@@ -47,7 +47,7 @@ def test_chain_pass_matches_reference_with_row_starts(ctx, rng):
                                algorithm=algorithm)
         got = ctx.readback(out, 3)
         ctx.release(out)
-        want = R.symmetric(sep, pattern, 50, p.eye_separation_px, rows) if algorithm == "symmetric" else expected
+        want = R.symmetric(sep, pattern, 50, p.eye_separation_px, rows, 80) if algorithm == "symmetric" else expected
         np.testing.assert_array_equal(got, want, err_msg=algorithm)
     for t in (sep_t, pat_t, rows_t):
         t.release()

@@ -73,12 +73,19 @@ class SceneRenderer:
         """The G-buffer textures (pooled: release them)."""
         return self.gbuffer_pass(self.prepare(scene), view, check_size(size))
 
-    def render_texture(self, scene: Scene, view: View, size, settings: RenderSettings | None = None) -> moderngl.Texture:
-        """Linear radiance as an RGBA float32 texture (pooled: release it)."""
+    def render_texture(self, scene: Scene, view: View, size, settings: RenderSettings | None = None,
+                       gbuffer_hook=None) -> moderngl.Texture:
+        """Linear radiance as an RGBA float32 texture (pooled: release it).
+
+        ``gbuffer_hook(gbuffer)``, if given, runs between the G-buffer and shading and may replace
+        G-buffer textures (a technique re-texturing a surface in screen space; it releases what it
+        replaces)."""
         s = settings or self.settings
         size = check_size(size)
         gpu = self.prepare(scene)
         gbuf = self.gbuffer_pass(gpu, view, size)
+        if gbuffer_hook is not None:
+            gbuffer_hook(gbuf)
         emitters = emitters_from_lights(scene.lights, s.shadows, MAX_EMITTERS)
         atlas = matrices = None
         if s.shadows and (emitters.shadow_row >= 0).any():

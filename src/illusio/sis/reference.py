@@ -73,19 +73,24 @@ def _rows(row_start, height):
 
 
 @njit(cache=True)
-def _texel(pattern, x, y, shift):
+def _texel(pattern, x, y, shift, start=-1, first_strip=0):
+    """T[y mod H_T, (x − shift) mod W_T]; with a row start (start ≥ 0), a column left of it wraps
+    into the first strip (the host's own projected pattern)."""
     ht, wt = pattern.shape[0], pattern.shape[1]
-    return pattern[y % ht, (x - shift) % wt]
+    v = x - shift
+    if start >= 0 and v < start:
+        v += first_strip
+    return pattern[y % ht, v % wt]
 
 
 @njit(cache=True)
-def _sequential(sep_px, pattern, strip_width, first_strip, row_start, out):
+def _sequential(sep_px, pattern, strip_width, first_strip, row_start, wrap, out):
     h, w = sep_px.shape
     for y in range(h):
         for x in range(w):
             s = sep_px[y, x]
             if x - row_start[y] < first_strip:
-                out[y, x] = _texel(pattern, x, y, s - strip_width)
+                out[y, x] = _texel(pattern, x, y, s - strip_width, row_start[y] if wrap else -1, first_strip)
             else:
                 out[y, x] = out[y, x - s]
     return out
@@ -100,7 +105,7 @@ def sequential(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_str
     h, w = sep_px.shape
     pattern = np.ascontiguousarray(pattern, np.float32)
     out = np.zeros((h, w, pattern.shape[2]), np.float32)
-    return _sequential(sep_px, pattern, int(strip_width), int(first_strip), _rows(row_start, h), out)
+    return _sequential(sep_px, pattern, int(strip_width), int(first_strip), _rows(row_start, h), row_start is not None, out)
 
 
 def strip_passes(width: int, strip_width: int, first_strip: int) -> int:
@@ -109,11 +114,14 @@ def strip_passes(width: int, strip_width: int, first_strip: int) -> int:
     return 1 + max(0, -(-(width - first_strip) // strip_width))
 
 
-def _first_strip_values(sep_px, pattern, strip_width):
-    h, w = sep_px.shape
-    ys, xs = np.mgrid[0:h, 0:w]
+def _pattern_at(pattern, ys, xs, shift, row_start, first_strip):
+    """Vectorised _texel."""
     ht, wt = pattern.shape[:2]
-    return pattern[ys % ht, (xs - (sep_px - strip_width)) % wt]
+    v = xs - shift
+    if row_start is not None:
+        start = np.asarray(row_start, np.int64)[ys]
+        v = np.where(v < start, v + first_strip, v)
+    return pattern[ys % ht, v % wt]
 
 
 def strip(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
@@ -123,8 +131,8 @@ def strip(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: i
     sep_px = rounded(sep)
     h, w = sep_px.shape
     rows = _rows(row_start, h)
-    out = _first_strip_values(sep_px, np.asarray(pattern, np.float32), strip_width).astype(np.float32)
     ys, xs = np.mgrid[0:h, 0:w]
+    out = _pattern_at(np.asarray(pattern, np.float32), ys, xs, sep_px - strip_width, row_start, first_strip).astype(np.float32)
     rel = xs - rows[:, None]
     for k in range(1, strip_passes(w + int(rows.max(initial=0)), strip_width, first_strip)):
         lo = first_strip + (k - 1) * strip_width
@@ -148,9 +156,7 @@ def chain(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: i
         if not moving.any():
             break
         at[moving] -= sep_px[ys[moving], at[moving]]
-    ht, wt = pattern.shape[:2]
-    shift = sep_px[ys, at] - strip_width
-    return np.asarray(pattern, np.float32)[ys % ht, (at - shift) % wt]
+    return _pattern_at(np.asarray(pattern, np.float32), ys, at, sep_px[ys, at] - strip_width, row_start, first_strip)
 
 
 def occlusion_separation(sep: float, offset: float, eye_separation: float) -> float:
@@ -164,7 +170,7 @@ def occlusion_separation(sep: float, offset: float, eye_separation: float) -> fl
 
 
 @njit(cache=True)
-def _symmetric(sep, pattern, near_separation, eye_separation, row_start, out, same):
+def _symmetric(sep, pattern, near_separation, eye_separation, row_start, wrap, first_strip, out, same):
     h, w = sep.shape
     e = np.float32(eye_separation)
     for y in range(h):
@@ -201,26 +207,27 @@ def _symmetric(sep, pattern, near_separation, eye_separation, row_start, out, sa
             same[left] = right
         for x in range(w - 1, -1, -1):
             if same[x] == x:
-                out[y, x] = _texel(pattern, x, y, 0)
+                out[y, x] = _texel(pattern, x, y, 0, r0 if wrap else -1, first_strip)
             else:
                 out[y, x] = out[y, same[x]]
     return out
 
 
 def symmetric(sep: np.ndarray, pattern: np.ndarray, near_separation: float, eye_separation: float,
-              row_start: np.ndarray | None = None) -> np.ndarray:
+              row_start: np.ndarray | None = None, first_strip: int = 0) -> np.ndarray:
     """Thimbleby, Inglis & Witten (1994): for each point x, the pixels x − ⌊s/2⌋ and x − ⌊s/2⌋ + s must
     match, unless the point is hidden from one eye (hidden-surface removal with
     :func:`occlusion_separation`; ``near_separation`` is W_s, nothing is nearer). Constraints are
     recorded as links to the right; pixels at the right end of a chain take the pattern, and colours
-    run right to left. No left-to-right bias."""
+    run right to left. No left-to-right bias. ``first_strip`` only matters with ``row_start`` (the
+    pattern wrap of :func:`_texel`)."""
     sep = np.ascontiguousarray(sep, np.float32)
     h, w = sep.shape
     pattern = np.ascontiguousarray(pattern, np.float32)
     out = np.zeros((h, w, pattern.shape[2]), np.float32)
     same = np.zeros(w, np.int32)
     return _symmetric(sep, pattern, np.float32(near_separation), np.float32(eye_separation),
-                      _rows(row_start, h), out, same)
+                      _rows(row_start, h), row_start is not None, int(first_strip), out, same)
 
 
 def downsample(image: np.ndarray, factor: int) -> np.ndarray:

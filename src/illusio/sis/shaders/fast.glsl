@@ -8,28 +8,15 @@
 #if defined(COMPUTE_SHADER)
 layout(local_size_x = ROWS_PER_GROUP) in;
 #include "depth_to_separation.glsl"
-uniform sampler2D pattern;
-uniform isampler2D row_starts;
-uniform bool use_row_starts;
-uniform int image_height;
-uniform int strip_width;            // W_s, whole pixels
-uniform int first_strip;            // W_s + β, whole pixels
+#include "sis_common.glsl"
 layout(rgba8, binding = 0) coherent uniform image2D stereogram;
 
-vec4 pattern_texel(int x, int y, int shift) {
-    ivec2 size = textureSize(pattern, 0);
-    int y_top = image_height - 1 - y;
-    int row = size.y - 1 - y_top % size.y;
-    int v = x - shift;
-    if (v < 0) v += size.x * (-v / size.x + 1);
-    return texelFetch(pattern, ivec2(v % size.x, row), 0);
-}
 
 void main() {
     ivec2 size = imageSize(stereogram);
     int y = int(gl_GlobalInvocationID.x);
     if (y >= size.y) return;
-    int start = use_row_starts ? texelFetch(row_starts, ivec2(y, 0), 0).r : 0;
+    int start = row_start(y);
     for (int x = 0; x < size.x; ++x) {
         int s = int(floor(separation_at(x, y) + 0.5));
         vec4 c = (x - start < first_strip) ? pattern_texel(x, y, s - strip_width)

@@ -17,12 +17,18 @@ int row_start(int y) {
     return use_row_starts ? texelFetch(row_starts, ivec2(y, 0), 0).r : 0;
 }
 
-// T[y mod H_T, (x - shift) mod W_T] with y counted from the top of the image
+// T[y mod H_T, (x - shift) mod W_T] with y counted from the top of the image. With row starts (a host
+// surface in a scene) a column left of the row's start wraps into its first strip instead, so the
+// first strip only ever shows the pattern projected on the host.
 vec4 pattern_texel(int x, int y, int shift) {
     ivec2 size = textureSize(pattern, 0);
     int y_top = image_height - 1 - y;
     int row = size.y - 1 - y_top % size.y;
     int v = x - shift;
+    if (use_row_starts) {
+        int start = row_start(y);
+        if (v < start) v += first_strip;
+    }
     if (v < 0) v += size.x * (-v / size.x + 1);  // GLSL's % is undefined for negative operands
     int col = v % size.x;
     return texelFetch(pattern, ivec2(col, row), 0);

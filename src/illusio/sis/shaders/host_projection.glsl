@@ -1,0 +1,35 @@
+#version 430
+// Steps (2) and (4) of Figure 22: draw the host surface of the main scene textured with the hidden
+// scene's depth image and with the pattern, keeping only pixels where the G-buffer says the host is
+// the visible surface. Outputs, in screen space: D (R32F; the target is cleared to -1 = not host) and
+// the pattern (RGBA8).
+#include "common/camera.glsl"
+
+uniform mat4 model_matrix;
+
+#if defined(VERTEX_SHADER)
+in vec3 in_position;
+in vec2 in_uv;
+out vec2 surface_uv;
+void main() {
+    surface_uv = in_uv;
+    gl_Position = projection_matrix * view_matrix * model_matrix * vec4(in_position, 1.0);
+}
+#endif
+
+#if defined(FRAGMENT_SHADER)
+uniform sampler2D hidden_depth;   // D of the hidden scene, over the host's uv square
+uniform sampler2D pattern;        // the pattern, repeated pattern_repeat times over the host
+uniform sampler2D g_object_id;
+uniform float object_id;
+uniform vec2 pattern_repeat;
+in vec2 surface_uv;
+layout(location = 0) out float depth;
+layout(location = 1) out vec4 colour;
+
+void main() {
+    if (abs(texelFetch(g_object_id, ivec2(gl_FragCoord.xy), 0).r - object_id) > 0.25) discard;
+    depth = texture(hidden_depth, surface_uv).r;
+    colour = texture(pattern, surface_uv * pattern_repeat);
+}
+#endif
