@@ -12,13 +12,16 @@ import warnings
 import typer
 
 from ..core.errors import IllusioError
-from . import demo, info, render
+from . import demo, info, render, sis
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="illusio: perception-driven rendering on a headless OpenGL core.")
 app.command("info")(info.info)
 app.command("render")(render.render)
 app.command("demo")(demo.demo)
+app.command("sis")(sis.sis)
+app.command("sis-scene")(sis.sis_scene)
+app.command("sis-decode")(sis.sis_decode)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

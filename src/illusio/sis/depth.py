@@ -17,10 +17,11 @@ from ..core.errors import InputError
 from ..core.images import read_image
 from ..passes.gbuffer import GBufferPass
 from ..passes.gpu_scene import GpuScene, set_uniform
-from ..scene.camera import View
+from ..scene.camera import Camera, Pose, View
+from ..scene.mesh import Mesh
 from ..scene.scene import Scene
 
-__all__ = ["check_depth", "read_depth", "HiddenDepthPass", "OBJECT_RANGE"]
+__all__ = ["check_depth", "read_depth", "HiddenDepthPass", "OBJECT_RANGE", "hidden_scene", "depth_from_scene"]
 
 #: the share of [0, 1] a rendered object spans in front of the far background
 OBJECT_RANGE = 0.8
@@ -98,3 +99,27 @@ class HiddenDepthPass:
         self.ctx.fullscreen.draw(self.program)
         gbuf.release()
         return out
+
+
+def hidden_scene(mesh: Mesh, azimuth: float = 0.0, elevation: float = 10.0, distance: float = 2.6) -> Scene:
+    """A scene holding only ``mesh`` (normalised to 1 m), with a ``main`` camera in front of it: what a
+    stereogram hides."""
+    from ..scene.scene import Node
+
+    m = mesh.normalised(1.0)
+    lo, hi = m.bounds
+    centre = tuple((np.asarray(lo) + np.asarray(hi)) / 2)
+    return Scene(name=f"hidden-{mesh.name or 'mesh'}", nodes=[Node("subject", m, tags=("subject",))],
+                 cameras={"main": View(Pose.orbit(centre, distance, azimuth, elevation), Camera(30.0, 0.05, 30.0))})
+
+
+def depth_from_scene(ctx: Context, scene: Scene, size: tuple[int, int], view: View | None = None) -> np.ndarray:
+    """D (0 = near) of a scene rendered through ``view`` (its main camera by default)."""
+    gpu = GpuScene(ctx, scene)
+    try:
+        tex = HiddenDepthPass(ctx)(gpu, view or scene.camera(), size)
+        d = ctx.readback(tex)[..., 0]
+        ctx.release(tex)
+    finally:
+        gpu.release()
+    return np.clip(d, 0, 1).astype(np.float32)

@@ -1,0 +1,197 @@
+"""illusio sis, sis-scene, sis-decode: autostereograms from depth maps and inside 3D scenes."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import typer
+
+from ..core.errors import InputError
+from ..core.images import check_output_path, read_image, write_image
+from ..scene.camera import Screen
+from ..sis.params import ALGORITHMS, StereogramParams
+from .common import parse_size, progress, scene_inputs
+
+_DEFAULT = StereogramParams()
+_SCREEN = Screen()
+
+
+def _depth_input(source: str, size: tuple[int, int] | None, ctx_factory):
+    """D (0 = near) from a depth file (white = near), or a mesh / built-in shape rendered to depth."""
+    from ..scene.builtin import SHAPES, shape
+    from ..scene.mesh import MESH_FORMATS, load_mesh
+    from ..sis.depth import depth_from_scene, hidden_scene, read_depth
+
+    p = Path(source)
+    if source in SHAPES or p.suffix.lower() in MESH_FORMATS:
+        mesh = shape(source) if source in SHAPES else load_mesh(p)
+        return depth_from_scene(ctx_factory(), hidden_scene(mesh), size or (1280, 720))
+    if not p.exists():
+        raise InputError(f"{source}: no such file, and not a built-in shape ({', '.join(SHAPES)})")
+    depth = read_depth(p)
+    if size and (depth.shape[1], depth.shape[0]) != size:
+        from PIL import Image
+
+        depth = np.asarray(Image.fromarray(depth).resize(size, Image.Resampling.BILINEAR), np.float32)
+    return depth
+
+
+def _print_size(text: str, dpi: float) -> tuple[tuple[int, int], Screen]:
+    """'20x15cm' at ``dpi`` → pixels, and the matching physical 'screen' (the print)."""
+    body = text.lower().replace("×", "x").removesuffix("cm")
+    try:
+        w_cm, h_cm = (float(v) for v in body.split("x"))
+    except ValueError:
+        raise InputError(f"--print-size must look like 20x15cm, got {text!r}") from None
+    if not (w_cm > 0 and h_cm > 0 and dpi > 0):
+        raise InputError("--print-size and --dpi must be positive")
+    w, h = int(round(w_cm / 2.54 * dpi)), int(round(h_cm / 2.54 * dpi))
+    return (w, h), Screen(diagonal_cm=float(np.hypot(w_cm, h_cm)), aspect=w_cm / h_cm, width_px=w, height_px=h)
+
+
+def sis(
+    depth: str = typer.Argument(..., help="depth map: grey PNG (8/16-bit, white = near), .npy, a mesh file or a built-in shape"),
+    output: Path = typer.Option(..., "-o", "--output", help="stereogram to write (.png)"),
+    algorithm: str = typer.Option(_DEFAULT.algorithm, "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
+    pattern: str = typer.Option(_DEFAULT.pattern, "--pattern", help="random-dot, grey-dots, colour-dots, pink-noise, snow, or an image file"),
+    strip_width: float = typer.Option(_DEFAULT.strip_width, "--strip-width", help="W_s, pixels: separation of the nearest depth"),
+    depth_factor: float = typer.Option(_DEFAULT.depth_factor, "--depth-factor", help="β, pixels: separations span [W_s, W_s + β]"),
+    exact: bool = typer.Option(False, "--exact", help="equation (3) of the physical screen instead of the linear W_s + β·D"),
+    screen_diagonal: float = typer.Option(_SCREEN.diagonal_cm, "--screen-diagonal", help="d, cm"),
+    aspect: float = typer.Option(_SCREEN.aspect, "--aspect", help="a = width / height"),
+    distance: float = typer.Option(_SCREEN.viewing_distance_cm, "--distance", help="f, viewer to screen, cm"),
+    eye_separation: float = typer.Option(_SCREEN.eye_separation_cm, "--eye-separation", help="e, cm"),
+    screen_width_px: int = typer.Option(_SCREEN.width_px, "--screen-width-px", help="w_p, pixels across the screen"),
+    guides: bool = typer.Option(False, "--guides", help="two guide dots W_s + β apart"),
+    cross_eyed: bool = typer.Option(False, "--cross-eyed", help="for crossed eyes (default: wall-eyed)"),
+    invert: bool = typer.Option(False, "--invert", help="black = near"),
+    oversample: int = typer.Option(1, "--oversample", help="compute at N times the width (smooth depth steps)"),
+    dot_size: int = typer.Option(1, "--dot-size", help="pixels per random dot"),
+    seed: int = typer.Option(0, "--seed", help="seed of the random pattern"),
+    size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT in pixels (default: the depth map's)"),
+    print_size: str = typer.Option(None, "--print-size", help="WIDTHxHEIGHTcm for print (with --dpi); sets the size and the physical model"),
+    dpi: float = typer.Option(300.0, "--dpi", help="dots per inch with --print-size"),
+    cpu: bool = typer.Option(False, "--cpu", help="use the NumPy/numba reference instead of the GPU"),
+) -> None:
+    """Make an autostereogram of DEPTH."""
+    from ..core.context import Context
+    from ..sis.stereogram import stereogram
+
+    out = check_output_path(output, scene_inputs(depth) + scene_inputs(pattern))
+    screen = Screen(diagonal_cm=screen_diagonal, aspect=aspect, width_px=screen_width_px,
+                    viewing_distance_cm=distance, eye_separation_cm=eye_separation)
+    wanted = parse_size(size) if size else None
+    if print_size:
+        wanted, screen = _print_size(print_size, dpi)
+    params = StereogramParams(algorithm=algorithm, strip_width=strip_width, depth_factor=depth_factor, exact=exact,
+                              screen=screen, pattern=pattern, dot_size=dot_size, guides=guides, cross_eyed=cross_eyed,
+                              invert=invert, oversample=oversample, seed=seed)
+    contexts = []
+
+    def ctx_factory():
+        if not contexts:
+            contexts.append(Context())
+        return contexts[0]
+
+    d = _depth_input(depth, wanted, ctx_factory)
+    image = stereogram(d, params, None if cpu else ctx_factory(), cpu=cpu)
+    write_image(out, image)
+    typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {algorithm}, separations {strip_width:g}..{params.far_separation:g} px)")
+
+
+def sis_decode(
+    image: Path = typer.Argument(..., help="a stereogram (.png)"),
+    output: Path = typer.Option(..., "-o", "--output", help="decoded depth (.png, white = near)"),
+    strip_width: float = typer.Option(_DEFAULT.strip_width, "--strip-width", help="W_s the stereogram was made with"),
+    depth_factor: float = typer.Option(_DEFAULT.depth_factor, "--depth-factor", help="β it was made with"),
+    expected: Path = typer.Option(None, "--expected", help="the depth map it was made from: report how much decodes back"),
+    symmetric: bool = typer.Option(False, "--symmetric", help="made by the symmetric algorithm (links centred on each point)"),
+) -> None:
+    """Recover the depth map hidden in a stereogram by window matching (the self-check)."""
+    from ..sis.decode import check, decode_separation, separation_to_depth
+    from ..sis.depth import read_depth
+    from ..sis.reference import separation
+
+    out = check_output_path(output, [image] + ([expected] if expected else []))
+    img = read_image(image)[..., :3]
+    lo, hi = int(strip_width) - 1, int(np.ceil(strip_width + depth_factor)) + 1
+    decoded, _ = decode_separation(img, max(1, lo), hi)
+    depth = separation_to_depth(decoded, strip_width, depth_factor)
+    write_image(out, 1.0 - depth, srgb=False)
+    typer.echo(f"wrote {out}")
+    if expected:
+        d = read_depth(expected)
+        if d.shape != img.shape[:2]:
+            raise InputError(f"--expected is {d.shape[1]}×{d.shape[0]} but the stereogram is {img.shape[1]}×{img.shape[0]}")
+        report = check(img, separation(d, strip_width, depth_factor), int(strip_width + depth_factor + 0.5),
+                       "centre" if symmetric else "left")
+        typer.echo(f"self-check: {report}")
+
+
+def sis_scene(
+    scene: str = typer.Argument("living-room", help="built-in scene or .yaml with a host surface"),
+    output: Path = typer.Option(..., "-o", "--output", help="image to write (.png); with --frames, the first frame"),
+    hidden: str = typer.Option("torus-knot", "--hidden", help="what the stereogram hides: a built-in shape or a mesh file"),
+    host: str = typer.Option("tv-screen", "--host", help="name or tag of the surface showing the stereogram"),
+    camera: str = typer.Option("tv", "--camera", help="camera of the scene"),
+    pattern: str = typer.Option("snow", "--pattern", help="snow (changes every frame), random-dot, ..., or an image"),
+    algorithm: str = typer.Option("fast", "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
+    strip_width: float = typer.Option(100.0, "--strip-width", help="W_s for a 1920-pixel-wide frame (scaled with the size)"),
+    depth_factor: float = typer.Option(40.0, "--depth-factor", help="β for a 1920-pixel-wide frame"),
+    emission: float = typer.Option(0.9, "--emission", help="host glow (TV); 0 for a lit surface such as a wall"),
+    interactive: bool = typer.Option(False, "--interactive", help="orient the hidden scene by the viewer's position (Figure 25)"),
+    spin: float = typer.Option(0.0, "--spin", help="degrees per frame the hidden scene turns"),
+    size: str = typer.Option("1920x1080", "--size", help="WIDTHxHEIGHT"),
+    frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
+    video: Path = typer.Option(None, "--video", help="write the frames as a video (.mp4 or .gif)"),
+    seed: int = typer.Option(0, "--seed", help="seed of the pattern"),
+) -> None:
+    """Render SCENE with a stereogram on its host surface hiding another shape (Figure 22)."""
+    from ..core.context import Context
+    from ..scene.builtin import SHAPES, shape
+    from ..scene.mesh import load_mesh
+    from ..sis.depth import hidden_scene
+    from ..sis.multiscene import MultiSceneParams, MultiSceneRenderer
+    from .common import resolve_scene
+
+    out = check_output_path(output, scene_inputs(scene) + scene_inputs(hidden))
+    if video:
+        check_output_path(video, scene_inputs(scene) + scene_inputs(hidden))
+        if video.suffix.lower() not in (".mp4", ".gif"):
+            raise InputError(f"--video must end in .mp4 or .gif, got {video.name}")
+    if frames < 1:
+        raise InputError("--frames must be at least 1")
+    w, h = parse_size(size)
+    main = resolve_scene(scene)
+    view = main.camera(camera if camera in main.cameras else None)
+    hidden_mesh = shape(hidden) if hidden in SHAPES else load_mesh(hidden)
+    params = MultiSceneParams(host=host, stereogram=StereogramParams(algorithm=algorithm, pattern=pattern, strip_width=strip_width,
+                                                                     depth_factor=depth_factor, seed=seed),
+                              emission=emission, interactive=interactive, spin=spin)
+    renderer = MultiSceneRenderer(Context())
+    hidden_sc = hidden_scene(hidden_mesh)
+    images = []
+    with progress(frames, "rendering frames") as advance:
+        for f in range(frames):
+            images.append(renderer.render(main, hidden_sc, view, (w, h), params, frame=f))
+            advance()
+    write_image(out, images[0])
+    typer.echo(f"wrote {out} ({w}×{h})")
+    if video:
+        _write_video(video, images)
+        typer.echo(f"wrote {video} ({frames} frames)")
+
+
+def _write_video(path: Path, images: list[np.ndarray], fps: int = 12) -> None:
+    import imageio.v3 as iio
+
+    from ..core.images import atomic_output, linear_to_srgb
+
+    frames = np.stack([(np.clip(linear_to_srgb(i), 0, 1) * 255 + 0.5).astype(np.uint8) for i in images])
+    with atomic_output(path) as tmp:
+        if path.suffix.lower() == ".gif":
+            iio.imwrite(tmp, frames, extension=".gif", duration=1000 / fps, loop=0)
+        else:
+            iio.imwrite(tmp, frames, extension=".mp4", fps=fps, codec="libx264", macro_block_size=1)
