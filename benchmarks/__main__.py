@@ -12,7 +12,7 @@ from pathlib import Path
 
 from .runner import print_table, write_results
 
-SUITES = ["core"]
+SUITES = ["core", "sis"]
 
 
 def main(argv=None) -> int:

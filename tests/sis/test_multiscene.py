@@ -16,7 +16,12 @@ def hidden_scene():
                  cameras={"main": View(Pose((0, 0, 4.5), (0, 0, 0)), Camera(35, 0.1, 20))})
 
 
-def test_tv_shows_a_stereogram_of_the_hidden_scene(ctx):
+def test_tv_shows_a_stereogram_of_the_hidden_scene():
+    # its own context: after some other tests on the shared one the host mask comes out empty (a GL
+    # state leak not yet found; see the note on issue 3)
+    from illusio.core import Context
+
+    ctx = Context()
     scene = load_scene("living-room")
     keep = {}
     size = (960, 540)
@@ -36,3 +41,4 @@ def test_tv_shows_a_stereogram_of_the_hidden_scene(ctx):
     assert report.matched >= 0.97, str(report)
     # the TV glows with it: its pixels vary (snow) where the screen is seen
     assert image[host].std() > 0.1
+    ctx.release_all()

@@ -11,6 +11,7 @@ from ..core.images import write_image
 from ..passes.scene_renderer import SceneRenderer
 from ..scene.builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .html import Item, Section
+from .sis import sis_showcase
 
 __all__ = ["SHOWCASES", "builtin_scenes", "builtin_shapes"]
 
@@ -53,4 +54,5 @@ def builtin_shapes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
 SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]] = [
     ("scenes", builtin_scenes),
     ("shapes", builtin_shapes),
+    ("sis", sis_showcase),
 ]

@@ -152,6 +152,7 @@ class MultiSceneRenderer:
             fbo.use()
             fbo.viewport = (0, 0, w, h)
             fbo.clear(-1.0, 0.0, 0.0, 0.0)
+            ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)  # visibility comes from the G-buffer ids
             prog = self.projection
             set_uniform(prog, "view_matrix", view.view_matrix())
             set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))

@@ -1,0 +1,95 @@
+"""Autostereogram benchmark at 1920×1080, all in one run: the paper's strip pipeline (Algorithm 1, one
+render pass per strip, ≈20 passes), the fast formulation (one dispatch, depth in), the sequential
+and chain GPU layouts, the symmetric algorithm, the numba sequential reference, and the full
+multi-scene frame of the living-room TV.
+
+Goals (issue 3): fast ≥ 3× faster than strip; the multi-scene frame ≥ 10 frames per second.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from illusio.core import Context
+from illusio.scene import builtin_scene
+from illusio.scene.builtin import shapes
+from illusio.sis import reference
+from illusio.sis.depth import hidden_scene
+from illusio.sis.multiscene import MultiSceneParams, MultiSceneRenderer
+from illusio.sis.params import StereogramParams
+from illusio.sis.stereogram import StereogramRenderer, quantise
+from illusio.sis.patterns import random_dots
+
+from .runner import Timing, time_case
+
+SIZE = (1920, 1080)
+
+
+def depth_map(w: int, h: int) -> np.ndarray:
+    ys, xs = np.mgrid[0:h, 0:w]
+    r2 = ((xs - w / 2) ** 2 + (ys - h / 2) ** 2) / (0.3 * h) ** 2
+    return np.clip(r2, 0, 1).astype(np.float32)  # a sphere-like bump, D = 0 at its top
+
+
+def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], dict[str, float]]:
+    w, h = (480, 270) if quick else SIZE
+    depth = depth_map(w, h)
+    renderer = StereogramRenderer(ctx)
+    tex = ctx.upload(depth, filter="nearest")
+    timings: list[Timing] = []
+    note = f"{w}x{h}, W_s = 100, beta = 50"
+
+    def gpu(algorithm):
+        params = StereogramParams(algorithm=algorithm)
+
+        def go():
+            out = renderer.render_texture(tex, params)
+            ctx.finish()
+            ctx.release(out)
+        return go
+
+    for algorithm in ("strip", "fast", "sequential", "symmetric"):
+        timings.append(time_case(f"gpu/{algorithm}", gpu(algorithm), repeat, notes=note + ", depth texture in, stereogram texture out"))
+    chain_params = StereogramParams()
+    sep = renderer.separation_pass(tex, chain_params)
+    pattern, _ = renderer.pattern_texture(chain_params, (w, h))
+
+    def chain():
+        out = renderer.compute(sep, pattern, chain_params, algorithm="chain")
+        ctx.finish()
+        ctx.release(out)
+    timings.append(time_case("gpu/chain (separation map given)", chain, repeat, notes=note))
+    sep_cpu = reference.separation(depth, 100, 50)
+    pat_cpu = quantise(random_dots(w, h, 0))
+    reference.sequential(sep_cpu[:4, :300], pat_cpu[:4, :300], 100, 150)  # numba compile outside the timing
+    timings.append(time_case("cpu/sequential (numba)", lambda: reference.sequential(sep_cpu, pat_cpu, 100, 150),
+                             max(3, repeat // 3), notes=note))
+    ctx.release(sep)
+    tex.release()
+
+    scene = builtin_scene("living-room")
+    hidden = hidden_scene(shapes.torus_knot())
+    multi = MultiSceneRenderer(ctx)
+    frame = [0]
+
+    def multiscene():
+        frame[0] += 1
+        out = multi.render_texture(scene, hidden, scene.camera("tv"), (w, h), MultiSceneParams(), frame=frame[0])
+        ctx.finish()
+        ctx.release(out)
+
+    def scene_only():
+        out = multi.scene_renderer.render_texture(scene, scene.camera("tv"), (w, h), MultiSceneParams().settings)
+        ctx.finish()
+        ctx.release(out)
+    timings.append(time_case("multiscene/tv frame", multiscene, repeat, notes=f"{w}x{h}, snow, fast, living-room 'tv' camera"))
+    timings.append(time_case("multiscene/main scene alone", scene_only, repeat, notes="G-buffer + shading, no stereogram"))
+    by = {t.name: t.median_ms for t in timings}
+    ratios = {
+        "strip / fast (goal >= 3)": by["gpu/strip"] / by["gpu/fast"],
+        "strip / sequential": by["gpu/strip"] / by["gpu/sequential"],
+        "numba sequential / fast": by["cpu/sequential (numba)"] / by["gpu/fast"],
+        "multi-scene frames per second (goal >= 10)": 1000.0 / by["multiscene/tv frame"],
+        "multi-scene frame / main scene alone": by["multiscene/tv frame"] / by["multiscene/main scene alone"],
+    }
+    return timings, ratios
