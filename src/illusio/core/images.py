@@ -183,6 +183,9 @@ class atomic_output:
         assert self.tmp is not None
         if exc_type is None:
             try:
+                umask = os.umask(0)
+                os.umask(umask)
+                os.chmod(self.tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the usual file mode
                 os.replace(self.tmp, self.path)
             except OSError as err:
                 self.tmp.unlink(missing_ok=True)
