@@ -25,7 +25,7 @@ class FastPass:
     def __init__(self, ctx: Context, rows_per_group: int = 16):
         self.ctx = ctx
         self.rows_per_group = rows_per_group
-        self.program = ctx.program("sis/shaders/fast.glsl", ROWS_PER_GROUP=rows_per_group)
+        self.program = ctx.program("sis/shaders/sequential.glsl", FROM_DEPTH=1, ROWS_PER_GROUP=rows_per_group)
 
 
     def __call__(self, depth: moderngl.Texture, pattern: moderngl.Texture, params: StereogramParams,
