@@ -32,8 +32,8 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     write_image(out_dir / "sis/depth.png", 1.0 - depth)
     section.items.append(Item("sis/depth.png", "Figure 28 — depth map", "rendered torus knot, white = near"))
     base = StereogramParams(strip_width=max(2.0, 100 * scale), depth_factor=max(1.0, 50 * scale), guides=True)
-    texture_path = out_dir / "sis/wallpaper-texture.png"
-    write_image(texture_path, textures.wallpaper())
+    texture_path = out_dir / "sis/planks-texture.png"
+    write_image(texture_path, textures.planks(256, 3, 5))  # the wallpaper stripes are too faint to fuse
     for name, params in (("random-dot", base), ("texture", StereogramParams(**{**base.__dict__, "pattern": str(texture_path)}))):
         img = sis.render(depth, params)
         rel = f"sis/{name}.png"
