@@ -1,6 +1,7 @@
 """The multi-scene pipeline: the TV of the living room shows a stereogram of the hidden shape."""
 
 import numpy as np
+import pytest
 
 from illusio.scene import load_scene
 from illusio.scene.builtin import shape
@@ -16,29 +17,28 @@ def hidden_scene():
                  cameras={"main": View(Pose((0, 0, 4.5), (0, 0, 0)), Camera(35, 0.1, 20))})
 
 
-def test_tv_shows_a_stereogram_of_the_hidden_scene():
-    # its own context: after some other tests on the shared one the host mask comes out empty (a GL
-    # state leak not yet found; see the note on issue 3)
-    from illusio.core import Context
-
-    ctx = Context()
+@pytest.mark.parametrize("host, camera, emission", [("tv-screen", "tv", 0.9), ("back-wall", "main", 0.0)])
+def test_host_shows_a_stereogram_of_the_hidden_scene(ctx, host, camera, emission):
     scene = load_scene("living-room")
     keep = {}
     size = (960, 540)
-    params = MultiSceneParams()
-    image = MultiSceneRenderer(ctx).render(scene, hidden_scene(), scene.camera("tv"), size, params, frame=3, keep=keep)
+    params = MultiSceneParams(host=host, emission=emission)
+    image = MultiSceneRenderer(ctx).render(scene, hidden_scene(), scene.camera(camera), size, params, frame=3, keep=keep)
     depth = keep["depth"]
-    host = depth >= 0
-    # the TV screen covers a good part of that view, and the hidden knot covers part of the screen
-    assert 0.1 < host.mean() < 0.6
-    assert (depth[host] < 0.9).mean() > 0.1
-    # inside the host, the stereogram encodes the screen-space depth
+    host_mask = depth >= 0
+    visible = keep["visible"]
+    # the host covers a good part of that view, and the hidden knot covers part of the host
+    assert 0.1 < host_mask.mean() < 0.7
+    assert (depth[host_mask] < 0.9).mean() > 0.02
+    assert not (visible & ~host_mask).any()
+    if host == "back-wall":  # the TV and its stand hide part of the wall, but do not cut its rows
+        assert visible.sum() < 0.97 * host_mask.sum()
+    # over the whole host, seen or hidden, the stereogram encodes the screen-space depth
     sis = params.scaled_stereogram(size[0])
-    sep = separation(np.where(host, depth, 1.0), sis.strip_width, sis.depth_factor)
-    rows = np.where(host.any(axis=1), host.argmax(axis=1), size[0]).astype(np.int32)
+    sep = separation(np.where(host_mask, depth, 1.0), sis.strip_width, sis.depth_factor)
+    rows = np.where(host_mask.any(axis=1), host_mask.argmax(axis=1), size[0]).astype(np.int32)
     first = int(sis.far_separation + 0.5)
-    report = check(np.where(host[..., None], keep["stereogram"], 0), sep, first, "left", row_start=rows)
+    report = check(np.where(host_mask[..., None], keep["stereogram"], 0), sep, first, "left", row_start=rows)
     assert report.matched >= 0.97, str(report)
-    # the TV glows with it: its pixels vary (snow) where the screen is seen
-    assert image[host].std() > 0.1
-    ctx.release_all()
+    # where the host is seen, it shows the stereogram (snow or texture): its pixels vary
+    assert image[visible].std() > 0.05

@@ -9,7 +9,7 @@ import numpy as np
 import typer
 
 from ..core.errors import InputError
-from ..core.images import check_output_path, read_image, write_image
+from ..core.images import check_output_path, read_image, write_image, write_video
 from ..scene.camera import Screen
 from ..sis.params import ALGORITHMS, StereogramParams
 from .common import parse_size, progress, scene_inputs
@@ -180,18 +180,5 @@ def sis_scene(
     write_image(out, images[0])
     typer.echo(f"wrote {out} ({w}×{h})")
     if video:
-        _write_video(video, images)
+        write_video(video, images)
         typer.echo(f"wrote {video} ({frames} frames)")
-
-
-def _write_video(path: Path, images: list[np.ndarray], fps: int = 12) -> None:
-    import imageio.v3 as iio
-
-    from ..core.images import atomic_output, linear_to_srgb
-
-    frames = np.stack([(np.clip(linear_to_srgb(i), 0, 1) * 255 + 0.5).astype(np.uint8) for i in images])
-    with atomic_output(path) as tmp:
-        if path.suffix.lower() == ".gif":
-            iio.imwrite(tmp, frames, extension=".gif", duration=1000 / fps, loop=0)
-        else:
-            iio.imwrite(tmp, frames, extension=".mp4", fps=fps, codec="libx264", macro_block_size=1)

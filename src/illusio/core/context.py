@@ -21,6 +21,7 @@ from .textures import TexturePool, TextureSpec, readback, upload
 __all__ = ["Context", "REQUIRED_GL"]
 
 REQUIRED_GL = 430
+_CURRENT: list["Context | None"] = [None]  # the Context whose GL context was made current last (one GL thread)
 
 
 class Context:
@@ -44,6 +45,15 @@ class Context:
         self.textures = TexturePool(gl)
         self.fullscreen = FullscreenTriangle(gl)
         self._framebuffers: dict[tuple, moderngl.Framebuffer] = {}
+        _CURRENT[0] = self  # creating a context makes it current
+
+    def make_current(self) -> None:
+        """Make this context the current one if another Context was used since (a second
+        Context in one process, e.g. a CLI call inside a script, would otherwise receive this one's
+        GL calls). Called by every entry point below; passes call it before direct ``gl`` work."""
+        if _CURRENT[0] is not self:
+            self.gl.__enter__()
+            _CURRENT[0] = self
 
     @classmethod
     def wrap(cls, gl: moderngl.Context) -> "Context":
@@ -52,23 +62,28 @@ class Context:
 
     # -- small conveniences every pass uses -------------------------------------------------
     def program(self, path: str, **defines: Any):
+        self.make_current()
         return self.programs.get(path, **defines)
 
     def acquire(self, size: tuple[int, int], components: int = 4, dtype: str = "f4", **kw) -> moderngl.Texture:
+        self.make_current()
         return self.textures.acquire(TextureSpec((int(size[0]), int(size[1])), components, dtype, **kw))
 
     def release(self, *textures: moderngl.Texture) -> None:
         self.textures.release(*textures)
 
     def upload(self, array: np.ndarray, **kw) -> moderngl.Texture:
+        self.make_current()
         return upload(self.gl, array, **kw)
 
     def readback(self, texture: moderngl.Texture, components: int | None = None) -> np.ndarray:
+        self.make_current()
         return readback(texture, components)
 
     def framebuffer(self, colour: list[moderngl.Texture], depth: bool | moderngl.Texture = False) -> moderngl.Framebuffer:
         """A framebuffer over ``colour`` textures (cached by their GL names), with an optional depth
         attachment (``True``: a depth renderbuffer of the same size, kept with the framebuffer)."""
+        self.make_current()
         key = (tuple(t.glo for t in colour), depth.glo if isinstance(depth, moderngl.Texture) else bool(depth))
         fbo = self._framebuffers.get(key)
         if fbo is not None and any(a is not t for a, t in zip(fbo.color_attachments, colour)):
@@ -94,14 +109,17 @@ class Context:
 
     def finish(self) -> None:
         """Block until the GPU has done all queued work (for timing)."""
+        self.make_current()
         self.gl.finish()
 
     def release_all(self) -> None:
+        self.make_current()
         for fbo in self._framebuffers.values():
             fbo.release()
         self._framebuffers.clear()
         self.textures.clear()
         self.gl.release()
+        _CURRENT[0] = None
 
 
 def _create_headless(backend: str | None) -> moderngl.Context:

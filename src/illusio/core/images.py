@@ -27,6 +27,7 @@ __all__ = [
     "atomic_output",
     "check_output_path",
     "as_image",
+    "write_video",
 ]
 
 _PIL_FORMATS = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp"}
@@ -253,4 +254,21 @@ def _write_png16(p: Path, img: np.ndarray) -> Path:
     mode = {1: "L", 2: "LA", 3: "RGB", 4: "RGBA"}[c] + ";16"
     with atomic_output(p) as tmp:
         png.from_array(q.reshape(h, w * c), mode).save(str(tmp))
+    return p
+
+
+def write_video(path: str | os.PathLike, images: list[np.ndarray], fps: float = 12) -> Path:
+    """Write linear float frames (H, W, 3) as an .mp4 (H.264) or a looping .gif, atomically."""
+    import imageio.v3 as iio
+
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix not in (".mp4", ".gif"):
+        raise InputError(f"{p.name}: a video must end in .mp4 or .gif")
+    frames = np.stack([(np.clip(linear_to_srgb(as_image(i)[..., :3]), 0, 1) * 255 + 0.5).astype(np.uint8) for i in images])
+    with atomic_output(p) as tmp:
+        if suffix == ".gif":
+            iio.imwrite(tmp, frames, extension=".gif", duration=1000 / fps, loop=0)
+        else:
+            iio.imwrite(tmp, frames, extension=".mp4", fps=fps, codec="libx264", macro_block_size=1)
     return p

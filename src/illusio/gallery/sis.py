@@ -1,5 +1,7 @@
-"""The autostereogram showcase: Figure 28 (depth, random-dot and texture stereograms), the four
-algorithms with their self-check scores, and the multi-scene TV of Figure 23."""
+"""The autostereogram showcase: Figure 20 (separation against depth, exact and linear), Figure 28
+(depth, random-dot and texture stereograms), the four algorithms with their self-check scores, the
+multi-scene TV of Figure 23 (still and animated), the textured wall of Figure 24 and the interaction
+mode of Figure 25."""
 
 from __future__ import annotations
 
@@ -8,13 +10,14 @@ from pathlib import Path
 import numpy as np
 
 from ..core.context import Context
-from ..core.images import write_image
+from ..core.images import atomic_output, write_image, write_video
 from ..scene import builtin_scene
 from ..scene.builtin import shape, textures
 from ..sis.decode import check
 from ..sis.depth import depth_from_scene, hidden_scene
 from ..sis.multiscene import MultiSceneParams, MultiSceneRenderer
 from ..sis.params import ALGORITHMS, StereogramParams
+from ..sis.physics import Screen, depth_range, separation_px
 from ..sis.reference import separation
 from ..sis.stereogram import StereogramRenderer
 from .html import Item, Section
@@ -27,6 +30,7 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                       "Focus behind the screen (wall-eyed) until the two guide dots fuse into one: the hidden shape appears.")
     w, h = size
     scale = w / 1920
+    section.items.append(separation_plot(out_dir, "sis/figure-20.png"))
     sis = StereogramRenderer(ctx)
     depth = depth_from_scene(ctx, hidden_scene(shape("torus-knot")), (w, h))
     write_image(out_dir / "sis/depth.png", 1.0 - depth)
@@ -59,6 +63,25 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
         d = keep["depth"]
         write_image(out_dir / f"sis/tv-{camera}-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
         section.items.append(Item(f"sis/tv-{camera}-depth.png", "its screen-space depth (step 2 of Figure 22)", "white = near, black = off the TV"))
+    frames = []
+    spinning = MultiSceneParams(spin=15.0)
+    for f in range(24):  # the snow changes and the hidden knot turns every frame
+        frames.append(multi.render(scene, hidden, scene.camera("tv"), (w // 2, h // 2), spinning, frame=f))
+    write_video(out_dir / "sis/tv-animated.gif", frames)
+    section.items.append(Item("sis/tv-animated.gif", "Section 4.3 — animated snow and a turning hidden knot",
+                              "24 frames, 15° per frame; each frame's stereogram is recomputed from the new depth and snow"))
+    wall_texture = out_dir / "sis/wall-texture.png"
+    write_image(wall_texture, textures.value_noise(256, 32, seed=4)[..., None] * np.array([0.55, 0.45, 0.35]) + np.array([0.35, 0.3, 0.25]))
+    wall = MultiSceneParams(host="back-wall", stereogram=StereogramParams(pattern=str(wall_texture), strip_width=100, depth_factor=40),
+                            emission=0.0)
+    keep = {}
+    img = multi.render(scene, hidden_scene(shape("torus")), scene.camera("main"), (w, h), wall, frame=1, keep=keep)
+    write_image(out_dir / "sis/wall.png", img)
+    section.items.append(Item("sis/wall.png", "Figure 24 — a texture stereogram as the wall behind the sofa",
+                              "the wall's mottled texture hides a torus; lit like any wall (no glow)"))
+    d = keep["depth"]
+    write_image(out_dir / "sis/wall-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
+    section.items.append(Item("sis/wall-depth.png", "Figure 24 (bottom) — the wall's screen-space depth", "white = near, black = off the wall"))
     interactive = MultiSceneParams(host="rug", stereogram=StereogramParams(pattern="random-dot", strip_width=100, depth_factor=40),
                                    emission=0.0, interactive=True)
     img = multi.render(scene, hidden, scene.camera("main"), (w, h), interactive, frame=1)
@@ -66,3 +89,30 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     section.items.append(Item("sis/interactive-rug.png", "Figure 25 — interaction mode on the rug",
                               "the hidden knot is seen from where the viewer stands relative to the rug"))
     return section
+
+
+def separation_plot(out_dir: Path, rel: str, strip_width: float = 100.0, depth_factor: float = 50.0) -> Item:
+    """Figure 20: separation e'_p against simulated depth f' (equation 3) for the default screen, with
+    the linear map W_s + β·D over the depth range that (W_s, β) simulates, dashed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    screen = Screen()
+    near, far = depth_range(strip_width, depth_factor, screen)
+    depth = np.linspace(0.0, 400.0, 400)
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=100)
+    ax.plot(depth, separation_px(depth, screen), label="equation (3), exact")
+    ax.plot([near, far], [strip_width, strip_width + depth_factor], "--", label=f"linear, W_s = {strip_width:g}, β = {depth_factor:g}")
+    ax.axhline(float(separation_px(1e9, screen)), color="grey", lw=0.8, label="e_p (f' → ∞)")
+    ax.set_xlabel("simulated depth f' behind the screen (cm)")
+    ax.set_ylabel("separation e'_p (px)")
+    ax.set_title(f'{screen.diagonal_cm:g} cm screen, {screen.width_px} px wide, {screen.viewing_distance_cm:g} cm away')
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower right")
+    fig.tight_layout()
+    with atomic_output(out_dir / rel) as tmp:
+        fig.savefig(tmp, format="png")
+    plt.close(fig)
+    return Item(rel, "Figure 20 — separation against depth", f"[W_s, W_s + β] = [{strip_width:g}, {strip_width + depth_factor:g}] px simulates f' ∈ [{near:.0f}, {far:.0f}] cm")

@@ -148,11 +148,13 @@ class MultiSceneRenderer:
             # (2) + (4) both projected to screen space through the host
             depth_screen = ctx.acquire((w, h), 1, "f4")
             pattern_screen = ctx.acquire((w, h), 4, "f1")
-            fbo = ctx.framebuffer([depth_screen, pattern_screen])
+            fbo = ctx.framebuffer([depth_screen, pattern_screen], depth=True)
             fbo.use()
             fbo.viewport = (0, 0, w, h)
-            fbo.clear(-1.0, 0.0, 0.0, 0.0)
-            ctx.gl.disable(moderngl.DEPTH_TEST | moderngl.CULL_FACE)  # visibility comes from the G-buffer ids
+            fbo.clear(-1.0, 0.0, 0.0, 0.0, depth=1.0)
+            # the nearest host surface, seen through any occluder; visibility comes from the G-buffer ids
+            ctx.gl.enable(moderngl.DEPTH_TEST)
+            ctx.gl.disable(moderngl.CULL_FACE)
             prog = self.projection
             set_uniform(prog, "view_matrix", view.view_matrix())
             set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
@@ -164,9 +166,14 @@ class MultiSceneRenderer:
                 set_uniform(prog, name, value)
             gpu = self.scene_renderer.prepare(scene)
             for index, node in hosts:
+                if node.mesh.uvs is None:
+                    raise InputError(f"host {node.name!r} has no texture coordinates to carry a stereogram")
+                set_uniform(prog, "uv_min", tuple(float(v) for v in node.mesh.uvs.min(axis=0)))
+                set_uniform(prog, "uv_max", tuple(float(v) for v in node.mesh.uvs.max(axis=0)))
                 set_uniform(prog, "model_matrix", node.transform)
                 set_uniform(prog, "object_id", float(index + 1))
                 gpu.vao(prog, node).render(moderngl.TRIANGLES)
+            ctx.gl.disable(moderngl.DEPTH_TEST)
             ctx.release(hidden_depth)
             if owned:
                 ctx.release(pattern)
@@ -180,6 +187,7 @@ class MultiSceneRenderer:
             stereo.filter = (moderngl.LINEAR, moderngl.LINEAR)
             if keep is not None:
                 keep["depth"] = ctx.readback(depth_screen)[..., 0]
+                keep["visible"] = ctx.readback(pattern_screen, 4)[..., 3] > 0.5
                 keep["stereogram"] = ctx.readback(stereo, 3)
             # (6) the host's albedo and emission become the stereogram
             colour = ctx.acquire((w, h), 4, "f2")
@@ -189,7 +197,7 @@ class MultiSceneRenderer:
             out.viewport = (0, 0, w, h)
             prog = self.composite
             for unit, (name, tex) in enumerate((("g_colour", gbuf["colour"]), ("g_emission", gbuf["emission"]),
-                                                ("host_depth", depth_screen), ("stereogram", stereo))):
+                                                ("host_pattern", pattern_screen), ("stereogram", stereo))):
                 tex.use(unit)
                 set_uniform(prog, name, unit)
             set_uniform(prog, "tint", tuple(float(c) for c in hosts[0][1].material.colour) if params.emission == 0 else (1.0, 1.0, 1.0))

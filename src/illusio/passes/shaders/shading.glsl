@@ -33,13 +33,14 @@ out vec4 radiance;
 const float PI = 3.14159265358979;
 
 void main() {
-    vec4 pos = texture(g_position, uv);
+    // texelFetch: the output has the G-buffer's size, and llvmpipe fetches faster than it filters
+    vec4 pos = texelFetch(g_position, ivec2(gl_FragCoord.xy), 0);
     if (pos.a < 0.5) {
         radiance = vec4(background, 1.0);
         return;
     }
-    vec4 c = texture(g_colour, uv);
-    vec4 nn = texture(g_normal, uv);
+    vec4 c = texelFetch(g_colour, ivec2(gl_FragCoord.xy), 0);
+    vec4 nn = texelFetch(g_normal, ivec2(gl_FragCoord.xy), 0);
     vec3 albedo = c.rgb;
     float ks = c.a;
     float shininess = nn.a;
@@ -71,7 +72,7 @@ void main() {
         float phong = ks * (shininess + 2.0) / (2.0 * PI) * pow(max(dot(refl, v), 0.0), shininess);
         total += visibility * (albedo / PI + phong) * irradiance;
     }
-    total += ambient * albedo + texture(g_emission, uv).rgb;
+    total += ambient * albedo + texelFetch(g_emission, ivec2(gl_FragCoord.xy), 0).rgb;
     radiance = vec4(total * exposure, 1.0);
 }
 #endif

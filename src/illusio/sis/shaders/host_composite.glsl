@@ -7,7 +7,7 @@
 in vec2 uv;
 uniform sampler2D g_colour;
 uniform sampler2D g_emission;
-uniform sampler2D host_depth;     // >= 0 where the host is visible
+uniform sampler2D host_pattern;   // alpha 1 where the host is visible
 uniform sampler2D stereogram;     // at oversample times the width: sampled with linear filtering
 uniform vec3 tint;
 uniform float emission;
@@ -18,7 +18,7 @@ void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec4 c = texelFetch(g_colour, p, 0);
     vec4 e = texelFetch(g_emission, p, 0);
-    if (texelFetch(host_depth, p, 0).r >= 0.0) {
+    if (texelFetch(host_pattern, p, 0).a > 0.5) {
         vec3 s = texture(stereogram, uv).rgb;
         c.rgb = s * tint;
         e.rgb = s * emission;
