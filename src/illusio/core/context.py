@@ -61,9 +61,9 @@ class Context:
         return cls(gl)
 
     # -- small conveniences every pass uses -------------------------------------------------
-    def program(self, path: str, **defines: Any):
+    def program(self, path: str, varyings: tuple[str, ...] = (), **defines: Any):
         self.make_current()
-        return self.programs.get(path, **defines)
+        return self.programs.get(path, varyings, **defines)
 
     def acquire(self, size: tuple[int, int], components: int = 4, dtype: str = "f4", **kw) -> moderngl.Texture:
         self.make_current()

@@ -127,17 +127,18 @@ class ProgramCache:
     def __len__(self) -> int:
         return len(self._programs)
 
-    def get(self, path: str | Path, **defines: Any) -> moderngl.Program | moderngl.ComputeShader:
-        """The program in ``path`` (relative to ``illusio/shaders`` or absolute) with ``defines``."""
+    def get(self, path: str | Path, varyings: tuple[str, ...] = (), **defines: Any) -> moderngl.Program | moderngl.ComputeShader:
+        """The program in ``path`` (relative to ``illusio/shaders`` or absolute) with ``defines``;
+        ``varyings``: vertex outputs to capture by transform feedback (checks of a vertex stage)."""
         resolved = _resolve(str(path), None) if not Path(path).is_absolute() else Path(path).resolve()
-        key = (resolved, tuple(sorted((k, _format_define(v)) for k, v in defines.items())))
+        key = (resolved, tuple(sorted((k, _format_define(v)) for k, v in defines.items())), tuple(varyings))
         program = self._programs.get(key)
         if program is None:
-            program = self._compile(resolved, defines)
+            program = self._compile(resolved, defines, tuple(varyings))
             self._programs[key] = program
         return program
 
-    def _compile(self, path: Path, defines: dict[str, Any]):
+    def _compile(self, path: Path, defines: dict[str, Any], varyings: tuple[str, ...] = ()):
         text, _ = preprocess(path, defines)  # stages may be named in included files only
         stages = [s for s in STAGES if re.search(rf"\b{s}\b", text)]
         if not stages:
@@ -148,6 +149,8 @@ class ProgramCache:
         try:
             if "COMPUTE_SHADER" in sources:
                 return self.gl.compute_shader(sources["COMPUTE_SHADER"])
+            if varyings:  # vertex stage alone, its outputs captured
+                return self.gl.program(vertex_shader=sources["VERTEX_SHADER"], varyings=varyings)
             return self.gl.program(**{_STAGE_ARGS[s]: src for s, src in sources.items()})
         except moderngl.Error as exc:
             raise ShaderError(f"{path.name}: GLSL compile/link failed:\n{_map_errors(str(exc), files)}") from None
