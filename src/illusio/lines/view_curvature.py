@@ -79,26 +79,29 @@ def view_dependent_curvature(positions, normals, e_min, e_max, k_min, k_max, vie
 
 
 class ViewCurvaturePass:
-    """Renders (q, t1.x, t1.y, coverage) of a CurvatureMesh into an RGBA32F texture (pooled), with a
-    depth buffer so that only the visible surface is kept."""
+    """Renders (q, t1.x, t1.y, view depth) of a CurvatureMesh into an RGBA32F texture (pooled; depth 0
+    marks the background), testing against ``depth`` (a depth texture the caller keeps, so that
+    lines drawn later can be hidden by the surface; pushed back by a slope-scaled offset)."""
 
     def __init__(self, ctx: Context):
         self.ctx = ctx
         self.program = ctx.program("lines/shaders/view_curvature.glsl")
 
     def __call__(self, mesh: CurvatureMesh, view: View, size, tau: float = 0.0, curvature_scale: float = 1.0,
-                 model_matrix=None) -> moderngl.Texture:
+                 model_matrix=None, depth: moderngl.Texture | bool = True) -> moderngl.Texture:
         ctx = self.ctx
         w, h = size
         out = ctx.acquire((w, h), 4, "f4")
-        fbo = ctx.framebuffer([out], depth=True)
+        fbo = ctx.framebuffer([out], depth=depth)
         fbo.use()
         fbo.viewport = (0, 0, w, h)
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         ctx.gl.enable(moderngl.DEPTH_TEST)
         ctx.gl.disable(moderngl.CULL_FACE)
+        ctx.gl.polygon_offset = (1.0, 1.0)
         self.set_uniforms(self.program, view, (w, h), tau, curvature_scale, model_matrix)
         mesh.vao(self.program).render(moderngl.TRIANGLES)
+        ctx.gl.polygon_offset = (0.0, 0.0)
         ctx.gl.disable(moderngl.DEPTH_TEST)
         return out
 
@@ -112,7 +115,7 @@ class ViewCurvaturePass:
         set_uniform(program, "curvature_scale", float(curvature_scale))
 
     def per_vertex(self, mesh: CurvatureMesh, view: View, size, tau: float = 0.0, curvature_scale: float = 1.0) -> np.ndarray:
-        """The vertex stage's (q, t1.x, t1.y, 1) for every vertex, captured by transform feedback
+        """The vertex stage's (q, t1.x, t1.y, view depth) for every vertex, captured by transform feedback
         (to check the shader against :func:`view_dependent_curvature`)."""
         ctx = self.ctx
         prog = ctx.program("lines/shaders/view_curvature.glsl", varyings=("q_t1",))

@@ -3,7 +3,7 @@
 // view-dependent curvature operator Q (Judd et al. 2007) from k1 ≤ k2, e1, e2, the normal and the
 // view direction; q1 = its largest singular value, scaled by 2^tau / curvature_scale and clamped to
 // [0, 1] (the report stores it in an 8-bit colour); t1 = the screen direction of the singular
-// vector. Rasterised into a float target (q, t1.x, t1.y, 1); background (0, 0, 0, 0).
+// vector. Rasterised into a float target (q, t1.x, t1.y, view depth > 0); background (0, 0, 0, 0).
 // Differences from annex B, on purpose: q1 is the singular value, not the eigenvalue of QᵀQ the
 // report's shader keeps (Judd's definition and the issue's); degenerate directions (view along the
 // normal, isotropic points) give t1 = 0 instead of a NaN. NumPy reference: lines.view_curvature.
@@ -59,7 +59,7 @@ void main() {
     vec2 t1 = w1.z >= 0.0 ? -w1.xy : w1.xy;
     t1 = dot(t1, t1) > 1e-16 ? normalize(t1) : vec2(0.0);
     float q = clamp(exp2(tau) * sqrt(lambda1) / curvature_scale, 0.0, 1.0);
-    q_t1 = vec4(q, t1, 1.0);
+    q_t1 = vec4(q, t1, -eye.z);
 }
 #endif
 

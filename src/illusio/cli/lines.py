@@ -1,0 +1,174 @@
+"""``illusio lines`` and ``illusio curvature``: line drawings of a mesh and its curvature."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import typer
+
+from ..core.errors import InputError
+from ..core.images import check_output_path, read_image, write_image
+from .common import parse_size
+
+DEBUG_VIEWS = ("q1", "t1", "curvature")
+
+
+def _mesh(source: str):
+    from ..scene.builtin import SHAPES, shape
+    from ..scene.mesh import load_mesh
+
+    return shape(source) if source in SHAPES else load_mesh(source)
+
+
+def _floats(text: str, count: tuple[int, ...], name: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise InputError(f"{name} must be comma-separated numbers, got {text!r}") from None
+    if len(values) not in count or not np.isfinite(values).all():
+        raise InputError(f"{name} takes {' or '.join(map(str, count))} finite numbers, got {text!r}")
+    return values
+
+
+def lines(
+    mesh: str = typer.Argument(..., help="mesh file (.obj .ply .off .stl .gltf .glb) or built-in shape"),
+    output: Path = typer.Option(..., "-o", "--output", help="drawing to write: .png, or .svg (polylines per line type)"),
+    line_types: str = typer.Option("apparent-ridges,silhouettes", "--lines", help="comma-separated: apparent-ridges, silhouettes, suggestive, ridges, valleys"),
+    method: str = typer.Option("hybrid", "--method", help="apparent ridges by the hybrid GPU method or Judd's object-space one"),
+    tau: float = typer.Option(None, "--tau", help="τ: q = 2^τ q1 (relative to the mesh's curvature scale unless --raw)"),
+    lam: float = typer.Option(None, "--lambda", help="λ of the direction-adaptive Laplacian"),
+    threshold: float = typer.Option(None, "--threshold", help="ridge filter response threshold (0.2 in the report)"),
+    raw: bool = typer.Option(False, "--raw", help="the report's raw τ (q1 in 1/mesh units, no curvature scale)"),
+    view: str = typer.Option("30,15", "--view", help="AZIMUTH,ELEVATION in degrees around the mesh"),
+    camera: str = typer.Option(None, "--camera", help="EYE_X,EYE_Y,EYE_Z[,TARGET_X,TARGET_Y,TARGET_Z] instead of --view"),
+    size: str = typer.Option("1024x1024", "--size", help="WIDTHxHEIGHT"),
+    silhouettes: str = typer.Option("object", "--silhouettes", help="object (n·v = 0 zero crossings) or image (depth edges)"),
+    grid: bool = typer.Option(False, "--grid", help="write the τ × λ grid of hybrid apparent ridges instead"),
+    compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny or an edge IMAGE: print scores, write OUT-compare.png"),
+    debug: str = typer.Option(None, "--debug", help="write a debug view instead: q1, t1 or curvature"),
+) -> None:
+    """Draw MESH with apparent ridges and the classic line types."""
+    from ..core.context import Context
+    from ..lines import compare as cmp
+    from ..lines.drawing import LineParams, LineRenderer, framing_view
+    from ..lines.svg import visible_polylines, write_svg
+    from ..scene.camera import Pose, View
+
+    inputs = [mesh] + ([compare] if compare and compare not in cmp.EDGE_METHODS else [])
+    out = check_output_path(output, [i for i in inputs if Path(i).exists()])
+    if out.suffix.lower() not in (".png", ".svg"):
+        raise InputError(f"{out.name}: the drawing must be a .png or an .svg")
+    if debug is not None and debug not in DEBUG_VIEWS:
+        raise InputError(f"--debug must be one of {', '.join(DEBUG_VIEWS)}")
+    w, h = parse_size(size)
+    kinds = tuple(t.strip() for t in line_types.split(",") if t.strip())
+    params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw)
+    params = replace(params, **{k: v for k, v in (("tau", tau), ("lam", lam), ("threshold", threshold)) if v is not None})
+    m = _mesh(mesh)
+    if camera:
+        c = _floats(camera, (3, 6), "--camera")
+        lo, hi = m.bounds
+        target = tuple(c[3:]) if len(c) == 6 else tuple((np.asarray(lo, float) + hi) / 2)
+        base = framing_view(m)
+        v = View(Pose(tuple(c[:3]), target), replace(base.camera, near=1e-3 * base.camera.near, far=base.camera.far * 10))
+    else:
+        az_el = _floats(view, (2,), "--view")
+        v = framing_view(m, az_el[0], az_el[1])
+    renderer = LineRenderer(Context())
+    if grid:
+        from ..lines.tuning import parameter_grid
+
+        tile = (max(64, w // 4), max(64, h // 4))
+        write_image(out, parameter_grid(renderer, m, v, tile, params=params))
+        typer.echo(f"wrote {out} (τ × λ grid, tiles {tile[0]}×{tile[1]})")
+        return
+    drawing = renderer.render(m, v, (w, h), params, keep_maps=True)
+    if debug:
+        write_image(out, debug_view(debug, drawing, renderer, m))
+        typer.echo(f"wrote {out} ({debug} view)")
+        return
+    if out.suffix.lower() == ".svg":
+        if "apparent-ridges" in kinds and method == "hybrid":
+            # the hybrid ridges are pixels: the plotter file takes Judd's object-space ones
+            svg_params = replace(params, method="object-space")
+            segs = renderer.object_space_segments(m, renderer.prepare(m).curvature, v, svg_params,
+                                                  renderer.prepare(m).curvature.scale() if params.relative else 1.0)
+        else:
+            segs = drawing.segments
+        depth = drawing.q_t1[..., 3]
+        groups = {k: (visible_polylines(s, v, (w, h), depth), params.colours[k], params.widths[k]) for k, s in segs.items()}
+        write_svg(out, (w, h), groups)
+        typer.echo(f"wrote {out} ({sum(len(g[0]) for g in groups.values())} polylines)")
+    else:
+        write_image(out, drawing.image)
+        typer.echo(f"wrote {out} ({w}×{h})")
+    if compare:
+        ours = cmp.line_mask(drawing.image)
+        if compare in cmp.EDGE_METHODS:
+            target = cmp.image_edges(cmp.phong_render(renderer.ctx, m, v, (w, h)), compare)
+        else:
+            edges = read_image(compare, srgb=False)
+            if edges.shape[:2] != (h, w):
+                raise InputError(f"{compare}: edge image is {edges.shape[1]}×{edges.shape[0]}, the drawing {w}×{h}")
+            target = cmp.line_mask(edges)
+        typer.echo(f"against {compare}: {cmp.score(ours, target)}")
+        side = out.with_name(out.stem + "-compare.png")
+        write_image(side, cmp.overlay(ours, target))
+        typer.echo(f"wrote {side} (red: ours only, blue: {compare} only, black: both)")
+
+
+def debug_view(kind: str, drawing, renderer, mesh) -> np.ndarray:
+    """q1 map (grey), t1 direction field (hue), or the mean curvature seen from the view (blue
+    concave, red convex)."""
+    maps = drawing.q_t1
+    covered = maps[..., 3] > 0
+    if kind == "q1":
+        return np.where(covered, maps[..., 0], 1.0)
+    if kind == "t1":
+        angle = np.arctan2(maps[..., 2], maps[..., 1])  # t1 and −t1 are one direction: double the angle
+        rgb = 0.5 + 0.5 * np.stack([np.cos(2 * angle), np.cos(2 * angle - 2.094), np.cos(2 * angle + 2.094)], -1)
+        return np.where(covered[..., None], rgb, 1.0).astype(np.float32)
+    curv = renderer.prepare(mesh).curvature
+    mean = (curv.k_min + curv.k_max) / 2 / max(curv.scale(), 1e-12)
+    colour = np.clip(np.stack([0.5 + mean, 0.5 - np.abs(mean) * 0.5, 0.5 - mean], -1), 0, 1)
+    # shade each visible pixel by the nearest projected vertex's colour
+    px, depth = drawing.view.project(mesh.vertices, drawing.size)
+    w, h = drawing.size
+    image = np.ones((h, w, 3), np.float32)
+    xi, yi = px[:, 0].astype(int), px[:, 1].astype(int)
+    ok = (xi >= 0) & (xi < w) & (yi >= 0) & (yi < h) & (depth > 0)
+    order = np.argsort(-depth[ok])  # far first, near last wins
+    image[yi[ok][order], xi[ok][order]] = colour[ok][order]
+    known = np.zeros((h, w), bool)
+    known[yi[ok], xi[ok]] = True
+    return np.where(covered[..., None], _fill(image, known), 1.0).astype(np.float32)
+
+
+def _fill(image: np.ndarray, known: np.ndarray) -> np.ndarray:
+    """Every pixel takes the colour of the nearest known one."""
+    from scipy import ndimage
+
+    _, (iy, ix) = ndimage.distance_transform_edt(~known, return_indices=True)
+    return image[iy, ix]
+
+
+def curvature(
+    mesh: str = typer.Argument(..., help="mesh file or built-in shape"),
+    output: Path = typer.Option(..., "-o", "--output", help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, valid"),
+    rings: int = typer.Option(2, "--rings", help="neighbourhood size in edge rings"),
+    degree: int = typer.Option(3, "--degree", help="jet degree: 2 or 3 (3 also gives curvature derivatives)"),
+    no_cache: bool = typer.Option(False, "--no-cache", help="recompute even if a cached result exists"),
+) -> None:
+    """Estimate per-vertex principal curvatures and directions of MESH."""
+    from ..lines.curvature import estimate_curvature
+
+    out = check_output_path(output, [mesh] if Path(mesh).exists() else [])
+    if out.suffix.lower() != ".npz":
+        raise InputError(f"{out.name}: curvature is written as .npz")
+    m = _mesh(mesh)
+    c = estimate_curvature(m, rings, degree, cache=not no_cache)
+    c.save(out)
+    typer.echo(f"wrote {out} ({len(c.k_min)} vertices, {int((~c.valid).sum())} without a fit; "
+               f"curvature scale {c.scale():.4g} per unit)")

@@ -1,0 +1,237 @@
+"""Object-space lines: zero crossings of a per-vertex scalar inside each triangle, kept where a line
+type's condition holds. Every line type here is one scalar and one condition:
+
+* occluding contours (silhouettes): n·(eye − p) = 0;
+* suggestive contours (DeCarlo et al. 2003): radial curvature κ_r = 0 where D_w κ_r > 0 and the
+  surface faces the viewer, with D_w κ_r = C(ŵ,ŵ,ŵ) − 2 τ_r² cot θ (ŵ: the view direction projected
+  on the tangent plane, unit; τ_r = (k_max − k_min) u v its geodesic torsion; θ: angle between normal
+  and view direction);
+* ridges: D_{e_max} k_max = 0 where k_max > threshold and k_max decreases across (a maximum);
+  valleys: D_{e_min} k_min = 0 where k_min < −threshold and k_min increases across (a minimum);
+* apparent ridges (Judd et al. 2007, the original method): D_{t1} q1 = 0 where q1 > threshold and
+  q1 is a maximum along t1 (D_{t1} q1 decreases across), with D q1 from per-face gradients averaged
+  at the vertices.
+
+Segments come back as (S, 2, 3) object-space points with, per segment, the two mesh edges they end
+on (for chaining into polylines)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..scene.mesh import Mesh
+from .curvature import Curvature
+
+__all__ = ["Segments", "zero_crossings", "contours", "suggestive_contours", "ridges", "valleys",
+           "apparent_ridges", "radial_curvature", "vertex_gradient", "chain"]
+
+
+@dataclass
+class Segments:
+    points: np.ndarray  # (S, 2, 3) float64
+    edges: np.ndarray   # (S, 2, 2) int64: the sorted vertex pair of the mesh edge each end lies on
+    strength: np.ndarray  # (S,) a per-segment strength (for fading or thresholds)
+
+    def __len__(self) -> int:
+        return len(self.points)
+
+    @classmethod
+    def empty(cls) -> "Segments":
+        return cls(np.zeros((0, 2, 3)), np.zeros((0, 2, 2), np.int64), np.zeros(0))
+
+
+def zero_crossings(mesh: Mesh, values: np.ndarray, keep_face: np.ndarray | None = None,
+                   strength: np.ndarray | None = None) -> Segments:
+    """Segments where the per-vertex ``values`` (N,) change sign inside a triangle (linear
+    interpolation). Triangles whose three values cross zero twice give one segment; ``keep_face``
+    (F,) bool filters triangles; ``strength`` (N,) is interpolated to the segment (mean of ends)."""
+    return _crossings(np.asarray(mesh.vertices, np.float64), np.asarray(mesh.faces, np.int64), values, keep_face, strength)
+
+
+def _crossings(v, f, values, keep_face, strength) -> Segments:
+    val = np.asarray(values, np.float64)
+    fv = val[f]  # (F, 3)
+    pairs = ((0, 1), (1, 2), (2, 0))
+    cross = np.stack([(fv[:, a] > 0) != (fv[:, b] > 0) for a, b in pairs], 1)  # (F, 3)
+    ok = cross.sum(1) == 2
+    if keep_face is not None:
+        ok &= keep_face
+    faces = np.nonzero(ok)[0]
+    if len(faces) == 0:
+        return Segments.empty()
+    cf = cross[faces]
+    pts = np.zeros((len(faces), 2, 3))
+    edges = np.zeros((len(faces), 2, 2), np.int64)
+    st = np.zeros((len(faces), 2))
+    slot = np.zeros(len(faces), np.int64)
+    for e, (a, b) in enumerate(pairs):
+        sel = cf[:, e]
+        fi = faces[sel]
+        ia, ib = f[fi, a], f[fi, b]
+        va, vb = val[ia], val[ib]
+        t = va / (va - vb)
+        k = slot[sel]
+        rows = np.nonzero(sel)[0]
+        pts[rows, k] = v[ia] + t[:, None] * (v[ib] - v[ia])
+        edges[rows, k] = np.sort(np.stack([ia, ib], 1), axis=1)
+        if strength is not None:
+            st[rows, k] = strength[ia] + t * (strength[ib] - strength[ia])
+        slot[sel] += 1
+    return Segments(pts, edges, st.mean(1))
+
+
+def vertex_gradient(mesh: Mesh, values: np.ndarray) -> np.ndarray:
+    """Per-vertex gradient (N, 3) of a piecewise-linear scalar: per-face gradients averaged at the
+    vertices, weighted by face area."""
+    v = np.asarray(mesh.vertices, np.float64)
+    f = np.asarray(mesh.faces, np.int64)
+    val = np.asarray(values, np.float64)
+    p0, p1, p2 = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    n = np.cross(p1 - p0, p2 - p0)
+    area2 = np.linalg.norm(n, axis=1)
+    good = area2 > 1e-30
+    unit = n / np.where(good, area2, 1)[:, None]
+    # ∇B_i = unit × (edge opposite i) / (2A)
+    grad = (np.cross(unit, p2 - p1) * val[f[:, 0], None] + np.cross(unit, p0 - p2) * val[f[:, 1], None]
+            + np.cross(unit, p1 - p0) * val[f[:, 2], None]) / np.where(good, area2, 1)[:, None]
+    grad[~good] = 0
+    out = np.zeros_like(v)
+    weight = np.zeros(len(v))
+    for c in range(3):
+        np.add.at(out, f[:, c], grad * area2[:, None])
+        np.add.at(weight, f[:, c], area2)
+    return out / np.maximum(weight, 1e-30)[:, None]
+
+
+def _view_vectors(mesh: Mesh, eye) -> np.ndarray:
+    d = np.asarray(eye, np.float64)[None] - np.asarray(mesh.vertices, np.float64)
+    return d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-30)
+
+
+def contours(mesh: Mesh, curvature: Curvature, eye) -> Segments:
+    """Occluding contours: zeros of n·v (perspective view from ``eye``, object space)."""
+    ndotv = (curvature.normals * _view_vectors(mesh, eye)).sum(1)
+    return zero_crossings(mesh, ndotv, strength=np.ones(len(ndotv)))
+
+
+def radial_curvature(curvature: Curvature, view: np.ndarray):
+    """κ_r, D_w κ_r and n·v per vertex for unit view vectors ``view`` (N, 3) (towards the eye)."""
+    n = curvature.normals.astype(np.float64)
+    ndotv = (n * view).sum(1)
+    u = (view * curvature.e_min).sum(1)
+    v = (view * curvature.e_max).sum(1)
+    w2 = u * u + v * v
+    inv = np.where(w2 > 1e-12, 1 / np.maximum(w2, 1e-300), 0.0)
+    uu, vv, uv = u * u * inv, v * v * inv, u * v * inv
+    k1, k2 = curvature.k_min.astype(np.float64), curvature.k_max.astype(np.float64)
+    kr = k1 * uu + k2 * vv
+    un, vn = u * np.sqrt(inv), v * np.sqrt(inv)
+    c = curvature.dcurv.astype(np.float64)
+    cwww = un**3 * c[:, 0] + 3 * un * un * vn * c[:, 1] + 3 * un * vn * vn * c[:, 2] + vn**3 * c[:, 3]
+    torsion = (k2 - k1) * uv
+    cot = ndotv / np.sqrt(np.maximum(w2, 1e-12))
+    return kr, cwww - 2 * torsion * torsion * cot, ndotv
+
+
+def suggestive_contours(mesh: Mesh, curvature: Curvature, eye, threshold: float, scale: float) -> Segments:
+    """``threshold``: minimum D_w κ_r relative to scale² (scale: the mesh's curvature scale)."""
+    view = _view_vectors(mesh, eye)
+    kr, dwkr, ndotv = radial_curvature(curvature, view)
+    f = mesh.faces
+    strength = dwkr / (scale * scale)
+    keep = (strength[f].min(1) > threshold) & (ndotv[f].min(1) > 0.05)
+    return zero_crossings(mesh, kr, keep, strength)
+
+
+def _aligned_derivative(curvature: Curvature, directions: np.ndarray, derivative: np.ndarray, faces: np.ndarray):
+    """Per-face copies of a derivative along a sign-ambiguous direction, flipped so that the three
+    vertices' directions agree with the first's."""
+    d = directions[faces]  # (F, 3, 3)
+    sign = np.where((d * d[:, :1]).sum(2) >= 0, 1.0, -1.0)  # (F, 3)
+    return derivative[faces] * sign, d * sign[..., None]
+
+
+def _extremum_lines(mesh: Mesh, curvature: Curvature, value: np.ndarray, direction: np.ndarray,
+                    derivative: np.ndarray, keep_vertex: np.ndarray, maximum: bool, strength: np.ndarray) -> Segments:
+    """Zeros of a directional derivative (with per-face sign alignment) where ``value`` is an
+    extremum: the derivative decreases along the direction (maximum) or increases (minimum)."""
+    f = np.asarray(mesh.faces, np.int64)
+    fd, dirs = _aligned_derivative(curvature, direction, derivative, f)
+    v = np.asarray(mesh.vertices, np.float64)[f]
+    # gradient of the aligned derivative inside each face, dotted with the mean direction
+    p0, p1, p2 = v[:, 0], v[:, 1], v[:, 2]
+    n = np.cross(p1 - p0, p2 - p0)
+    a2 = np.maximum(np.linalg.norm(n, axis=1), 1e-30)
+    unit = n / a2[:, None]
+    grad = (np.cross(unit, p2 - p1) * fd[:, :1] + np.cross(unit, p0 - p2) * fd[:, 1:2] + np.cross(unit, p1 - p0) * fd[:, 2:]) / a2[:, None]
+    along = (grad * dirs.mean(1)).sum(1)
+    keep = keep_vertex[f].all(1) & ((along < 0) if maximum else (along > 0))
+    # crossings of the aligned per-face values: build a per-face-corner mesh
+    segs = _crossings(v.reshape(-1, 3), np.arange(len(f) * 3).reshape(-1, 3), fd.reshape(-1), keep,
+                      np.repeat(strength[f].mean(1), 3))
+    if len(segs):
+        segs.edges = np.sort(f.reshape(-1)[segs.edges], axis=2)  # corner ids back to vertex ids
+    return segs
+
+
+def ridges(mesh: Mesh, curvature: Curvature, threshold: float, scale: float) -> Segments:
+    """Ridge lines: k_max maximal along e_max, k_max > threshold·scale."""
+    k = curvature.k_max.astype(np.float64)
+    return _extremum_lines(mesh, curvature, k, curvature.e_max, curvature.dcurv[:, 3].astype(np.float64),
+                           k > threshold * scale, True, k / scale)
+
+
+def valleys(mesh: Mesh, curvature: Curvature, threshold: float, scale: float) -> Segments:
+    """Valley lines: k_min minimal along e_min, k_min < −threshold·scale."""
+    k = curvature.k_min.astype(np.float64)
+    return _extremum_lines(mesh, curvature, k, curvature.e_min, curvature.dcurv[:, 0].astype(np.float64),
+                           k < -threshold * scale, False, -k / scale)
+
+
+def apparent_ridges(mesh: Mesh, curvature: Curvature, q1: np.ndarray, w1: np.ndarray, threshold: float, scale: float) -> Segments:
+    """Judd's object-space apparent ridges from per-vertex q1 and its object-space direction w1 (see
+    view_curvature.view_dependent_curvature): zeros of D_{w1} q1 where q1 > threshold·scale and q1 is
+    a maximum along w1."""
+    grad = vertex_gradient(mesh, q1)
+    dq = (grad * w1).sum(1)
+    return _extremum_lines(mesh, curvature, q1, w1, dq, q1 > threshold * scale, True, q1 / scale)
+
+
+def chain(segments: Segments) -> list[np.ndarray]:
+    """Join segments that share a mesh-edge end into polylines; returns a list of (K, 3) arrays."""
+    if len(segments) == 0:
+        return []
+    keys = segments.edges.reshape(-1, 2)
+    _, ids = np.unique(keys, axis=0, return_inverse=True)
+    ids = ids.reshape(-1, 2)
+    ends: dict[int, list[int]] = {}
+    for s, (a, b) in enumerate(ids):
+        ends.setdefault(int(a), []).append(s)
+        ends.setdefault(int(b), []).append(s)
+    used = np.zeros(len(ids), bool)
+    lines = []
+    for start in range(len(ids)):
+        if used[start]:
+            continue
+        used[start] = True
+        seq = [int(ids[start, 0]), int(ids[start, 1])]
+        pts = [segments.points[start, 0], segments.points[start, 1]]
+        for forward in (True, False):
+            while True:
+                node = seq[-1] if forward else seq[0]
+                nxt = next((s for s in ends.get(node, []) if not used[s]), None)
+                if nxt is None:
+                    break
+                used[nxt] = True
+                a, b = int(ids[nxt, 0]), int(ids[nxt, 1])
+                other, p = (b, segments.points[nxt, 1]) if a == node else (a, segments.points[nxt, 0])
+                if forward:
+                    seq.append(other)
+                    pts.append(p)
+                else:
+                    seq.insert(0, other)
+                    pts.insert(0, p)
+        lines.append(np.asarray(pts))
+    return lines

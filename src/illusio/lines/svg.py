@@ -1,0 +1,60 @@
+"""SVG output for plotters: visible object-space lines as polylines, one group per line type."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from ..core.images import atomic_output
+from ..scene.camera import View
+from .object_space import Segments, chain
+
+__all__ = ["visible_polylines", "write_svg"]
+
+
+def visible_polylines(segments: Segments, view: View, size, depth: np.ndarray, slack: float = 0.01) -> list[np.ndarray]:
+    """Polylines (K, 2) in pixels (x right, y down) of the parts of ``segments`` the surface does not
+    hide: a point is visible where its view depth is at most the surface's (``depth``: (H, W) view
+    depth of the visible surface, 0 = background) times 1 + ``slack``."""
+    w, h = size
+    out = []
+    for line in chain(segments):
+        px, d = view.project(line, (w, h))
+        xi = np.clip(px[:, 0].astype(int), 0, w - 1)
+        yi = np.clip(px[:, 1].astype(int), 0, h - 1)
+        # a line on the surface is seen if it is not behind what the nearest pixel around it shows
+        near = np.max(np.stack([depth[np.clip(yi + dy, 0, h - 1), np.clip(xi + dx, 0, w - 1)]
+                                for dy in (-1, 0, 1) for dx in (-1, 0, 1)]), axis=0)
+        visible = (d > 0) & ((near <= 0) | (d <= near * (1 + slack)))
+        start = None
+        for i, v in enumerate(np.append(visible, False)):
+            if v and start is None:
+                start = i
+            elif not v and start is not None:
+                if i - start >= 2:
+                    out.append(px[start:i])
+                start = None
+    return out
+
+
+def write_svg(path: str | os.PathLike, size, groups: dict[str, tuple[list[np.ndarray], tuple, float]]) -> Path:
+    """groups: line type → (polylines in pixels, linear RGB colour, width px). Written atomically."""
+    w, h = size
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">',
+             f'<rect width="{w}" height="{h}" fill="white"/>']
+    for name, (lines, colour, width) in groups.items():
+        rgb = "#" + "".join(f"{int(round(np.clip(c, 0, 1) ** (1 / 2.2) * 255)):02x}" for c in colour)
+        parts.append(f'<g id={quoteattr(name)} fill="none" stroke="{rgb}" stroke-width="{width:g}" '
+                     'stroke-linecap="round" stroke-linejoin="round">')
+        for line in lines:
+            pts = " ".join(f"{x:.2f},{y:.2f}" for x, y in line)
+            parts.append(f'<polyline points="{pts}"/>')
+        parts.append("</g>")
+    parts.append("</svg>\n")
+    p = Path(path)
+    with atomic_output(p) as tmp:
+        Path(tmp).write_text("\n".join(parts), encoding="utf-8")
+    return p
