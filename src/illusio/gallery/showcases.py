@@ -11,6 +11,7 @@ from ..core.images import write_image
 from ..passes.scene_renderer import SceneRenderer
 from ..scene.builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .html import Item, Section
+from .lines import lines_showcase
 from .sis import sis_showcase
 
 __all__ = ["SHOWCASES", "builtin_scenes", "builtin_shapes"]
@@ -55,4 +56,5 @@ SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]]
     ("scenes", builtin_scenes),
     ("shapes", builtin_shapes),
     ("sis", sis_showcase),
+    ("lines", lines_showcase),
 ]

@@ -1,0 +1,81 @@
+"""The line-drawing showcase: the line types side by side, the test meshes with default settings
+(when ../shared/data/models or $ILLUSIO_MODELS holds them), the τ × λ grid, and the comparison with
+Canny edges with its scores."""
+
+from __future__ import annotations
+
+import os
+import warnings
+from dataclasses import replace
+from pathlib import Path
+
+from ..core.context import Context
+from ..core.images import write_image
+from ..lines import compare as cmp
+from ..lines.drawing import LineParams, LineRenderer, framing_view
+from ..lines.tuning import parameter_grid
+from ..scene.builtin import shape
+from ..scene.mesh import load_mesh
+from .html import Item, Section
+
+__all__ = ["lines_showcase"]
+
+TEST_MESHES = (("bunny", "stanford-bunny.obj", (30, 15)), ("armadillo", "armadillo.obj", (180, 10)),
+               ("dragon", "dragon_vrip_res2.ply", (20, 15)), ("max-planck", "decimated-max.obj", (200, 10)),
+               ("fandisk", "fandisk.off", (40, 30)))
+
+
+def _models() -> Path | None:
+    env = os.environ.get("ILLUSIO_MODELS")
+    for p in ([Path(env)] if env else []) + [Path.cwd().parent / "shared" / "data" / "models", Path.cwd() / "shared" / "data" / "models"]:
+        if p.is_dir():
+            return p
+    return None
+
+
+def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
+    section = Section("Line drawings (Judd et al. 2007; Jardim & de Figueiredo)",
+                      "Apparent ridges by the hybrid GPU method beside the classic line types; defaults everywhere unless stated.")
+    side = min(size)
+    tile = (side, side)
+    renderer = LineRenderer(ctx)
+    knot = shape("torus-knot")
+    view = framing_view(knot, 20, 30)
+    for kinds, label in ((("apparent-ridges",), "apparent ridges (hybrid)"), (("silhouettes",), "silhouettes (object space)"),
+                         (("silhouettes", "suggestive"), "silhouettes + suggestive contours"),
+                         (("silhouettes", "ridges", "valleys"), "silhouettes + ridges (red) and valleys (green)")):
+        img = renderer.render(knot, view, tile, LineParams(lines=kinds)).image
+        rel = f"lines/knot-{'-'.join(kinds)}.png"
+        write_image(out_dir / rel, img)
+        section.items.append(Item(rel, label, "built-in torus knot"))
+    models = _models()
+    meshes = [("blob", shape("blob"), (30, 15))]
+    if models:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            meshes += [(name, load_mesh(models / f), v) for name, f, v in TEST_MESHES if (models / f).exists()]
+    for name, mesh, (az, el) in meshes:
+        v = framing_view(mesh, az, el)
+        img = renderer.render(mesh, v, tile, LineParams()).image
+        write_image(out_dir / f"lines/{name}.png", img)
+        section.items.append(Item(f"lines/{name}.png", f"{name}: default drawing", "apparent ridges (hybrid) + silhouettes"))
+    # the τ × λ grid (Figure 4.2) and the comparison with Canny, on the last mesh shown
+    name, mesh, (az, el) = meshes[min(1, len(meshes) - 1)]
+    v = framing_view(mesh, az, el)
+    write_image(out_dir / "lines/grid.png", parameter_grid(renderer, mesh, v, (side // 3, side // 3)))
+    section.items.append(Item("lines/grid.png", f"τ × λ grid on the {name} (report Figure 4.2)", "rows τ = −3, −2, −1, 0; columns λ = 0, 0.5, 1, 2"))
+    phong = cmp.phong_render(ctx, mesh, v, tile)
+    write_image(out_dir / "lines/phong.png", phong)
+    target = cmp.image_edges(phong, "canny")
+    ours = cmp.line_mask(renderer.render(mesh, v, tile, LineParams()).image)
+    s = cmp.score(ours, target)
+    write_image(out_dir / "lines/compare-canny.png", cmp.overlay(ours, target))
+    section.items.append(Item("lines/phong.png", "the shaded render the edge detectors see", "Lambert + Phong, lamps at and above the eye"))
+    section.items.append(Item("lines/compare-canny.png", "apparent ridges + silhouettes against Canny edges", f"red ours only, blue Canny only, black both; {s}"))
+    hybrid = renderer.render(mesh, v, tile, LineParams(lines=("apparent-ridges",))).image
+    judd = renderer.render(mesh, v, tile, LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space")).image
+    agree = cmp.score(cmp.line_mask(hybrid), cmp.line_mask(judd), 3.0)
+    write_image(out_dir / "lines/methods.png", cmp.overlay(cmp.line_mask(hybrid), cmp.line_mask(judd)))
+    section.items.append(Item("lines/methods.png", "hybrid (red) against Judd's object-space apparent ridges + contours (blue)", f"agreement: {agree}"))
+    renderer.release()
+    return section
