@@ -10,7 +10,6 @@ the hybrid pipeline ≥ 10 fps for the 100k-vertex dragon on a 2-core CPU machin
 from __future__ import annotations
 
 import os
-import time
 import warnings
 from pathlib import Path
 
@@ -20,7 +19,6 @@ from illusio.core import Context
 from illusio.lines import analytic
 from illusio.lines.curvature import estimate_curvature
 from illusio.lines.drawing import LineParams, LineRenderer, framing_view
-from illusio.lines.gpu_mesh import CurvatureMesh
 from illusio.scene.mesh import load_mesh
 
 from .runner import Timing, time_case
@@ -101,7 +99,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         gm = renderer.prepare(mesh, curv)
         view = framing_view(mesh)
         scale = curv.scale()
-        depth = renderer._depth_texture(size)
+        depth = renderer.depth_texture(size)
 
         def hybrid():
             q = renderer.view_curvature(gm, view, size, -2.0, scale, depth=depth)

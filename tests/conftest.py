@@ -55,3 +55,15 @@ def models() -> Path:
 
 def tolerance(dtype: str) -> dict:
     return TOLERANCES[dtype]
+
+
+def call_cli(args, capsys):
+    """Run the illusio command in-process: (exit status, captured stdout/stderr)."""
+    from illusio.cli.main import run
+
+    try:
+        run(args)
+        code = 0
+    except SystemExit as exc:
+        code = exc.code or 0
+    return code, capsys.readouterr()

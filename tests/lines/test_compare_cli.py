@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from illusio.cli.main import run
+from tests.conftest import call_cli as call
 from illusio.lines.compare import image_edges, score
 
 
@@ -27,13 +27,6 @@ def test_canny_finds_a_square_outline():
     assert score(edges, outline, 2).f1 > 0.9
 
 
-def call(args, capsys):
-    try:
-        run(args)
-        code = 0
-    except SystemExit as exc:
-        code = exc.code or 0
-    return code, capsys.readouterr()
 
 
 def test_lines_cli_png_svg_and_curvature(tmp_path, capsys):

@@ -2,17 +2,10 @@
 
 import numpy as np
 
-from illusio.cli.main import run
+from tests.conftest import call_cli as call
 from illusio.core.images import read_image, write_image
 
 
-def call(args, capsys):
-    try:
-        run(args)
-        code = 0
-    except SystemExit as exc:
-        code = exc.code or 0
-    return code, capsys.readouterr()
 
 
 def test_sis_then_decode_round_trip(tmp_path, capsys):

@@ -1,6 +1,5 @@
 """Equations (1)–(4) of Dehos et al. 2014, one test each, and the round trip."""
 
-import math
 
 import numpy as np
 import pytest

@@ -92,9 +92,9 @@ def lines(
     if out.suffix.lower() == ".svg":
         if "apparent-ridges" in kinds and method == "hybrid":
             # the hybrid ridges are pixels: the plotter file takes Judd's object-space ones
-            svg_params = replace(params, method="object-space")
-            segs = renderer.object_space_segments(m, renderer.prepare(m).curvature, v, svg_params,
-                                                  renderer.prepare(m).curvature.scale() if params.relative else 1.0)
+            curv = renderer.prepare(m).curvature
+            segs = renderer.object_space_segments(m, curv, v, replace(params, method="object-space"),
+                                                  curv.scale() if params.relative else 1.0)
         else:
             segs = drawing.segments
         depth = drawing.q_t1[..., 3]

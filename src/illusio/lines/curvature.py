@@ -27,7 +27,7 @@ from ..core.errors import InputError
 from ..core.images import atomic_output
 from ..scene.mesh import Mesh
 
-__all__ = ["Curvature", "estimate_curvature", "vertex_rings", "cache_dir", "CACHE_VERSION"]
+__all__ = ["Curvature", "estimate_curvature", "cache_dir", "CACHE_VERSION"]
 
 CACHE_VERSION = 1
 
@@ -121,15 +121,6 @@ def _adjacency(count: int, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     offsets = np.zeros(count + 1, np.int64)
     np.add.at(offsets, edges[:, 0] + 1, 1)
     return np.cumsum(offsets), edges[:, 1].astype(np.int64)
-
-
-def vertex_rings(mesh: Mesh, vertex: int, rings: int) -> np.ndarray:
-    """Indices of the vertices within ``rings`` edges of ``vertex`` (itself included)."""
-    offsets, neighbours = _adjacency(len(mesh.vertices), np.asarray(mesh.faces, np.int64))
-    stamp = np.full(len(mesh.vertices), -1, np.int64)
-    queue = np.empty(len(mesh.vertices), np.int64)
-    n = _bfs(vertex, rings, offsets, neighbours, stamp, queue, 1 << 30, 0)
-    return np.sort(queue[:n])
 
 
 @numba.njit(cache=True)

@@ -128,7 +128,8 @@ class LineRenderer:
             self._mesh = CurvatureMesh(self.ctx, mesh, curvature or estimate_curvature(mesh))
         return self._mesh
 
-    def _depth_texture(self, size) -> moderngl.Texture:
+    def depth_texture(self, size) -> moderngl.Texture:
+        """The depth texture of the last frame (kept, remade when the size changes)."""
         if self._depth is None or self._depth.size != tuple(size):
             if self._depth is not None:
                 self._depth.release()
@@ -144,7 +145,7 @@ class LineRenderer:
         curv = gm.curvature
         view = view or framing_view(mesh)
         scale = curv.scale() if params.relative else 1.0
-        depth = self._depth_texture((w, h))
+        depth = self.depth_texture((w, h))
         # pass 1: q, t1 and depth of the visible surface
         q_t1 = self.view_curvature(gm, view, (w, h), params.tau, scale, depth=depth)
         maps = ctx.readback(q_t1) if keep_maps else None
@@ -188,7 +189,7 @@ class LineRenderer:
                 q1 = vc.q1 * 2.0**params.tau
                 # only where the surface faces the viewer
                 q1 = np.where(vc.ndotv > 0.05, q1, 0.0)
-                out[kind] = apparent_ridges(mesh, curv, q1, vc.w1, params.object_threshold, scale)
+                out[kind] = apparent_ridges(mesh, q1, vc.w1, params.object_threshold, scale)
             elif kind == "silhouettes" and params.silhouette_space == "object":
                 out[kind] = contours(mesh, curv, eye)
             elif kind == "suggestive":

@@ -145,7 +145,7 @@ def suggestive_contours(mesh: Mesh, curvature: Curvature, eye, threshold: float,
     return zero_crossings(mesh, kr, keep, strength)
 
 
-def _aligned_derivative(curvature: Curvature, directions: np.ndarray, derivative: np.ndarray, faces: np.ndarray):
+def _aligned_derivative(directions: np.ndarray, derivative: np.ndarray, faces: np.ndarray):
     """Per-face copies of a derivative along a sign-ambiguous direction, flipped so that the three
     vertices' directions agree with the first's."""
     d = directions[faces]  # (F, 3, 3)
@@ -153,12 +153,12 @@ def _aligned_derivative(curvature: Curvature, directions: np.ndarray, derivative
     return derivative[faces] * sign, d * sign[..., None]
 
 
-def _extremum_lines(mesh: Mesh, curvature: Curvature, value: np.ndarray, direction: np.ndarray,
-                    derivative: np.ndarray, keep_vertex: np.ndarray, maximum: bool, strength: np.ndarray) -> Segments:
+def _extremum_lines(mesh: Mesh, direction: np.ndarray, derivative: np.ndarray, keep_vertex: np.ndarray,
+                    maximum: bool, strength: np.ndarray) -> Segments:
     """Zeros of a directional derivative (with per-face sign alignment) where ``value`` is an
     extremum: the derivative decreases along the direction (maximum) or increases (minimum)."""
     f = np.asarray(mesh.faces, np.int64)
-    fd, dirs = _aligned_derivative(curvature, direction, derivative, f)
+    fd, dirs = _aligned_derivative(direction, derivative, f)
     v = np.asarray(mesh.vertices, np.float64)[f]
     # gradient of the aligned derivative inside each face, dotted with the mean direction
     p0, p1, p2 = v[:, 0], v[:, 1], v[:, 2]
@@ -179,24 +179,22 @@ def _extremum_lines(mesh: Mesh, curvature: Curvature, value: np.ndarray, directi
 def ridges(mesh: Mesh, curvature: Curvature, threshold: float, scale: float) -> Segments:
     """Ridge lines: k_max maximal along e_max, k_max > threshold·scale."""
     k = curvature.k_max.astype(np.float64)
-    return _extremum_lines(mesh, curvature, k, curvature.e_max, curvature.dcurv[:, 3].astype(np.float64),
-                           k > threshold * scale, True, k / scale)
+    return _extremum_lines(mesh, curvature.e_max, curvature.dcurv[:, 3].astype(np.float64), k > threshold * scale, True, k / scale)
 
 
 def valleys(mesh: Mesh, curvature: Curvature, threshold: float, scale: float) -> Segments:
     """Valley lines: k_min minimal along e_min, k_min < −threshold·scale."""
     k = curvature.k_min.astype(np.float64)
-    return _extremum_lines(mesh, curvature, k, curvature.e_min, curvature.dcurv[:, 0].astype(np.float64),
-                           k < -threshold * scale, False, -k / scale)
+    return _extremum_lines(mesh, curvature.e_min, curvature.dcurv[:, 0].astype(np.float64), k < -threshold * scale, False, -k / scale)
 
 
-def apparent_ridges(mesh: Mesh, curvature: Curvature, q1: np.ndarray, w1: np.ndarray, threshold: float, scale: float) -> Segments:
+def apparent_ridges(mesh: Mesh, q1: np.ndarray, w1: np.ndarray, threshold: float, scale: float) -> Segments:
     """Judd's object-space apparent ridges from per-vertex q1 and its object-space direction w1 (see
     view_curvature.view_dependent_curvature): zeros of D_{w1} q1 where q1 > threshold·scale and q1 is
     a maximum along w1."""
     grad = vertex_gradient(mesh, q1)
     dq = (grad * w1).sum(1)
-    return _extremum_lines(mesh, curvature, q1, w1, dq, q1 > threshold * scale, True, q1 / scale)
+    return _extremum_lines(mesh, w1, dq, q1 > threshold * scale, True, q1 / scale)
 
 
 def chain(segments: Segments) -> list[np.ndarray]:

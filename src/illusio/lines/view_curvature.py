@@ -12,6 +12,8 @@ and t1 = w1 projected on the screen (sign fixed so that it points away from the 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import moderngl
 import numpy as np
 
@@ -23,13 +25,17 @@ from .gpu_mesh import CurvatureMesh
 __all__ = ["view_dependent_curvature", "ViewCurvature", "ViewCurvaturePass"]
 
 
+@dataclass
 class ViewCurvature:
     """Per-vertex results: q (N,) scaled and clamped as the shader stores it, q1 (N,) raw singular
     value (1/units), t1 (N, 2) unit screen direction in camera x (right), y (up) or 0, w1 (N, 3) the
     object-space tangent of maximum view-dependent curvature (unit, sign arbitrary), ndotv (N,)."""
 
-    def __init__(self, q, q1, t1, w1, ndotv):
-        self.q, self.q1, self.t1, self.w1, self.ndotv = q, q1, t1, w1, ndotv
+    q: np.ndarray
+    q1: np.ndarray
+    t1: np.ndarray
+    w1: np.ndarray
+    ndotv: np.ndarray
 
 
 def view_dependent_curvature(positions, normals, e_min, e_max, k_min, k_max, view: View,
