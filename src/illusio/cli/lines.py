@@ -157,8 +157,10 @@ def _fill(image: np.ndarray, known: np.ndarray) -> np.ndarray:
 def curvature(
     mesh: str = typer.Argument(..., help="mesh file or built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, valid"),
-    rings: int = typer.Option(2, "--rings", help="neighbourhood size in edge rings"),
-    degree: int = typer.Option(3, "--degree", help="jet degree: 2 or 3 (3 also gives curvature derivatives)"),
+    rings: int = typer.Option(2, "--rings", help="smallest neighbourhood, in edge rings"),
+    degree: int = typer.Option(4, "--degree", help="jet degree: 2, 3 or 4 (3 and 4 also give curvature derivatives)"),
+    fixed: bool = typer.Option(False, "--fixed", help="one fit per vertex: no adaptive support (see --extra-rings)"),
+    extra_rings: int = typer.Option(2, "--extra-rings", help="how far the adaptive support may grow on noisy meshes"),
     no_cache: bool = typer.Option(False, "--no-cache", help="recompute even if a cached result exists"),
 ) -> None:
     """Estimate per-vertex principal curvatures and directions of MESH."""
@@ -168,7 +170,7 @@ def curvature(
     if out.suffix.lower() != ".npz":
         raise InputError(f"{out.name}: curvature is written as .npz")
     m = _mesh(mesh)
-    c = estimate_curvature(m, rings, degree, cache=not no_cache)
+    c = estimate_curvature(m, rings, degree, cache=not no_cache, adaptive=not fixed, extra_rings=extra_rings)
     c.save(out)
     typer.echo(f"wrote {out} ({len(c.k_min)} vertices, {int((~c.valid).sum())} without a fit; "
                f"curvature scale {c.scale():.4g} per unit)")
