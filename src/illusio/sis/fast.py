@@ -20,6 +20,8 @@ from .separation import bind_depth_mapping
 
 __all__ = ["FastPass", "ChainPass"]
 
+GL_R32UI = 0x8236  # the RGBA8 output viewed as one word per texel
+
 
 class FastPass:
     def __init__(self, ctx: Context, rows_per_group: int = 16):
@@ -47,7 +49,7 @@ class FastPass:
         set_uniform(prog, "image_height", h)
         set_uniform(prog, "strip_width", strip_width)
         set_uniform(prog, "first_strip", first_strip)
-        out.bind_to_image(0, read=True, write=True)
+        out.bind_to_image(0, read=True, write=True, format=GL_R32UI)
         prog.run(group_x=-(-h // self.rows_per_group))
         self.ctx.gl.memory_barrier()
         return out

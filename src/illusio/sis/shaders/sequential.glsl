@@ -10,22 +10,37 @@
 layout(local_size_x = ROWS_PER_GROUP) in;
 #include "depth_to_separation.glsl"
 #include "sis_common.glsl"
+#if FROM_DEPTH
+// the RGBA8 stereogram bound as R32UI (same texel size): colours move as packed words, with no
+// unorm conversion per pixel
+layout(r32ui, binding = 0) coherent uniform uimage2D stereogram;
+#else
 layout(rgba8, binding = 0) coherent uniform image2D stereogram;
+#endif
 
 void main() {
     ivec2 size = imageSize(stereogram);
     int y = int(gl_GlobalInvocationID.x);
     if (y >= size.y) return;
     int start = row_start(y);
-    for (int x = 0; x < size.x; ++x) {
 #if FROM_DEPTH
+    // two loops instead of a branch per pixel: the first strip from the pattern, then the links
+    int first_end = min(size.x, start + first_strip);
+    for (int x = 0; x < first_end; ++x) {
         int s = int(floor(separation_at(x, y) + 0.5));
+        imageStore(stereogram, ivec2(x, y), uvec4(packUnorm4x8(pattern_texel(x, y, s - strip_width))));
+    }
+    for (int x = first_end; x < size.x; ++x) {
+        int s = int(floor(separation_at(x, y) + 0.5));
+        imageStore(stereogram, ivec2(x, y), imageLoad(stereogram, ivec2(x - s, y)));
+    }
 #else
+    for (int x = 0; x < size.x; ++x) {
         int s = rounded_separation(ivec2(x, y));
-#endif
         vec4 c = (x - start < first_strip) ? pattern_texel(x, y, s - strip_width)
                                            : imageLoad(stereogram, ivec2(x - s, y));
         imageStore(stereogram, ivec2(x, y), c);
     }
+#endif
 }
 #endif
