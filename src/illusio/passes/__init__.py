@@ -1,5 +1,6 @@
 """Passes shared by several techniques: G-buffer, shadows, shading, and the scene renderer."""
 
+from .forward import ForwardPass, ScreenMaterial
 from .gbuffer import GBuffer, GBufferImages, GBufferPass
 from .gpu_scene import GpuScene
 from .lights import Emitters, emitters_from_lights
@@ -7,5 +8,5 @@ from .scene_renderer import RenderSettings, SceneRenderer, render_scene
 from .shading import ShadingParams, ShadingPass
 from .shadows import ShadowPass
 
-__all__ = ["GBuffer", "GBufferImages", "GBufferPass", "GpuScene", "Emitters", "emitters_from_lights",
+__all__ = ["ForwardPass", "ScreenMaterial", "GBuffer", "GBufferImages", "GBufferPass", "GpuScene", "Emitters", "emitters_from_lights",
            "RenderSettings", "SceneRenderer", "render_scene", "ShadingParams", "ShadingPass", "ShadowPass"]

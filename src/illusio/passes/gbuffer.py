@@ -85,22 +85,6 @@ class GBufferPass:
         set_uniform(prog, "view_matrix", view.view_matrix())
         set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
         set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
-        set_uniform(prog, "albedo_texture", 0)
-
-        def set_node(index, node):
-            mat = node.material
-            set_uniform(prog, "model_matrix", node.transform)
-            set_uniform(prog, "normal_matrix", np.linalg.inv(node.transform[:3, :3].astype(np.float64)).T.astype(np.float32))
-            set_uniform(prog, "albedo", mat.colour)
-            set_uniform(prog, "specular", float(mat.specular))
-            set_uniform(prog, "shininess", float(mat.shininess))
-            set_uniform(prog, "emission", mat.emission)
-            set_uniform(prog, "object_id", float(index + 1))
-            tex = gpu_scene.texture(node)
-            set_uniform(prog, "has_texture", tex is not None)
-            if tex is not None:
-                tex.use(0)
-
-        gpu_scene.draw(prog, set_node)
+        gpu_scene.draw(prog, lambda index, node: gpu_scene.bind_surface(prog, index, node))
         gl.disable(moderngl.DEPTH_TEST)
         return GBuffer(self.ctx, textures, (w, h))

@@ -75,13 +75,44 @@ class GpuScene:
             self._vaos[key] = vao
         return vao
 
-    def draw(self, program: moderngl.Program, set_node=None) -> None:
-        for index, node in enumerate(self.scene.nodes):
-            if not node.visible:
-                continue
+    def bind_surface(self, program: moderngl.Program, index: int, node: Node, texture_unit: int = 0) -> None:
+        """Set the uniforms of ``shaders/surface.glsl`` for drawing ``node`` (index: its place in the
+        scene; the object id is index + 1)."""
+        mat = node.material
+        set_uniform(program, "model_matrix", node.transform)
+        set_uniform(program, "normal_matrix", np.linalg.inv(node.transform[:3, :3].astype(np.float64)).T.astype(np.float32))
+        set_uniform(program, "albedo", mat.colour)
+        set_uniform(program, "specular", float(mat.specular))
+        set_uniform(program, "shininess", float(mat.shininess))
+        set_uniform(program, "emission", mat.emission)
+        set_uniform(program, "object_id", float(index + 1))
+        set_uniform(program, "albedo_texture", texture_unit)
+        tex = self.texture(node)
+        set_uniform(program, "has_texture", tex is not None)
+        if tex is not None:
+            tex.use(texture_unit)
+
+    def draw(self, program: moderngl.Program, set_node=None, front_to_back_from=None) -> None:
+        """Draw every visible node, calling ``set_node(index, node)`` before each. With
+        ``front_to_back_from`` (an eye position), nearest bounding boxes first: the depth test then
+        rejects hidden fragments before they are shaded."""
+        order = [i for i, node in enumerate(self.scene.nodes) if node.visible]
+        if front_to_back_from is not None:
+            eye = np.asarray(front_to_back_from, np.float64)
+            order.sort(key=lambda i: self._box_distance(self.scene.nodes[i], eye))
+        for index in order:
+            node = self.scene.nodes[index]
             if set_node is not None:
                 set_node(index, node)
             self.vao(program, node).render(moderngl.TRIANGLES)
+
+    @staticmethod
+    def _box_distance(node: Node, eye: np.ndarray) -> float:
+        """Distance from ``eye`` to the node's world-space bounding box (0 inside it)."""
+        lo, hi = (np.asarray(b, np.float64) for b in node.mesh.bounds)
+        corners = np.array([[x, y, z, 1.0] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        world = corners @ node.transform.astype(np.float64).T
+        return float(np.linalg.norm(np.maximum(0.0, np.maximum(world[:, :3].min(0) - eye, eye - world[:, :3].max(0)))))
 
     @property
     def triangle_count(self) -> int:

@@ -17,7 +17,8 @@ from ..scene.camera import View
 from ..scene.scene import Scene
 from .gbuffer import GBuffer, GBufferPass
 from .gpu_scene import GpuScene
-from .lights import emitters_from_lights
+from .forward import ForwardPass, ScreenMaterial
+from .lights import Emitters, emitters_from_lights
 from .shading import MAX_EMITTERS, ShadingParams, ShadingPass
 from .shadows import ShadowPass
 
@@ -29,11 +30,14 @@ MAX_SIZE = 8192
 @dataclass(frozen=True)
 class RenderSettings:
     """shadows: cube shadow maps on/off; shadow_tile_size: pixels per cube face;
-    exposure: scale on the linear result."""
+    exposure: scale on the linear result; forward: light the surfaces in the pass that draws them
+    instead of through the G-buffer (same image; faster where G-buffer bandwidth dominates, as on a
+    CPU rasteriser at high resolution)."""
 
     shadows: bool = True
     shadow_tile_size: int = 512
     exposure: float = 1.0
+    forward: bool = False
 
 
 def check_size(size) -> tuple[int, int]:
@@ -54,6 +58,7 @@ class SceneRenderer:
         self.settings = settings
         self.gbuffer_pass = GBufferPass(ctx)
         self.shading_pass = ShadingPass(ctx)
+        self.forward_pass = ForwardPass(ctx)
         self._shadow_passes: dict[int, ShadowPass] = {}
         self._gpu_scene: GpuScene | None = None
 
@@ -79,26 +84,51 @@ class SceneRenderer:
 
         ``gbuffer_hook(gbuffer)``, if given, runs between the G-buffer and shading and may replace
         G-buffer textures (a technique re-texturing a surface in screen space; it releases what it
-        replaces)."""
+        replaces). It needs the deferred path: ``settings.forward`` must be off."""
         s = settings or self.settings
+        if s.forward:
+            if gbuffer_hook is not None:
+                raise InputError("a G-buffer hook needs the deferred path (RenderSettings(forward=False))")
+            return self.render_forward(scene, view, size, s)[0]
         size = check_size(size)
         gpu = self.prepare(scene)
         gbuf = self.gbuffer_pass(gpu, view, size)
         if gbuffer_hook is not None:
             gbuffer_hook(gbuf)
-        emitters = emitters_from_lights(scene.lights, s.shadows, MAX_EMITTERS)
-        atlas = matrices = None
-        if s.shadows and (emitters.shadow_row >= 0).any():
-            lo, hi = scene.bounds()
-            far = float(np.linalg.norm(hi - lo)) * 2 + 1.0
-            shadow = self._shadow_passes.setdefault(s.shadow_tile_size, ShadowPass(self.ctx, s.shadow_tile_size))
-            atlas, matrices = shadow(gpu, emitters.shadow_positions, 0.02, far)
+        emitters, atlas, matrices = self._lights(scene, gpu, s)
         params = ShadingParams(scene.ambient, scene.background, s.exposure)
         out = self.shading_pass(gbuf, emitters, view.pose.position, params, atlas, matrices, s.shadow_tile_size)
         gbuf.release()
         if atlas is not None:
             self.ctx.release(atlas)
         return out
+
+    def render_forward(self, scene: Scene, view: View, size, settings: RenderSettings | None = None,
+                       screen_material: ScreenMaterial | None = None,
+                       object_ids: bool = False) -> tuple[moderngl.Texture, moderngl.Texture | None]:
+        """The forward path: (radiance RGBA float32, object ids R32F or None), both pooled.
+        ``screen_material``: nodes coloured from a screen-space texture (see :class:`ScreenMaterial`)."""
+        s = settings or self.settings
+        size = check_size(size)
+        gpu = self.prepare(scene)
+        emitters, atlas, matrices = self._lights(scene, gpu, s)
+        params = ShadingParams(scene.ambient, scene.background, s.exposure)
+        out = self.forward_pass(gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size,
+                                screen_material, object_ids)
+        if atlas is not None:
+            self.ctx.release(atlas)
+        return out
+
+    def _lights(self, scene: Scene, gpu: GpuScene, s: RenderSettings) -> tuple[Emitters, moderngl.Texture | None, np.ndarray | None]:
+        """The scene's emitters and, with shadows on, their shadow atlas (pooled) and face matrices."""
+        emitters = emitters_from_lights(scene.lights, s.shadows, MAX_EMITTERS)
+        if not (s.shadows and (emitters.shadow_row >= 0).any()):
+            return emitters, None, None
+        lo, hi = scene.bounds()
+        far = float(np.linalg.norm(hi - lo)) * 2 + 1.0
+        shadow = self._shadow_passes.setdefault(s.shadow_tile_size, ShadowPass(self.ctx, s.shadow_tile_size))
+        atlas, matrices = shadow(gpu, emitters.shadow_positions, 0.02, far)
+        return emitters, atlas, matrices
 
     def render(self, scene: Scene, view: View | None = None, size=(640, 480), settings: RenderSettings | None = None) -> np.ndarray:
         """Float32 (H, W, 3) linear colour in [0, 1], row 0 on top."""

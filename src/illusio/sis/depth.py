@@ -15,7 +15,6 @@ import numpy as np
 from ..core.context import Context
 from ..core.errors import InputError
 from ..core.images import read_image
-from ..passes.gbuffer import GBufferPass
 from ..passes.gpu_scene import GpuScene, set_uniform
 from ..scene.camera import Camera, Pose, View
 from ..scene.mesh import Mesh
@@ -73,31 +72,32 @@ def read_depth(path: str | Path) -> np.ndarray:
 
 
 class HiddenDepthPass:
-    """A scene's G-buffer depth → D (R32F texture, pooled), the nearest point of the scene's bounding
+    """A scene drawn straight to D (R32F texture, pooled): the nearest point of the scene's bounding
     sphere at 0, its farthest at :data:`OBJECT_RANGE`, the background at 1."""
 
     def __init__(self, ctx: Context):
         self.ctx = ctx
-        self.gbuffer = GBufferPass(ctx)
         self.program = ctx.program("sis/shaders/hidden_depth.glsl")
 
     def __call__(self, gpu_scene: GpuScene, view: View, size: tuple[int, int]) -> moderngl.Texture:
-        gbuf = self.gbuffer(gpu_scene, view, size)
         lo, hi = gpu_scene.scene.bounds()
         centre = (np.asarray(lo) + np.asarray(hi)) / 2
         radius = float(np.linalg.norm(np.asarray(hi) - np.asarray(lo))) / 2
         distance = float(-(view.view_matrix() @ np.append(centre, 1.0))[2])
         out = self.ctx.acquire(size, 1, "f4")
-        fbo = self.ctx.framebuffer([out])
+        fbo = self.ctx.framebuffer([out], depth=True)
         fbo.use()
         fbo.viewport = (0, 0, *size)
-        gbuf["depth"].use(0)
-        gbuf["object_id"].use(1)
-        for name, value in (("g_depth", 0), ("g_object_id", 1), ("front", max(distance - radius, 1e-4)),
-                            ("back", distance + radius), ("object_range", OBJECT_RANGE)):
-            set_uniform(self.program, name, value)
-        self.ctx.fullscreen.draw(self.program)
-        gbuf.release()
+        fbo.clear(1.0, 1.0, 1.0, 1.0, depth=1.0)
+        gl = self.ctx.gl
+        gl.enable(moderngl.DEPTH_TEST)
+        gl.disable(moderngl.CULL_FACE)
+        prog = self.program
+        for name, value in (("view_matrix", view.view_matrix()), ("projection_matrix", view.projection_matrix(size[0] / size[1])),
+                            ("front", max(distance - radius, 1e-4)), ("back", distance + radius), ("object_range", OBJECT_RANGE)):
+            set_uniform(prog, name, value)
+        gpu_scene.draw(prog, lambda index, node: set_uniform(prog, "model_matrix", node.transform))
+        gl.disable(moderngl.DEPTH_TEST)
         return out
 
 

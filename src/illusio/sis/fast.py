@@ -32,7 +32,9 @@ class FastPass:
 
     def __call__(self, depth: moderngl.Texture, pattern: moderngl.Texture, params: StereogramParams,
                  row_starts: moderngl.Texture | None = None) -> moderngl.Texture:
-        """depth: D (R32F, logical width); returns RGBA8 at ``oversample`` times the width (pooled)."""
+        """depth: D (R32F, logical width); returns RGBA8 at ``oversample`` times the width (pooled).
+        With ``row_starts``, only the columns from each row's start on are computed (the others keep
+        what the pooled texture held): what a host surface shows, at a fraction of the cost."""
         w, h = depth.size
         w *= params.oversample
         strip_width, first_strip = pixel_widths(params)

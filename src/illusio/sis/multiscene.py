@@ -5,7 +5,8 @@ hidden scene (eyes focused behind it).
 Per frame: (1) the hidden scene's depth D; (2) D projected to screen space through the host surface's
 uvs, and (3)-(4) the pattern (TV snow, remade every frame, or a texture) projected the same way, in
 one pass with two outputs; (5) the stereogram in screen space, each row starting at the host's left
-edge; (6) the main scene shaded with the stereogram as the host's albedo (and emission, for a TV).
+edge; (6) the main scene in one forward pass, the stereogram as the host's albedo (and emission, for
+a TV) sampled in screen space.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ import numpy as np
 
 from ..core.context import Context
 from ..core.errors import InputError
+from ..passes.forward import ScreenMaterial
 from ..passes.gpu_scene import GpuScene, set_uniform
 from ..passes.scene_renderer import RenderSettings, SceneRenderer, check_size
 from ..scene.camera import Pose, View
@@ -98,7 +100,6 @@ class MultiSceneRenderer:
         self.hidden_depth = HiddenDepthPass(ctx)
         self.row_start = RowStartPass(ctx)
         self.projection = ctx.program("sis/shaders/host_projection.glsl")
-        self.composite = ctx.program("sis/shaders/host_composite.glsl")
         self._hidden_gpu: GpuScene | None = None
         self.last_depth: np.ndarray | None = None  # set by render(..., keep_depth=True)
 
@@ -137,76 +138,64 @@ class MultiSceneRenderer:
         aspect = float(extent[0] / max(extent[1], 1e-9))
         hidden_size = (params.hidden_size, max(1, int(round(params.hidden_size / aspect))))
 
-        def hook(gbuf):
-            # (1) the hidden scene's depth image
-            hidden_depth = self.hidden_depth(self._hidden(hidden), self.hidden_view(scene, hidden, view, params, frame), hidden_size)
-            hidden_depth.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            # (3) the pattern image: snow made for this frame, or the texture
-            pattern, owned = self.stereograms.pattern_texture(sis, hidden_size, frame)
-            pattern.repeat_x = pattern.repeat_y = True
-            pattern.filter = (moderngl.NEAREST, moderngl.NEAREST)
-            # (2) + (4) both projected to screen space through the host
-            depth_screen = ctx.acquire((w, h), 1, "f4")
-            pattern_screen = ctx.acquire((w, h), 4, "f1")
-            fbo = ctx.framebuffer([depth_screen, pattern_screen], depth=True)
-            fbo.use()
-            fbo.viewport = (0, 0, w, h)
-            fbo.clear(-1.0, 0.0, 0.0, 0.0, depth=1.0)
-            # the nearest host surface, seen through any occluder; visibility comes from the G-buffer ids
-            ctx.gl.enable(moderngl.DEPTH_TEST)
-            ctx.gl.disable(moderngl.CULL_FACE)
-            prog = self.projection
-            set_uniform(prog, "view_matrix", view.view_matrix())
-            set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
-            hidden_depth.use(0)
-            pattern.use(1)
-            gbuf["object_id"].use(2)
-            for name, value in (("hidden_depth", 0), ("pattern", 1), ("g_object_id", 2),
-                                ("pattern_repeat", tuple(float(v) for v in params.pattern_repeat))):
-                set_uniform(prog, name, value)
-            gpu = self.scene_renderer.prepare(scene)
-            for index, node in hosts:
-                if node.mesh.uvs is None:
-                    raise InputError(f"host {node.name!r} has no texture coordinates to carry a stereogram")
-                set_uniform(prog, "uv_min", tuple(float(v) for v in node.mesh.uvs.min(axis=0)))
-                set_uniform(prog, "uv_max", tuple(float(v) for v in node.mesh.uvs.max(axis=0)))
-                set_uniform(prog, "model_matrix", node.transform)
-                set_uniform(prog, "object_id", float(index + 1))
-                gpu.vao(prog, node).render(moderngl.TRIANGLES)
-            ctx.gl.disable(moderngl.DEPTH_TEST)
-            ctx.release(hidden_depth)
-            if owned:
-                ctx.release(pattern)
-            # (5) the stereogram in screen space, each row from the host's left edge
-            row_starts = self.row_start(depth_screen, sis.oversample)
-            span = self._host_columns(hosts, view, (w, h))
-            stereo = self.stereograms.render_texture(depth_screen, sis, frame, row_starts,
-                                                     max_row_start=span[1] * sis.oversample,
-                                                     min_row_start=span[0] * sis.oversample,
-                                                     pattern=pattern_screen)
-            stereo.filter = (moderngl.LINEAR, moderngl.LINEAR)
-            if keep is not None:
-                keep["depth"] = ctx.readback(depth_screen)[..., 0]
-                keep["visible"] = ctx.readback(pattern_screen, 4)[..., 3] > 0.5
-                keep["stereogram"] = ctx.readback(stereo, 3)
-            # (6) the host's albedo and emission become the stereogram
-            colour = ctx.acquire((w, h), 4, "f2")
-            emitted = ctx.acquire((w, h), 4, "f2")
-            out = ctx.framebuffer([colour, emitted])
-            out.use()
-            out.viewport = (0, 0, w, h)
-            prog = self.composite
-            for unit, (name, tex) in enumerate((("g_colour", gbuf["colour"]), ("g_emission", gbuf["emission"]),
-                                                ("host_pattern", pattern_screen), ("stereogram", stereo))):
-                tex.use(unit)
-                set_uniform(prog, name, unit)
-            set_uniform(prog, "tint", tuple(float(c) for c in hosts[0][1].material.colour) if params.emission == 0 else (1.0, 1.0, 1.0))
-            set_uniform(prog, "emission", float(params.emission))
-            ctx.fullscreen.draw(prog)
-            ctx.release(gbuf.textures["colour"], gbuf.textures["emission"], depth_screen, pattern_screen, row_starts, stereo)
-            gbuf.textures["colour"], gbuf.textures["emission"] = colour, emitted
-
-        return self.scene_renderer.render_texture(scene, view, (w, h), params.settings, gbuffer_hook=hook)
+        gpu = self.scene_renderer.prepare(scene)
+        # (1) the hidden scene's depth image
+        hidden_depth = self.hidden_depth(self._hidden(hidden), self.hidden_view(scene, hidden, view, params, frame), hidden_size)
+        hidden_depth.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        # (3) the pattern image: snow made for this frame, or the texture
+        pattern, owned = self.stereograms.pattern_texture(sis, hidden_size, frame)
+        pattern.repeat_x = pattern.repeat_y = True
+        pattern.filter = (moderngl.NEAREST, moderngl.NEAREST)
+        # (2) + (4) both projected to screen space through the host: the nearest host surface over
+        # its whole extent, whatever stands in front of it (an occluder must not cut the rows)
+        depth_screen = ctx.acquire((w, h), 1, "f4")
+        pattern_screen = ctx.acquire((w, h), 4, "f1")
+        fbo = ctx.framebuffer([depth_screen, pattern_screen], depth=True)
+        fbo.use()
+        fbo.viewport = (0, 0, w, h)
+        fbo.clear(-1.0, 0.0, 0.0, 0.0, depth=1.0)
+        ctx.gl.enable(moderngl.DEPTH_TEST)
+        ctx.gl.disable(moderngl.CULL_FACE)
+        prog = self.projection
+        set_uniform(prog, "view_matrix", view.view_matrix())
+        set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
+        hidden_depth.use(0)
+        pattern.use(1)
+        for name, value in (("hidden_depth", 0), ("pattern", 1), ("pattern_repeat", tuple(float(v) for v in params.pattern_repeat))):
+            set_uniform(prog, name, value)
+        for index, node in hosts:
+            if node.mesh.uvs is None:
+                raise InputError(f"host {node.name!r} has no texture coordinates to carry a stereogram")
+            set_uniform(prog, "uv_min", tuple(float(v) for v in node.mesh.uvs.min(axis=0)))
+            set_uniform(prog, "uv_max", tuple(float(v) for v in node.mesh.uvs.max(axis=0)))
+            set_uniform(prog, "model_matrix", node.transform)
+            gpu.vao(prog, node).render(moderngl.TRIANGLES)
+        ctx.gl.disable(moderngl.DEPTH_TEST)
+        ctx.release(hidden_depth)
+        if owned:
+            ctx.release(pattern)
+        # (5) the stereogram in screen space, each row from the host's left edge
+        row_starts = self.row_start(depth_screen, sis.oversample)
+        span = self._host_columns(hosts, view, (w, h))
+        stereo = self.stereograms.render_texture(depth_screen, sis, frame, row_starts,
+                                                 max_row_start=span[1] * sis.oversample,
+                                                 min_row_start=span[0] * sis.oversample, pattern=pattern_screen)
+        stereo.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        ctx.release(pattern_screen, row_starts)
+        # (6) the main scene, lit in one forward pass, the host coloured (and, for a TV, lit) by the
+        # stereogram as a screen-space texture
+        tint = tuple(float(c) for c in hosts[0][1].material.colour) if params.emission == 0 else (1.0, 1.0, 1.0)
+        material = ScreenMaterial(stereo, frozenset(i for i, _ in hosts), tint, float(params.emission))
+        settings = replace(params.settings, forward=True)
+        out, ids = self.scene_renderer.render_forward(scene, view, (w, h), settings, material, object_ids=keep is not None)
+        if keep is not None:
+            keep["depth"] = ctx.readback(depth_screen)[..., 0]
+            host_ids = np.array([i + 1 for i, _ in hosts], np.float32)
+            keep["visible"] = np.isin(np.rint(ctx.readback(ids)[..., 0]), host_ids)
+            keep["stereogram"] = ctx.readback(stereo, 3)
+            ctx.release(ids)
+        ctx.release(depth_screen, stereo)
+        return out
 
     @staticmethod
     def _host_columns(hosts, view: View, size) -> tuple[int, int]:

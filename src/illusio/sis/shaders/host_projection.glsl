@@ -2,8 +2,7 @@
 // Steps (2) and (4) of Figure 22: draw the host surface of the main scene textured with the hidden
 // scene's depth image and with the pattern, over the whole host, whatever stands in front of it (an
 // occluder must not cut the stereogram's rows: the image behind it continues). Outputs, in screen
-// space: D (R32F; the target is cleared to -1 = not host) and the pattern (RGBA8) with alpha 1 where
-// the G-buffer says the host is the visible surface, 0 where something hides it.
+// space: D (R32F; the target is cleared to -1 = not host) and the pattern (RGBA8, alpha 1 on the host).
 #include "common/camera.glsl"
 
 uniform mat4 model_matrix;
@@ -21,8 +20,6 @@ void main() {
 #if defined(FRAGMENT_SHADER)
 uniform sampler2D hidden_depth;   // D of the hidden scene, over the host's uv square
 uniform sampler2D pattern;        // the pattern, repeated pattern_repeat times over the host
-uniform sampler2D g_object_id;
-uniform float object_id;
 uniform vec2 pattern_repeat;
 uniform vec2 uv_min;              // the host's uv bounds: D and the pattern span them once
 uniform vec2 uv_max;
@@ -31,9 +28,8 @@ layout(location = 0) out float depth;
 layout(location = 1) out vec4 colour;
 
 void main() {
-    bool visible = abs(texelFetch(g_object_id, ivec2(gl_FragCoord.xy), 0).r - object_id) < 0.25;
     vec2 uv = (surface_uv - uv_min) / max(uv_max - uv_min, vec2(1e-6));
     depth = texture(hidden_depth, uv).r;
-    colour = vec4(texture(pattern, uv * pattern_repeat).rgb, visible ? 1.0 : 0.0);
+    colour = vec4(texture(pattern, uv * pattern_repeat).rgb, 1.0);
 }
 #endif

@@ -24,9 +24,11 @@ void main() {
     if (y >= size.y) return;
     int start = row_start(y);
 #if FROM_DEPTH
-    // two loops instead of a branch per pixel: the first strip from the pattern, then the links
+    // two loops instead of a branch per pixel: the first strip from the pattern, then the links.
+    // With row starts (a host surface) the columns left of the start are skipped: no chain reaches
+    // them (no separation exceeds the first strip) and the host does not show them.
     int first_end = min(size.x, start + first_strip);
-    for (int x = 0; x < first_end; ++x) {
+    for (int x = use_row_starts ? max(start, 0) : 0; x < first_end; ++x) {
         int s = int(floor(separation_at(x, y) + 0.5));
         imageStore(stereogram, ivec2(x, y), uvec4(packUnorm4x8(pattern_texel(x, y, s - strip_width))));
     }

@@ -1,0 +1,100 @@
+"""Forward shading: the scene lit in the pass that rasterises it, with the deferred path's equations
+(``shaders/emitters.glsl``) and no G-buffer. On a CPU rasteriser at 1080p, writing and reading six
+G-buffer targets costs more than the lighting itself; one target is the fast path for
+frame-after-frame use. Reference: the deferred :class:`.ShadingPass` (tested equal) and through it
+:func:`illusio.passes.reference.shading`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import moderngl
+import numpy as np
+
+from ..core.context import Context
+from ..scene.camera import View
+from .gpu_scene import GpuScene, set_uniform
+from .lights import Emitters
+from .shading import MAX_EMITTERS, ShadingParams, bind_emitters
+
+__all__ = ["ForwardPass", "ScreenMaterial"]
+
+SHADER = "passes/shaders/forward.glsl"
+
+
+@dataclass(frozen=True)
+class ScreenMaterial:
+    """Nodes that take their colour from a screen-space texture instead of their material: albedo =
+    texture × ``tint`` and emission = texture × ``emission``, the texture sampled at the pixel's
+    screen position (it may have any resolution; linear filtering as the texture is set).
+    ``nodes``: indices into the scene's node list."""
+
+    texture: moderngl.Texture
+    nodes: frozenset[int]
+    tint: tuple[float, float, float] = (1.0, 1.0, 1.0)
+    emission: float = 0.0
+
+
+class ForwardPass:
+    """GpuScene + emitters (+ shadow atlas) -> linear radiance, RGBA float32 (pooled), and on request
+    the object ids (R32F, node index + 1, 0 = background) from the same pass."""
+
+    def __init__(self, ctx: Context, depth_prepass: bool = False):
+        self.ctx = ctx
+        self.depth_prepass = depth_prepass
+        self.programs = {shadows: ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadows))
+                         for shadows in (False, True)}
+        self.depth_program = ctx.program("passes/shaders/depth_only.glsl")
+
+    def __call__(self, gpu_scene: GpuScene, view: View, size: tuple[int, int], emitters: Emitters,
+                 params: ShadingParams = ShadingParams(), shadow_atlas: moderngl.Texture | None = None,
+                 shadow_matrices: np.ndarray | None = None, shadow_tile_size: int = 512,
+                 screen_material: ScreenMaterial | None = None,
+                 object_ids: bool = False) -> tuple[moderngl.Texture, moderngl.Texture | None]:
+        w, h = int(size[0]), int(size[1])
+        out = self.ctx.acquire((w, h), 4, "f4")
+        ids = self.ctx.acquire((w, h), 1, "f4") if object_ids else None
+        fbo = self.ctx.framebuffer([out, ids] if ids is not None else [out], depth=True)
+        gl = self.ctx.gl
+        fbo.use()
+        fbo.viewport = (0, 0, w, h)
+        fbo.clear(*params.background, 1.0, depth=1.0)
+        if ids is not None:  # the background's id is 0, not the background colour
+            fbo.color_attachments[1].write(np.zeros((h, w), np.float32).tobytes())
+        gl.enable(moderngl.DEPTH_TEST)
+        gl.disable(moderngl.CULL_FACE)
+        eye = np.asarray(view.pose.position, np.float64)
+        if self.depth_prepass:  # then shading where the depth is equal: each pixel lit once
+            pre = self.depth_program
+            set_uniform(pre, "view_matrix", view.view_matrix())
+            set_uniform(pre, "projection_matrix", view.projection_matrix(w / h))
+            fbo.color_mask = (False, False, False, False)
+            gpu_scene.draw(pre, lambda index, node: set_uniform(pre, "model_matrix", node.transform), eye)
+            fbo.color_mask = (True, True, True, True)
+            fbo.depth_mask = False
+            gl.depth_func = "<="
+        prog = self.programs[shadow_atlas is not None]
+        set_uniform(prog, "view_matrix", view.view_matrix())
+        set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
+        set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
+        bind_emitters(prog, emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size, unit=1)
+        set_uniform(prog, "screen_size", (float(w), float(h)))
+        if screen_material is not None:
+            screen_material.texture.use(2)
+            set_uniform(prog, "screen_albedo", 2)
+            set_uniform(prog, "screen_tint", tuple(float(c) for c in screen_material.tint))
+            set_uniform(prog, "screen_emission", float(screen_material.emission))
+        else:
+            set_uniform(prog, "screen_albedo", 2)
+        flagged = screen_material.nodes if screen_material is not None else frozenset()
+
+        def set_node(index, node):
+            gpu_scene.bind_surface(prog, index, node, texture_unit=0)
+            set_uniform(prog, "screen_material", index in flagged)
+
+        gpu_scene.draw(prog, set_node, eye)  # front to back: hidden fragments fail the depth test unshaded
+        gl.depth_func = "<"
+        fbo.depth_mask = True
+        gl.disable(moderngl.DEPTH_TEST)
+        return out, ids
