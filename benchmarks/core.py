@@ -1,7 +1,7 @@
 """Core benchmark: G-buffer and shading of the office and of a 1M-triangle mesh at 1920×1080.
 
-Baselines in the same run: the G-buffer alone (what shading adds), and shading without shadow
-maps (what the cube shadow maps cost).
+Baselines in the same run: the G-buffer alone (what shading adds), shading without shadow maps
+(what the cube shadow maps cost), and the forward path against the deferred one (same image).
 """
 
 from __future__ import annotations
@@ -31,9 +31,9 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             ctx.finish()
             g.release()
 
-        def shaded(shadows: bool):
+        def shaded(shadows: bool, forward: bool = False):
             def go():
-                tex = renderer.render_texture(scene, view, size, RenderSettings(shadows=shadows))
+                tex = renderer.render_texture(scene, view, size, RenderSettings(shadows=shadows, forward=forward))
                 ctx.finish()
                 ctx.release(tex)
             return go
@@ -42,10 +42,14 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         timings.append(time_case(f"{label}/gbuffer", gbuffer_only, repeat, notes=note))
         timings.append(time_case(f"{label}/gbuffer+shading", shaded(False), repeat, notes=note))
         timings.append(time_case(f"{label}/gbuffer+shading+shadows", shaded(True), repeat, notes=note))
+        timings.append(time_case(f"{label}/forward", shaded(False, True), repeat, notes=note))
+        timings.append(time_case(f"{label}/forward+shadows", shaded(True, True), repeat, notes=note))
         renderer.invalidate()
     by = {t.name: t.median_ms for t in timings}
     ratios = {}
     for label, _ in cases:
         ratios[f"{label}: full frame / gbuffer only"] = by[f"{label}/gbuffer+shading+shadows"] / by[f"{label}/gbuffer"]
         ratios[f"{label}: shadows on / off"] = by[f"{label}/gbuffer+shading+shadows"] / by[f"{label}/gbuffer+shading"]
+        ratios[f"{label}: deferred / forward, no shadows"] = by[f"{label}/gbuffer+shading"] / by[f"{label}/forward"]
+        ratios[f"{label}: deferred / forward, shadows"] = by[f"{label}/gbuffer+shading+shadows"] / by[f"{label}/forward+shadows"]
     return timings, ratios
