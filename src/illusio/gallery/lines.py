@@ -19,7 +19,7 @@ from .html import Item, Section
 
 __all__ = ["lines_showcase"]
 
-TEST_MESHES = (("bunny", "stanford-bunny.obj", (30, 15)), ("armadillo", "armadillo.obj", (180, 10)),
+TEST_MESHES = (("bunny", "stanford-bunny.obj", (30, 15)), ("armadillo", "armadillo.obj", (20, 10)),
                ("dragon", "dragon_vrip_res2.ply", (20, 15)), ("max-planck", "decimated-max.obj", (200, 10)),
                ("fandisk", "fandisk.off", (40, 30)))
 
