@@ -1,10 +1,15 @@
 """Drawing scores, and the lines/curvature commands."""
 
+import re
+
 import numpy as np
 import pytest
+from scipy import ndimage
 
-from tests.conftest import call_cli as call
+from illusio.core.images import read_image
 from illusio.lines.compare import image_edges, score
+from illusio.lines.svg import trace_polylines
+from tests.conftest import call_cli as call
 
 
 def test_scores_of_a_shifted_line():
@@ -29,6 +34,26 @@ def test_canny_finds_a_square_outline():
 
 
 
+def test_traced_polylines_follow_the_mask():
+    """A ring crossed by a line: every mask pixel lies within 1.5 px of the polylines and back."""
+    from skimage.draw import circle_perimeter, line
+
+    mask = np.zeros((120, 160), bool)
+    mask[circle_perimeter(60, 50, 30)] = True
+    mask[line(60, 40, 60, 155)] = True
+    mask[5, 5] = True  # a speck: dropped
+    lines = trace_polylines(mask)
+    drawn = np.zeros_like(mask)
+    for p in lines:
+        for (x0, y0), (x1, y1) in zip(p[:-1], p[1:]):
+            drawn[line(int(y0), int(x0), int(y1), int(x1))] = True
+    assert not drawn[5, 5]
+    mask[5, 5] = False
+    assert ndimage.distance_transform_edt(~drawn)[mask].max() <= 1.5
+    assert ndimage.distance_transform_edt(~mask)[drawn].max() <= 1.5
+    assert len(lines) <= 8  # the ring and the line in a few pieces, not pixel by pixel
+
+
 def test_lines_cli_png_svg_and_curvature(tmp_path, capsys):
     png, svg, npz = tmp_path / "knot.png", tmp_path / "knot.svg", tmp_path / "knot.npz"
     code, out = call(["lines", "torus-knot", "-o", str(png), "--size", "256x256", "--compare", "canny"], capsys)
@@ -37,6 +62,13 @@ def test_lines_cli_png_svg_and_curvature(tmp_path, capsys):
     assert call(["lines", "torus-knot", "-o", str(svg), "--size", "256x256", "--lines", "apparent-ridges,silhouettes,ridges"], capsys)[0] == 0
     text = svg.read_text()
     assert text.count("<polyline") > 5 and 'id="silhouettes"' in text
+    # the hybrid ridges in the SVG are the PNG's ridge pixels, traced: they fall on dark PNG pixels
+    assert call(["lines", "torus-knot", "-o", str(png), "--size", "256x256", "--lines", "apparent-ridges"], capsys)[0] == 0
+    assert call(["lines", "torus-knot", "-o", str(svg), "--size", "256x256", "--lines", "apparent-ridges"], capsys)[0] == 0
+    points = np.concatenate([np.array([[float(v) for v in p.split(",")] for p in line.split()])
+                             for line in re.findall(r'points="([^"]+)"', svg.read_text())])
+    dark = ndimage.binary_dilation(read_image(png)[..., 0] < 0.5, iterations=1)
+    assert len(points) > 50 and dark[points[:, 1].astype(int), points[:, 0].astype(int)].mean() > 0.95
     assert call(["curvature", "sphere", "-o", str(npz)], capsys)[0] == 0
     with np.load(npz) as data:
         assert np.isfinite(data["k_max"]).all() and (data["k_min"] > 0).mean() > 0.95

@@ -52,8 +52,8 @@ def lines(
     """Draw MESH with apparent ridges and the classic line types."""
     from ..core.context import Context
     from ..lines import compare as cmp
-    from ..lines.drawing import LineParams, LineRenderer, framing_view
-    from ..lines.svg import visible_polylines, write_svg
+    from ..lines.drawing import LineParams, LineRenderer, framing_view, image_silhouettes
+    from ..lines.svg import trace_polylines, visible_polylines, write_svg
     from ..scene.camera import Pose, View
 
     inputs = [mesh] + ([compare] if compare and compare not in cmp.EDGE_METHODS else [])
@@ -90,15 +90,16 @@ def lines(
         typer.echo(f"wrote {out} ({debug} view)")
         return
     if out.suffix.lower() == ".svg":
-        if "apparent-ridges" in kinds and method == "hybrid":
-            # the hybrid ridges are pixels: the plotter file takes Judd's object-space ones
-            curv = renderer.prepare(m).curvature
-            segs = renderer.object_space_segments(m, curv, v, replace(params, method="object-space"),
-                                                  curv.scale() if params.relative else 1.0)
-        else:
-            segs = drawing.segments
         depth = drawing.q_t1[..., 3]
-        groups = {k: (visible_polylines(s, v, (w, h), depth), params.colours[k], params.widths[k]) for k, s in segs.items()}
+        groups = {k: (visible_polylines(s, v, (w, h), depth), params.colours[k], params.widths[k])
+                  for k, s in drawing.segments.items()}
+        # image-space lines are pixels: traced into polylines, the same lines as the PNG's
+        if drawing.ridge_mask is not None:
+            groups["apparent-ridges"] = (trace_polylines(drawing.ridge_mask), params.colours["apparent-ridges"],
+                                         params.widths["apparent-ridges"])
+        if "silhouettes" in kinds and params.silhouette_space == "image":
+            groups["silhouettes"] = (trace_polylines(image_silhouettes(depth, params.depth_jump)),
+                                     params.colours["silhouettes"], params.widths["silhouettes"])
         write_svg(out, (w, h), groups)
         typer.echo(f"wrote {out} ({sum(len(g[0]) for g in groups.values())} polylines)")
     else:

@@ -83,6 +83,7 @@ class Drawing:
     view: View
     size: tuple[int, int]
     q_t1: np.ndarray | None = None  # (H, W, 4) q, t1, view depth (0 = background), with keep_maps
+    ridge_mask: np.ndarray | None = None  # (H, W) bool, the hybrid ridge pixels, with keep_maps
 
 
 def framing_view(mesh: Mesh, azimuth: float = 30.0, elevation: float = 15.0, fov_y: float = 30.0, margin: float = 1.1) -> View:
@@ -176,9 +177,12 @@ class LineRenderer:
         ctx.gl.disable(moderngl.DEPTH_TEST)
         image = ctx.readback(colour, 3)
         ctx.release(q_t1, colour)
+        ridge_mask = None
         if ridge_tex is not None:
+            if keep_maps:
+                ridge_mask = ctx.readback(ridge_tex, 4)[..., 1] > 0.5  # G: the thresholded ridge flag
             ctx.release(ridge_tex)
-        return Drawing(image, segments, view, (w, h), maps)
+        return Drawing(image, segments, view, (w, h), maps, ridge_mask)
 
     def object_space_segments(self, mesh: Mesh, curv: Curvature, view: View, params: LineParams, scale: float) -> dict[str, Segments]:
         eye = view.pose.position

@@ -1,4 +1,5 @@
-"""SVG output for plotters: visible object-space lines as polylines, one group per line type."""
+"""SVG output for plotters: visible object-space lines as polylines, one group per line type, and
+image-space lines (the hybrid apparent ridges, image-space silhouettes) traced from their pixels."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from ..core.images import atomic_output
 from ..scene.camera import View
 from .object_space import Segments, chain
 
-__all__ = ["visible_polylines", "write_svg"]
+__all__ = ["visible_polylines", "trace_polylines", "write_svg"]
 
 
 def visible_polylines(segments: Segments, view: View, size, depth: np.ndarray, slack: float = 0.01) -> list[np.ndarray]:
@@ -37,6 +38,58 @@ def visible_polylines(segments: Segments, view: View, size, depth: np.ndarray, s
                 if i - start >= 2:
                     out.append(px[start:i])
                 start = None
+    return out
+
+
+# 8-neighbour offsets (dy, dx), in turning order
+_NEIGHBOURS = ((-1, 0), (-1, 1), (0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1))
+
+
+def trace_polylines(mask: np.ndarray, tolerance: float = 0.5, min_pixels: int = 2) -> list[np.ndarray]:
+    """Polylines (K, 2) in pixels (x right, y down, pixel centres at .5) along a line mask (H, W)
+    bool, row 0 on top: thinned to one-pixel skeletons, walked from ends and junctions (then round
+    closed loops), simplified by Douglas–Peucker within ``tolerance`` px. Pieces shorter than
+    ``min_pixels`` are dropped (single pixels: specks, not lines)."""
+    from skimage.measure import approximate_polygon
+    from skimage.morphology import skeletonize
+
+    skeleton = np.pad(skeletonize(np.asarray(mask, bool)), 1)  # a frame of False: no bounds checks
+    ys, xs = np.nonzero(skeleton)
+    degree = sum(np.roll(skeleton, (-dy, -dx), (0, 1))[ys, xs].astype(int) for dy, dx in _NEIGHBOURS)
+    nodes = {(y, x) for y, x, d in zip(ys, xs, degree) if d != 2}
+    used: set[tuple[tuple[int, int], tuple[int, int]]] = set()
+
+    def walk(start, first):
+        path = [start, first]
+        used.add((start, first))
+        used.add((first, start))
+        prev, cur = start, first
+        while cur not in nodes and cur != start:
+            for dy, dx in _NEIGHBOURS:
+                nxt = (cur[0] + dy, cur[1] + dx)
+                if skeleton[nxt] and nxt != prev and (cur, nxt) not in used:
+                    break
+            else:
+                break
+            used.add((cur, nxt))
+            used.add((nxt, cur))
+            path.append(nxt)
+            prev, cur = cur, nxt
+        return path
+
+    paths = []
+    for start in sorted(nodes) + [(y, x) for y, x in zip(ys, xs)]:  # ends and junctions first, then loops
+        for dy, dx in _NEIGHBOURS:
+            nxt = (start[0] + dy, start[1] + dx)
+            if skeleton[nxt] and (start, nxt) not in used:
+                paths.append(walk(start, nxt))
+    out = []
+    for path in paths:
+        if len(path) < min_pixels or (len(path) == 2 and path[0] in nodes and path[1] in nodes):
+            continue  # a speck, or a step between two pixels of one junction
+        yx = np.asarray(path, np.float64) - 1.0  # undo the padding
+        xy = approximate_polygon(yx[:, ::-1] + 0.5, tolerance)
+        out.append(xy)
     return out
 
 
