@@ -158,3 +158,27 @@ def test_screen_material_colours_its_nodes_from_a_screen_space_texture(ctx, rng)
     tex.release()
     # no light reaches it (intensity 0), no ambient: what shows is the emission, texture × 1
     np.testing.assert_allclose(got, screen, atol=1e-5)
+
+
+def test_reused_static_layer_gives_the_full_forward_frame(ctx, rng):
+    """Frame after frame with only the screen texture changing, then a new view: each reused frame
+    equals a whole forward render of the same inputs."""
+    from illusio.passes import RenderSettings, ScreenMaterial
+
+    scene = _random_scene(rng)
+    size = (80, 60)
+    renderer = SceneRenderer(ctx)
+    settings = RenderSettings(shadows=False)
+    views = [scene.camera(), scene.camera(), View(Pose.orbit((0, 0.5, 0), 5.0, 10.0, 30.0), Camera(45.0, 0.1, 50.0))]
+    for view in views:
+        screen = ctx.upload(rng.random((size[1], size[0], 3)).astype(np.float32), filter="nearest")
+        material = ScreenMaterial(screen, frozenset({1, 3}), (0.8, 0.7, 0.6), emission=0.5)
+        reused, _ = renderer.render_forward(scene, view, size, settings, material, reuse_static=True)
+        whole, _ = renderer.render_forward(scene, view, size, settings, material)
+        a, b = ctx.readback(reused, 3), ctx.readback(whole, 3)
+        ctx.release(reused, whole)
+        screen.release()
+        assert (np.abs(a - b) <= 1e-6).mean() > 0.999
+    assert renderer._static is not None
+    renderer.invalidate()
+    assert renderer._static is None

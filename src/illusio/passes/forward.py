@@ -38,9 +38,13 @@ class ScreenMaterial:
 
 class ForwardPass:
     """GpuScene + emitters (+ shadow atlas) -> linear radiance, RGBA float32 (pooled), and on request
-    the object ids (R32F, node index + 1, 0 = background) from the same pass."""
+    the object ids (R32F, node index + 1, 0 = background) from the same pass.
 
-    def __init__(self, ctx: Context, depth_prepass: bool = False):
+    ``depth_prepass``: draw the depth first and shade where it is equal, so each pixel is lit once
+    whatever the overdraw (nodes are also drawn front to back). For frame after frame with only the
+    screen-material nodes changing, :meth:`static_layer` + :meth:`dynamic_layer` split the work."""
+
+    def __init__(self, ctx: Context, depth_prepass: bool = True):
         self.ctx = ctx
         self.depth_prepass = depth_prepass
         self.programs = {shadows: ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadows))
@@ -55,23 +59,75 @@ class ForwardPass:
         w, h = int(size[0]), int(size[1])
         out = self.ctx.acquire((w, h), 4, "f4")
         ids = self.ctx.acquire((w, h), 1, "f4") if object_ids else None
-        fbo = self.ctx.framebuffer([out, ids] if ids is not None else [out], depth=True)
-        gl = self.ctx.gl
-        fbo.use()
-        fbo.viewport = (0, 0, w, h)
-        fbo.clear(*params.background, 1.0, depth=1.0)
+        fbo = self._target([out, ids] if ids is not None else [out], True, params)
         if ids is not None:  # the background's id is 0, not the background colour
             fbo.color_attachments[1].write(np.zeros((h, w), np.float32).tobytes())
+        if self.depth_prepass:
+            self._depth(fbo, gpu_scene, view, (w, h))
+        self._shade(fbo, gpu_scene, view, (w, h), emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size,
+                    screen_material, equal_depth=self.depth_prepass)
+        return out, ids
+
+    def static_layer(self, gpu_scene: GpuScene, view: View, size: tuple[int, int], emitters: Emitters,
+                     params: ShadingParams, shadow_atlas, shadow_matrices, shadow_tile_size: int,
+                     dynamic: frozenset[int]) -> tuple[moderngl.Texture, moderngl.Texture]:
+        """Every node but the ``dynamic`` ones shaded (RGBA32F, pooled), and the depth of every node
+        (a depth texture the caller owns and releases): what :meth:`dynamic_layer` completes."""
+        w, h = int(size[0]), int(size[1])
+        base = self.ctx.acquire((w, h), 4, "f4")
+        depth = self.ctx.gl.depth_texture((w, h))
+        fbo = self._target([base], depth, params)
+        self._depth(fbo, gpu_scene, view, (w, h))
+        others = [i for i in range(len(gpu_scene.scene.nodes)) if i not in dynamic]
+        self._shade(fbo, gpu_scene, view, (w, h), emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size,
+                    None, equal_depth=True, only=others)
+        return base, depth
+
+    def dynamic_layer(self, base: moderngl.Texture, depth: moderngl.Texture, gpu_scene: GpuScene, view: View,
+                      emitters: Emitters, params: ShadingParams, shadow_atlas, shadow_matrices,
+                      shadow_tile_size: int, screen_material: ScreenMaterial) -> moderngl.Texture:
+        """A copy of ``base`` with the screen-material nodes shaded where ``depth`` shows them
+        (RGBA32F, pooled): the same image as one forward pass of the whole scene."""
+        out = self.ctx.acquire(base.size, 4, "f4")
+        self.ctx.gl.copy_framebuffer(self.ctx.framebuffer([out]), self.ctx.framebuffer([base]))
+        fbo = self.ctx.framebuffer([out], depth=depth)
+        fbo.use()
+        fbo.viewport = (0, 0, *base.size)
+        self._shade(fbo, gpu_scene, view, base.size, emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size,
+                    screen_material, equal_depth=True, only=screen_material.nodes)
+        return out
+
+    def _target(self, colour, depth, params: ShadingParams) -> moderngl.Framebuffer:
+        fbo = self.ctx.framebuffer(colour, depth=depth)
+        fbo.use()
+        fbo.viewport = (0, 0, *colour[0].size)
+        fbo.clear(*params.background, 1.0, depth=1.0)
+        return fbo
+
+    def _depth(self, fbo: moderngl.Framebuffer, gpu_scene: GpuScene, view: View, size) -> None:
+        """Depth pre-pass into ``fbo`` (bound; colour untouched)."""
+        gl = self.ctx.gl
         gl.enable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.CULL_FACE)
-        eye = np.asarray(view.pose.position, np.float64)
-        if self.depth_prepass:  # then shading where the depth is equal: each pixel lit once
-            pre = self.depth_program
-            set_uniform(pre, "view_matrix", view.view_matrix())
-            set_uniform(pre, "projection_matrix", view.projection_matrix(w / h))
-            fbo.color_mask = (False, False, False, False)
-            gpu_scene.draw(pre, lambda index, node: set_uniform(pre, "model_matrix", node.transform), eye)
-            fbo.color_mask = (True, True, True, True)
+        pre = self.depth_program
+        set_uniform(pre, "view_matrix", view.view_matrix())
+        set_uniform(pre, "projection_matrix", view.projection_matrix(size[0] / size[1]))
+        attachments = len(fbo.color_attachments)  # one mask per attachment when there are several
+        fbo.color_mask = (False,) * 4 if attachments == 1 else ((False,) * 4,) * attachments
+        gpu_scene.draw(pre, lambda index, node: set_uniform(pre, "model_matrix", node.transform), view.pose.position)
+        fbo.color_mask = (True,) * 4 if attachments == 1 else ((True,) * 4,) * attachments
+        gl.disable(moderngl.DEPTH_TEST)
+
+    def _shade(self, fbo: moderngl.Framebuffer, gpu_scene: GpuScene, view: View, size, emitters: Emitters, params: ShadingParams,
+               shadow_atlas, shadow_matrices, shadow_tile_size: int, screen_material: ScreenMaterial | None,
+               equal_depth: bool, only=None) -> None:
+        """Lit nodes into ``fbo`` (bound); ``equal_depth``: against a finished depth buffer
+        (no depth writes, pass where equal)."""
+        w, h = int(size[0]), int(size[1])
+        gl = self.ctx.gl
+        gl.enable(moderngl.DEPTH_TEST)
+        gl.disable(moderngl.CULL_FACE)
+        if equal_depth:
             fbo.depth_mask = False
             gl.depth_func = "<="
         prog = self.programs[shadow_atlas is not None]
@@ -80,21 +136,18 @@ class ForwardPass:
         set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
         bind_emitters(prog, emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size, unit=1)
         set_uniform(prog, "screen_size", (float(w), float(h)))
+        set_uniform(prog, "screen_albedo", 2)
         if screen_material is not None:
             screen_material.texture.use(2)
-            set_uniform(prog, "screen_albedo", 2)
             set_uniform(prog, "screen_tint", tuple(float(c) for c in screen_material.tint))
             set_uniform(prog, "screen_emission", float(screen_material.emission))
-        else:
-            set_uniform(prog, "screen_albedo", 2)
         flagged = screen_material.nodes if screen_material is not None else frozenset()
 
         def set_node(index, node):
             gpu_scene.bind_surface(prog, index, node, texture_unit=0)
             set_uniform(prog, "screen_material", index in flagged)
 
-        gpu_scene.draw(prog, set_node, eye)  # front to back: hidden fragments fail the depth test unshaded
+        gpu_scene.draw(prog, set_node, view.pose.position, only)  # front to back: hidden fragments fail unshaded
         gl.depth_func = "<"
         fbo.depth_mask = True
         gl.disable(moderngl.DEPTH_TEST)
-        return out, ids

@@ -92,11 +92,11 @@ class GpuScene:
         if tex is not None:
             tex.use(texture_unit)
 
-    def draw(self, program: moderngl.Program, set_node=None, front_to_back_from=None) -> None:
-        """Draw every visible node, calling ``set_node(index, node)`` before each. With
-        ``front_to_back_from`` (an eye position), nearest bounding boxes first: the depth test then
-        rejects hidden fragments before they are shaded."""
-        order = [i for i, node in enumerate(self.scene.nodes) if node.visible]
+    def draw(self, program: moderngl.Program, set_node=None, front_to_back_from=None, only=None) -> None:
+        """Draw every visible node (``only``: of these node indices), calling ``set_node(index, node)``
+        before each. With ``front_to_back_from`` (an eye position), nearest bounding boxes first: the
+        depth test then rejects hidden fragments before they are shaded."""
+        order = [i for i, node in enumerate(self.scene.nodes) if node.visible and (only is None or i in only)]
         if front_to_back_from is not None:
             eye = np.asarray(front_to_back_from, np.float64)
             order.sort(key=lambda i: self._box_distance(self.scene.nodes[i], eye))

@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass, field
 
 import moderngl
@@ -15,9 +16,9 @@ from ..core.context import Context
 from ..core.errors import InputError
 from ..scene.camera import View
 from ..scene.scene import Scene
+from .forward import ForwardPass, ScreenMaterial
 from .gbuffer import GBuffer, GBufferPass
 from .gpu_scene import GpuScene
-from .forward import ForwardPass, ScreenMaterial
 from .lights import Emitters, emitters_from_lights
 from .shading import MAX_EMITTERS, ShadingParams, ShadingPass
 from .shadows import ShadowPass
@@ -61,6 +62,7 @@ class SceneRenderer:
         self.forward_pass = ForwardPass(ctx)
         self._shadow_passes: dict[int, ShadowPass] = {}
         self._gpu_scene: GpuScene | None = None
+        self._static: tuple[bytes, moderngl.Texture, moderngl.Texture] | None = None  # see render_forward
 
     def prepare(self, scene: Scene) -> GpuScene:
         """The GPU copy of ``scene``, uploaded on first use (call :meth:`invalidate` after edits)."""
@@ -70,6 +72,7 @@ class SceneRenderer:
         return self._gpu_scene
 
     def invalidate(self) -> None:
+        self._drop_static()
         if self._gpu_scene is not None:
             self._gpu_scene.release()
             self._gpu_scene = None
@@ -104,20 +107,42 @@ class SceneRenderer:
         return out
 
     def render_forward(self, scene: Scene, view: View, size, settings: RenderSettings | None = None,
-                       screen_material: ScreenMaterial | None = None,
-                       object_ids: bool = False) -> tuple[moderngl.Texture, moderngl.Texture | None]:
+                       screen_material: ScreenMaterial | None = None, object_ids: bool = False,
+                       reuse_static: bool = False) -> tuple[moderngl.Texture, moderngl.Texture | None]:
         """The forward path: (radiance RGBA float32, object ids R32F or None), both pooled.
-        ``screen_material``: nodes coloured from a screen-space texture (see :class:`ScreenMaterial`)."""
+        ``screen_material``: nodes coloured from a screen-space texture (see :class:`ScreenMaterial`).
+        ``reuse_static``: frame after frame where only the screen texture changes (a stereogram on a TV
+        seen by a still camera), keep the rest of the image and its depth from the previous call and
+        shade only the screen-material nodes; any change of scene content, lights, view, size or
+        settings renders the whole frame again (the same image either way)."""
         s = settings or self.settings
         size = check_size(size)
         gpu = self.prepare(scene)
         emitters, atlas, matrices = self._lights(scene, gpu, s)
         params = ShadingParams(scene.ambient, scene.background, s.exposure)
-        out = self.forward_pass(gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size,
-                                screen_material, object_ids)
-        if atlas is not None:
-            self.ctx.release(atlas)
-        return out
+        try:
+            if reuse_static and screen_material is not None and not object_ids:
+                key = _static_key(scene, view, size, s, emitters, screen_material.nodes)
+                if self._static is None or self._static[0] != key:
+                    self._drop_static()
+                    base, depth = self.forward_pass.static_layer(gpu, view, size, emitters, params, atlas, matrices,
+                                                                 s.shadow_tile_size, screen_material.nodes)
+                    self._static = (key, base, depth)
+                _, base, depth = self._static
+                out = self.forward_pass.dynamic_layer(base, depth, gpu, view, emitters, params, atlas, matrices,
+                                                      s.shadow_tile_size, screen_material)
+                return out, None
+            return self.forward_pass(gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size,
+                                     screen_material, object_ids)
+        finally:
+            if atlas is not None:
+                self.ctx.release(atlas)
+
+    def _drop_static(self) -> None:
+        if self._static is not None:
+            self.ctx.release(self._static[1])
+            self._static[2].release()
+            self._static = None
 
     def _lights(self, scene: Scene, gpu: GpuScene, s: RenderSettings) -> tuple[Emitters, moderngl.Texture | None, np.ndarray | None]:
         """The scene's emitters and, with shadows on, their shadow atlas (pooled) and face matrices."""
@@ -149,3 +174,18 @@ def render_scene(scene: Scene, view: View | None = None, size=(640, 480), ctx: C
     finally:
         if own:
             ctx.release_all()
+
+
+def _static_key(scene: Scene, view: View, size, settings: RenderSettings, emitters: Emitters, dynamic) -> bytes:
+    """A digest of everything the static layer of a forward frame depends on."""
+    h = hashlib.sha256()
+    h.update(repr((id(scene), tuple(size), settings, sorted(dynamic), scene.ambient, scene.background)).encode())
+    h.update(view.view_matrix().tobytes())
+    h.update(view.projection_matrix(size[0] / size[1]).tobytes())
+    for node in scene.nodes:
+        m = node.material
+        h.update(repr((node.visible, id(node.mesh), m.colour, m.specular, m.shininess, m.emission, id(m.texture))).encode())
+        h.update(node.transform.tobytes())
+    for a in (emitters.position, emitters.normal, emitters.weight, emitters.shadow_row):
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.digest()

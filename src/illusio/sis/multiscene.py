@@ -43,7 +43,9 @@ class MultiSceneParams:
     pattern_repeat: pattern tiles across the host (u, v). interactive: orient the hidden scene by
     where the viewer stands relative to the host (Figure 25). spin: degrees per frame the hidden
     scene turns (animated hidden scene). settings: lighting of the main scene (shadows off by
-    default: hard shadows on a stereogram disturb it, section 6)."""
+    default: hard shadows on a stereogram disturb it, section 6). reuse_static: while the main scene,
+    the view and the settings stay the same from one frame to the next (a still camera on an animated
+    TV), only the host is shaded again; the image is the same either way."""
 
     host: str = "tv-screen"
     stereogram: StereogramParams = field(default_factory=lambda: StereogramParams(pattern="snow", strip_width=100, depth_factor=40))
@@ -54,6 +56,7 @@ class MultiSceneParams:
     interactive: bool = False
     spin: float = 0.0
     settings: RenderSettings = field(default_factory=lambda: RenderSettings(shadows=False))
+    reuse_static: bool = True
 
     def scaled_stereogram(self, width: int) -> StereogramParams:
         """The stereogram parameters for a frame ``width`` pixels wide."""
@@ -187,7 +190,8 @@ class MultiSceneRenderer:
         tint = tuple(float(c) for c in hosts[0][1].material.colour) if params.emission == 0 else (1.0, 1.0, 1.0)
         material = ScreenMaterial(stereo, frozenset(i for i, _ in hosts), tint, float(params.emission))
         settings = replace(params.settings, forward=True)
-        out, ids = self.scene_renderer.render_forward(scene, view, (w, h), settings, material, object_ids=keep is not None)
+        out, ids = self.scene_renderer.render_forward(scene, view, (w, h), settings, material, object_ids=keep is not None,
+                                                      reuse_static=params.reuse_static)
         if keep is not None:
             keep["depth"] = ctx.readback(depth_screen)[..., 0]
             host_ids = np.array([i + 1 for i, _ in hosts], np.float32)
