@@ -108,3 +108,34 @@ def test_image_silhouettes_match_numpy(ctx):
     assert ref.sum() > 500
     assert (drawn == ref).mean() > 0.999
     renderer.release()
+
+
+def test_short_ridge_fragments_are_dropped():
+    from illusio.lines.drawing import drop_short_fragments
+
+    mask = np.zeros((40, 60), bool)
+    mask[10, 5:50] = True  # a line of 45 pixels
+    mask[20:23, 30:32] = True  # a 6-pixel blob
+    mask[30, 10], mask[31, 11] = True, True  # a diagonal pair: one 8-connected piece
+    kept = drop_short_fragments(mask, 8)
+    assert kept[10, 5:50].all() and kept.sum() == 45
+    assert drop_short_fragments(mask, 2)[30, 10]  # the pair is one piece of 2
+
+
+def test_drawing_drops_exactly_the_short_ridge_fragments(ctx):
+    """The default drawing's ridges are the raw filter output without its pieces under
+    min_ridge_pixels (scaled to the image size), and the image shows exactly those."""
+    from illusio.lines import analytic
+    from illusio.lines.drawing import drop_short_fragments
+
+    mesh = analytic.add_noise(analytic.icosphere(4)[0], 0.1, seed=3)
+    renderer = LineRenderer(ctx)
+    view = framing_view(mesh)
+    kinds = ("apparent-ridges",)
+    raw = renderer.render(mesh, view, (512, 512), LineParams(lines=kinds, min_ridge_pixels=0), keep_maps=True)
+    clean = renderer.render(mesh, view, (512, 512), LineParams(lines=kinds, min_ridge_pixels=40), keep_maps=True)
+    expected = drop_short_fragments(raw.ridge_mask, 40 * 512 / 1024)
+    assert raw.ridge_mask.sum() > 500 and 0 < expected.sum() < raw.ridge_mask.sum()
+    np.testing.assert_array_equal(clean.ridge_mask, expected)
+    np.testing.assert_array_equal(clean.image[..., 0] < 0.5, expected)
+    renderer.release()

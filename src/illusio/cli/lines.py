@@ -41,6 +41,7 @@ def lines(
     lam: float = typer.Option(None, "--lambda", help="λ of the direction-adaptive Laplacian"),
     threshold: float = typer.Option(None, "--threshold", help="ridge filter response threshold (0.2 in the report)"),
     raw: bool = typer.Option(False, "--raw", help="the report's raw τ (q1 in 1/mesh units, no curvature scale)"),
+    min_ridge_pixels: int = typer.Option(None, "--min-ridge-pixels", help="drop hybrid ridge fragments shorter than this (pixels at 1024, scaled; 0 keeps all; default 24)"),
     view: str = typer.Option("30,15", "--view", help="AZIMUTH,ELEVATION in degrees around the mesh"),
     camera: str = typer.Option(None, "--camera", help="EYE_X,EYE_Y,EYE_Z[,TARGET_X,TARGET_Y,TARGET_Z] instead of --view"),
     size: str = typer.Option("1024x1024", "--size", help="WIDTHxHEIGHT"),
@@ -65,7 +66,8 @@ def lines(
     w, h = parse_size(size)
     kinds = tuple(t.strip() for t in line_types.split(",") if t.strip())
     params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw)
-    params = replace(params, **{k: v for k, v in (("tau", tau), ("lam", lam), ("threshold", threshold)) if v is not None})
+    params = replace(params, **{k: v for k, v in (("tau", tau), ("lam", lam), ("threshold", threshold),
+                                                      ("min_ridge_pixels", min_ridge_pixels)) if v is not None})
     m = _mesh(mesh)
     if camera:
         c = _floats(camera, (3, 6), "--camera")

@@ -39,6 +39,9 @@ class LineParams:
     report). object_threshold: q1 / scale above which object-space apparent ridges are kept.
     ridge_threshold: |k| / scale for ridges and valleys. suggestive_threshold: D_w κ_r / scale².
     silhouette_space: "object" (zero crossings of n·v) or "image" (depth discontinuities).
+    min_ridge_pixels: hybrid ridge fragments of fewer pixels (8-connected; counted at 1024 px and
+    scaled with the image's longer side) are dropped — a scan's small bumps otherwise hatch the
+    surface, as Judd's length threshold prunes short object-space ridges; 0 keeps every fragment.
     colours (linear RGB) and widths (pixels, object-space lines) per line type."""
 
     lines: tuple[str, ...] = ("apparent-ridges", "silhouettes")
@@ -52,6 +55,7 @@ class LineParams:
     suggestive_threshold: float = 0.05
     silhouette_space: str = "object"
     depth_jump: float = 0.05
+    min_ridge_pixels: int = 24
     colours: dict = field(default_factory=lambda: {"apparent-ridges": (0.0, 0.0, 0.0), "silhouettes": (0.0, 0.0, 0.0),
                                                    "suggestive": (0.05, 0.1, 0.45), "ridges": (0.55, 0.05, 0.05),
                                                    "valleys": (0.05, 0.35, 0.1)})
@@ -71,6 +75,8 @@ class LineParams:
                 raise InputError(f"{name} must be a finite number")
         if self.lam < 0:
             raise InputError(f"λ must be ≥ 0, got {self.lam}")
+        if self.min_ridge_pixels < 0:
+            raise InputError(f"min_ridge_pixels must be ≥ 0, got {self.min_ridge_pixels}")
 
 
 @dataclass
@@ -108,6 +114,19 @@ def image_silhouettes(depth: np.ndarray, depth_jump: float = 0.05) -> np.ndarray
         e = padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
         out |= (e <= 0) | (e - d > depth_jump * d)
     return out & (d > 0)
+
+
+def drop_short_fragments(mask: np.ndarray, min_pixels: float) -> np.ndarray:
+    """``mask`` (H, W) bool without its 8-connected pieces of fewer than ``min_pixels`` pixels."""
+    from scipy import ndimage
+
+    labels, count = ndimage.label(mask, structure=np.ones((3, 3), bool))
+    if count == 0:
+        return mask
+    sizes = np.bincount(labels.ravel())
+    keep = sizes >= min_pixels
+    keep[0] = False
+    return keep[labels]
 
 
 class LineRenderer:
@@ -152,6 +171,12 @@ class LineRenderer:
         maps = ctx.readback(q_t1) if keep_maps else None
         hybrid = "apparent-ridges" in params.lines and params.method == "hybrid"
         ridge_tex = self.ridge_filter(q_t1, params.lam, params.threshold) if hybrid else None
+        ridge_mask = cleaned = None
+        if ridge_tex is not None and (params.min_ridge_pixels > 0 or keep_maps):
+            ridge_mask = ctx.readback(ridge_tex, 4)[..., 1] > 0.5  # G: the thresholded ridge flag
+            if params.min_ridge_pixels > 0:
+                ridge_mask = drop_short_fragments(ridge_mask, params.min_ridge_pixels * max(w, h) / 1024)
+                cleaned = ctx.upload(np.repeat(ridge_mask[..., None].astype(np.uint8) * 255, 4, axis=-1), filter="nearest")
         # base image: paper, hybrid ridges, image-space silhouettes
         colour = ctx.acquire((w, h), 4, "f1")
         fbo = ctx.framebuffer([colour], depth=depth)
@@ -159,7 +184,7 @@ class LineRenderer:
         fbo.viewport = (0, 0, w, h)
         prog = self.compose
         q_t1.use(0)
-        (ridge_tex or q_t1).use(1)
+        (cleaned or ridge_tex or q_t1).use(1)
         image_sil = "silhouettes" in params.lines and params.silhouette_space == "image"
         for name, value in (("q_t1", 0), ("ridges", 1), ("show_ridges", hybrid), ("show_silhouettes", image_sil),
                             ("ridge_colour", tuple(params.colours["apparent-ridges"])),
@@ -177,12 +202,11 @@ class LineRenderer:
         ctx.gl.disable(moderngl.DEPTH_TEST)
         image = ctx.readback(colour, 3)
         ctx.release(q_t1, colour)
-        ridge_mask = None
         if ridge_tex is not None:
-            if keep_maps:
-                ridge_mask = ctx.readback(ridge_tex, 4)[..., 1] > 0.5  # G: the thresholded ridge flag
             ctx.release(ridge_tex)
-        return Drawing(image, segments, view, (w, h), maps, ridge_mask)
+        if cleaned is not None:
+            cleaned.release()
+        return Drawing(image, segments, view, (w, h), maps, ridge_mask if keep_maps else None)
 
     def object_space_segments(self, mesh: Mesh, curv: Curvature, view: View, params: LineParams, scale: float) -> dict[str, Segments]:
         eye = view.pose.position
