@@ -64,3 +64,13 @@ def test_pool_reuses_released_textures(ctx):
     c = ctx.textures.acquire(spec)
     assert c.glo == a.glo
     ctx.textures.release(b, c)
+
+
+def test_readback_u8_reads_the_first_channels_as_bytes_top_row_first(ctx, rng):
+    a = rng.uniform(-0.5, 1.5, (13, 21, 4)).astype(np.float32)
+    tex = ctx.upload(a, filter="nearest")
+    got = ctx.readback_u8(tex, 2)
+    tex.release()
+    want = np.round(np.clip(a[..., :2], 0, 1) * 255)
+    assert got.dtype == np.uint8 and got.shape == (13, 21, 2)
+    assert np.abs(got.astype(int) - want).max() <= 1

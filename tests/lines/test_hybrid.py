@@ -79,9 +79,9 @@ def test_adaptive_laplacian_matches_numpy(ctx, rng):
     tex = ctx.upload(q_t1, filter="nearest")
     out = ctx.readback(RidgeFilterPass(ctx)(tex, lam, threshold))
     response, mask = adaptive_laplacian(q_t1, lam, threshold)
-    np.testing.assert_allclose(out[..., 0], response, atol=1e-4)
+    np.testing.assert_allclose(out[..., 1], response, atol=1e-4)
     clear = np.abs(response - threshold) > 1e-4
-    assert ((out[..., 1] > 0.5) == mask)[clear].all()
+    assert ((out[..., 0] > 0.5) == mask)[clear].all()
     tex.release()
 
 

@@ -80,6 +80,14 @@ class Context:
         self.make_current()
         return readback(texture, components)
 
+    def readback_u8(self, texture: moderngl.Texture, components: int = 1) -> np.ndarray:
+        """The first ``components`` channels as uint8 (H, W, C), row 0 at the top, converted by GL
+        (values clamped to [0, 1] × 255): a quarter of a float readback's bytes, for masks."""
+        fbo = self.framebuffer([texture])
+        raw = fbo.read(components=components, dtype="f1", alignment=1)
+        w, h = texture.size
+        return np.frombuffer(raw, np.uint8).reshape(h, w, components)[::-1].copy()
+
     def framebuffer(self, colour: list[moderngl.Texture], depth: bool | moderngl.Texture = False) -> moderngl.Framebuffer:
         """A framebuffer over ``colour`` textures (cached by their GL names), with an optional depth
         attachment (``True``: a depth renderbuffer of the same size, kept with the framebuffer)."""

@@ -173,10 +173,10 @@ class LineRenderer:
         ridge_tex = self.ridge_filter(q_t1, params.lam, params.threshold) if hybrid else None
         ridge_mask = cleaned = None
         if ridge_tex is not None and (params.min_ridge_pixels > 0 or keep_maps):
-            ridge_mask = ctx.readback(ridge_tex, 4)[..., 1] > 0.5  # G: the thresholded ridge flag
+            ridge_mask = ctx.readback_u8(ridge_tex, 1)[..., 0] > 127  # R: the thresholded ridge flag
             if params.min_ridge_pixels > 0:
                 ridge_mask = drop_short_fragments(ridge_mask, params.min_ridge_pixels * max(w, h) / 1024)
-                cleaned = ctx.upload(np.repeat(ridge_mask[..., None].astype(np.uint8) * 255, 4, axis=-1), filter="nearest")
+                cleaned = ctx.upload(ridge_mask.astype(np.uint8) * 255, filter="nearest")
         # base image: paper, hybrid ridges, image-space silhouettes
         colour = ctx.acquire((w, h), 4, "f1")
         fbo = ctx.framebuffer([colour], depth=depth)

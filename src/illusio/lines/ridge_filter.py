@@ -52,7 +52,7 @@ def adaptive_laplacian(q_t1: np.ndarray, lam: float, threshold: float = REPORT_T
 
 
 class RidgeFilterPass:
-    """q_t1 texture in, (response, ridge, 0, 1) RGBA32F texture out (pooled)."""
+    """q_t1 texture in, (ridge 0/1, response, 0, 1) RGBA32F texture out (pooled)."""
 
     def __init__(self, ctx: Context):
         self.ctx = ctx

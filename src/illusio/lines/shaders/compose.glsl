@@ -6,7 +6,7 @@
 
 #if defined(FRAGMENT_SHADER)
 uniform sampler2D q_t1;          // .a: view depth, 0 = background
-uniform sampler2D ridges;        // .g: 1 on a ridge
+uniform sampler2D ridges;        // .r: 1 on a ridge
 uniform bool show_ridges;
 uniform bool show_silhouettes;
 uniform vec3 ridge_colour;
@@ -29,7 +29,7 @@ bool silhouette(ivec2 p) {
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec3 c = vec3(1.0);
-    if (show_ridges && texelFetch(ridges, p, 0).g > 0.5) c = ridge_colour;
+    if (show_ridges && texelFetch(ridges, p, 0).r > 0.5) c = ridge_colour;
     if (show_silhouettes && silhouette(p)) c = silhouette_colour;
     colour = vec4(c, 1.0);
 }

@@ -3,7 +3,8 @@
 // Laplacian of q whose weights follow t1, quantised to one of four directions (0°, 45°, 90°, 135°,
 // each within 22.5°): the two neighbours along t1 weigh 1 + 2λ, the two across it 1, the four others
 // 1 + λ; the centre 8 + 8λ. A pixel is on a ridge where the response exceeds the threshold.
-// Output: (response, ridge 0/1, 0, 1); background and t1 = 0 pixels respond 0.
+// Output: (ridge 0/1, response, 0, 1) — the flag first, so a mask reads back as one 8-bit channel;
+// background and t1 = 0 pixels respond 0.
 // NumPy reference: lines.ridge_filter.adaptive_laplacian.
 #include "common/fullscreen.glsl"
 
@@ -41,6 +42,6 @@ void main() {
                   + w_a * (q_at(p + ivec2(-1, 1), size) + q_at(p + ivec2(1, -1), size));
         response = (8.0 + 8.0 * lambda) * centre.r - sum;
     }
-    result = vec4(response, response > threshold ? 1.0 : 0.0, 0.0, 1.0);
+    result = vec4(response > threshold ? 1.0 : 0.0, response, 0.0, 1.0);
 }
 #endif
