@@ -35,8 +35,9 @@ def analytic_cases(quick: bool):
     cases = {f"sphere-{s}": analytic.icosphere(s) for s in ((2, 3) if quick else (3, 4, 5))}
     cases.update({f"torus-{n}": analytic.torus(1.0, 0.35, n, n // 3) for n in ((48,) if quick else (48, 96, 192))})
     cases.update({f"ellipsoid-{s}": analytic.ellipsoid((1.0, 0.7, 0.5), s) for s in ((3,) if quick else (3, 4, 5))})
-    # normal noise of 2, 5 and 10 % of the mean edge length
-    for name in ("torus-48" if quick else "torus-96", "ellipsoid-3" if quick else "ellipsoid-4"):
+    # normal noise of 2, 5 and 10 % of the mean edge length, on fine and on coarse tessellations
+    noisy = ("torus-48", "ellipsoid-3") if quick else ("torus-96", "ellipsoid-4", "sphere-3", "ellipsoid-3", "torus-48")
+    for name in noisy:
         mesh, k_min, k_max = cases[name]
         for amount in ((0.05,) if quick else (0.02, 0.05, 0.1)):
             cases[f"{name}+noise{amount:g}"] = (analytic.add_noise(mesh, amount, seed=1), k_min, k_max)

@@ -70,7 +70,7 @@ def cache_dir() -> Path:
 
 
 def estimate_curvature(mesh: Mesh, rings: int = 2, degree: int = 4, cache: bool = True, adaptive: bool = True,
-                       extra_rings: int = 2, confidence: float = 2.0) -> Curvature:
+                       extra_rings: int = 1, confidence: float = 2.5) -> Curvature:
     """Fit a jet of ``degree`` (2, 3 or 4) at every vertex over the smallest neighbourhood of at least
     ``rings`` rings that holds twice the jet's unknowns (lower degrees where none does).
 
