@@ -74,3 +74,4 @@ def test_readback_u8_reads_the_first_channels_as_bytes_top_row_first(ctx, rng):
     want = np.round(np.clip(a[..., :2], 0, 1) * 255)
     assert got.dtype == np.uint8 and got.shape == (13, 21, 2)
     assert np.abs(got.astype(int) - want).max() <= 1
+

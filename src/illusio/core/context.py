@@ -94,7 +94,9 @@ class Context:
         self.make_current()
         key = (tuple(t.glo for t in colour), depth.glo if isinstance(depth, moderngl.Texture) else bool(depth))
         fbo = self._framebuffers.get(key)
-        if fbo is not None and any(a is not t for a, t in zip(fbo.color_attachments, colour)):
+        stale = fbo is not None and (any(a is not t for a, t in zip(fbo.color_attachments, colour))
+                                     or (isinstance(depth, moderngl.Texture) and fbo.depth_attachment is not depth))
+        if stale:
             fbo.release()  # a GL name was reused by a new texture: the cached one is stale
             fbo = None
         if fbo is None:
