@@ -1,8 +1,9 @@
 """Forward shading: the scene lit in the pass that rasterises it, with the deferred path's equations
-(``shaders/emitters.glsl``) and no G-buffer. On a CPU rasteriser at 1080p, writing and reading six
-G-buffer targets costs more than the lighting itself; one target is the fast path for
-frame-after-frame use. Reference: the deferred :class:`.ShadingPass` (tested equal) and through it
-:func:`illusio.passes.reference.shading`.
+(``shaders/emitters.glsl``) and no G-buffer. On a CPU rasteriser it is the faster path where big
+surfaces fill a high-resolution frame (writing and reading six G-buffer targets then costs more
+than the lighting), the slower one for dense meshes (the quads of tiny triangles are shaded several
+times): benchmarks/core.py measures both. Reference: :func:`illusio.passes.reference.shading`
+(tested on the deferred path's G-buffer of the same view).
 """
 
 from __future__ import annotations
