@@ -42,3 +42,20 @@ def test_host_shows_a_stereogram_of_the_hidden_scene(ctx, host, camera, emission
     assert report.matched >= 0.97, str(report)
     # where the host is seen, it shows the stereogram (snow or texture): its pixels vary
     assert image[visible].std() > 0.05
+
+
+def test_still_camera_frames_change_only_on_the_host_and_match_whole_renders(ctx):
+    scene = load_scene("living-room")
+    view, size = scene.camera("tv"), (320, 180)
+    multi = MultiSceneRenderer(ctx)
+    keep = {}
+    multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=1, keep=keep)
+    host = keep["depth"] >= 0
+    a = multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=4)
+    b = multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=5)  # the kept layer
+    whole = multi.render(scene, hidden_scene(), view, size, MultiSceneParams(reuse_static=False), frame=5)
+    changed = np.abs(a - b).max(axis=-1) > 1e-6
+    assert changed.any() and not (changed & ~host).any()  # the snow moves, nothing else
+    assert (np.abs(b - whole) <= 1e-6).mean() > 0.999
+    multi.release()  # frees the kept layer and the scenes' GPU copies; still usable
+    np.testing.assert_allclose(multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=5), whole, atol=1e-6)

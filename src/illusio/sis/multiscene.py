@@ -106,6 +106,14 @@ class MultiSceneRenderer:
         self._hidden_gpu: GpuScene | None = None
         self.last_depth: np.ndarray | None = None  # set by render(..., keep_depth=True)
 
+    def release(self) -> None:
+        """Free the GPU copies of both scenes and the kept layers (the renderer stays usable)."""
+        self.scene_renderer.invalidate()
+        self.stereograms.release()
+        if self._hidden_gpu is not None:
+            self._hidden_gpu.release()
+            self._hidden_gpu = None
+
     def _hidden(self, hidden: Scene) -> GpuScene:
         if self._hidden_gpu is None or self._hidden_gpu.scene is not hidden:
             if self._hidden_gpu is not None:
