@@ -182,3 +182,29 @@ def test_reused_static_layer_gives_the_full_forward_frame(ctx, rng):
     assert renderer._static is not None
     renderer.invalidate()
     assert renderer._static is None
+
+
+def test_gbuffer_hook_replaces_attachments_before_shading(ctx, rng):
+    from illusio.core.errors import InputError
+    from illusio.passes import RenderSettings
+
+    scene = _random_scene(rng)
+    scene.lights.clear()  # ambient only: radiance = ambient · albedo + emission
+    renderer = SceneRenderer(ctx)
+    size = (48, 36)
+
+    def white_albedo(gbuf):
+        colour = ctx.acquire(size, 4, "f2")  # pooled, like the G-buffer's own, which gbuf.release() returns
+        colour.write(np.ones((size[1], size[0], 4), np.float16).tobytes())
+        ctx.release(gbuf.textures["colour"])
+        gbuf.textures["colour"] = colour
+
+    tex = renderer.render_texture(scene, scene.camera(), size, RenderSettings(shadows=False), gbuffer_hook=white_albedo)
+    got = ctx.readback(tex, 3)
+    ctx.release(tex)
+    g = renderer.gbuffer(scene, scene.camera(), size)
+    hit = g.read().mask
+    g.release()
+    np.testing.assert_allclose(got[hit], np.broadcast_to(np.asarray(scene.ambient, np.float32), got[hit].shape), atol=1e-5)
+    with pytest.raises(InputError):
+        renderer.render_texture(scene, scene.camera(), size, RenderSettings(forward=True), gbuffer_hook=white_albedo)
