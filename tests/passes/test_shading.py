@@ -161,25 +161,29 @@ def test_screen_material_colours_its_nodes_from_a_screen_space_texture(ctx, rng)
 
 
 def test_reused_static_layer_gives_the_full_forward_frame(ctx, rng):
-    """Frame after frame with only the screen texture changing, then a new view: each reused frame
-    equals a whole forward render of the same inputs."""
+    """Frame after frame with only the screen texture changing, then a new view: each frame equals a
+    whole forward render of the same inputs; the rest of the image is kept from the second frame of
+    an unchanged view on, and a moved view drops it."""
     from illusio.passes import RenderSettings, ScreenMaterial
 
     scene = _random_scene(rng)
     size = (80, 60)
     renderer = SceneRenderer(ctx)
     settings = RenderSettings(shadows=False)
-    views = [scene.camera(), scene.camera(), View(Pose.orbit((0, 0.5, 0), 5.0, 10.0, 30.0), Camera(45.0, 0.1, 50.0))]
+    other = View(Pose.orbit((0, 0.5, 0), 5.0, 10.0, 30.0), Camera(45.0, 0.1, 50.0))
+    views = [scene.camera()] * 3 + [other] * 2
+    kept = []
     for view in views:
         screen = ctx.upload(rng.random((size[1], size[0], 3)).astype(np.float32), filter="nearest")
         material = ScreenMaterial(screen, frozenset({1, 3}), (0.8, 0.7, 0.6), emission=0.5)
         reused, _ = renderer.render_forward(scene, view, size, settings, material, reuse_static=True)
+        kept.append(renderer._static is not None)
         whole, _ = renderer.render_forward(scene, view, size, settings, material)
         a, b = ctx.readback(reused, 3), ctx.readback(whole, 3)
         ctx.release(reused, whole)
         screen.release()
         assert (np.abs(a - b) <= 1e-6).mean() > 0.999
-    assert renderer._static is not None
+    assert kept == [False, True, True, False, True]
     renderer.invalidate()
     assert renderer._static is None
 
@@ -208,3 +212,27 @@ def test_gbuffer_hook_replaces_attachments_before_shading(ctx, rng):
     np.testing.assert_allclose(got[hit], np.broadcast_to(np.asarray(scene.ambient, np.float32), got[hit].shape), atol=1e-5)
     with pytest.raises(InputError):
         renderer.render_texture(scene, scene.camera(), size, RenderSettings(forward=True), gbuffer_hook=white_albedo)
+
+
+def test_front_to_back_distances_match_each_transformed_bounding_box(ctx, rng):
+    """GpuScene.box_distances (all nodes at once) against the plain per-node definition: the
+    distance from the eye to the axis-aligned box around the node's transformed mesh corners."""
+    from illusio.passes.gpu_scene import GpuScene
+    from illusio.scene.transforms import rotate
+
+    scene = _random_scene(rng)
+    for node in scene.nodes:
+        node.transform = translate(rng.normal(0, 2, 3)) @ rotate(rng.normal(0, 1, 3), rng.uniform(0, 360))
+    gpu = GpuScene(ctx, scene)
+    for eye in rng.normal(0, 3, (5, 3)):
+        got = gpu.box_distances(eye)
+        for node, d in zip(scene.nodes, got):
+            lo, hi = node.mesh.bounds
+            corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+            world = corners @ node.transform[:3, :3].T + node.transform[:3, 3]
+            outside = np.maximum(0.0, np.maximum(world.min(0) - eye, eye - world.max(0)))
+            assert d == pytest.approx(np.linalg.norm(outside), abs=1e-5)  # float32 transforms
+    inside = scene.nodes[0]
+    centre = inside.transform[:3, :3] @ np.mean(inside.mesh.bounds, axis=0) + inside.transform[:3, 3]
+    assert gpu.box_distances(centre)[0] == 0.0
+    gpu.release()

@@ -33,6 +33,8 @@ class GpuScene:
         self._meshes: dict[int, GpuMesh] = {}
         self._textures: dict[int, moderngl.Texture] = {}
         self._vaos: dict[tuple[int, int], moderngl.VertexArray] = {}
+        self._corner_key: tuple[int, ...] | None = None  # bounding-box corners, see _corners
+        self._corner_cache = np.zeros((0, 8, 4))
         for node in scene.nodes:
             self._mesh(node)
             if node.material.texture is not None:
@@ -97,22 +99,33 @@ class GpuScene:
         before each. With ``front_to_back_from`` (an eye position), nearest bounding boxes first: the
         depth test then rejects hidden fragments before they are shaded."""
         order = [i for i, node in enumerate(self.scene.nodes) if node.visible and (only is None or i in only)]
-        if front_to_back_from is not None:
-            eye = np.asarray(front_to_back_from, np.float64)
-            order.sort(key=lambda i: self._box_distance(self.scene.nodes[i], eye))
+        if front_to_back_from is not None and len(order) > 1:
+            distance = self.box_distances(np.asarray(front_to_back_from, np.float64))
+            order.sort(key=lambda i: distance[i])
         for index in order:
             node = self.scene.nodes[index]
             if set_node is not None:
                 set_node(index, node)
             self.vao(program, node).render(moderngl.TRIANGLES)
 
-    @staticmethod
-    def _box_distance(node: Node, eye: np.ndarray) -> float:
-        """Distance from ``eye`` to the node's world-space bounding box (0 inside it)."""
-        lo, hi = (np.asarray(b, np.float64) for b in node.mesh.bounds)
-        corners = np.array([[x, y, z, 1.0] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-        world = corners @ node.transform.astype(np.float64).T
-        return float(np.linalg.norm(np.maximum(0.0, np.maximum(world[:, :3].min(0) - eye, eye - world[:, :3].max(0)))))
+    def box_distances(self, eye: np.ndarray) -> np.ndarray:
+        """(N,) distance from ``eye`` to each node's world-space bounding box (0 inside it), all nodes
+        at once (a per-node loop cost milliseconds a frame in Python)."""
+        nodes = self.scene.nodes
+        corners = self._corners()  # (N, 8, 4) model space
+        transforms = np.stack([np.asarray(n.transform, np.float64) for n in nodes])
+        world = np.einsum("nij,nkj->nki", transforms[:, :3], corners)
+        lo, hi = world.min(axis=1), world.max(axis=1)
+        return np.linalg.norm(np.maximum(0.0, np.maximum(lo - eye, eye - hi)), axis=1)
+
+    def _corners(self) -> np.ndarray:
+        meshes = tuple(id(n.mesh) for n in self.scene.nodes)
+        if self._corner_key != meshes:  # nodes added or meshes swapped since
+            boxes = [np.asarray(n.mesh.bounds, np.float64) for n in self.scene.nodes]
+            self._corner_cache = np.array([[[x, y, z, 1.0] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+                                           for lo, hi in boxes]).reshape(len(boxes), 8, 4)
+            self._corner_key = meshes
+        return self._corner_cache
 
     @property
     def triangle_count(self) -> int:

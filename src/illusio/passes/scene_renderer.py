@@ -63,6 +63,7 @@ class SceneRenderer:
         self._shadow_passes: dict[int, ShadowPass] = {}
         self._gpu_scene: GpuScene | None = None
         self._static: tuple[bytes, moderngl.Texture, moderngl.Texture] | None = None  # see render_forward
+        self._last_key: bytes | None = None  # the static key of the last reuse_static frame
 
     def prepare(self, scene: Scene) -> GpuScene:
         """The GPU copy of ``scene``, uploaded on first use (call :meth:`invalidate` after edits)."""
@@ -73,6 +74,7 @@ class SceneRenderer:
 
     def invalidate(self) -> None:
         self._drop_static()
+        self._last_key = None
         if self._gpu_scene is not None:
             self._gpu_scene.release()
             self._gpu_scene = None
@@ -112,9 +114,10 @@ class SceneRenderer:
         """The forward path: (radiance RGBA float32, object ids R32F or None), both pooled.
         ``screen_material``: nodes coloured from a screen-space texture (see :class:`ScreenMaterial`).
         ``reuse_static``: frame after frame where only the screen texture changes (a stereogram on a TV
-        seen by a still camera), keep the rest of the image and its depth from the previous call and
-        shade only the screen-material nodes; any change of scene content, lights, view, size or
-        settings renders the whole frame again (the same image either way)."""
+        seen by a still camera), keep the rest of the image and its depth and shade only the
+        screen-material nodes. The rest is kept from the second frame with an unchanged scene, lights,
+        view, size and settings (a frame that differs from the last is drawn whole in one pass: a
+        moving camera gains nothing from a layer used once); the same image either way."""
         s = settings or self.settings
         size = check_size(size)
         gpu = self.prepare(scene)
@@ -123,15 +126,21 @@ class SceneRenderer:
         try:
             if reuse_static and screen_material is not None and not object_ids:
                 key = _static_key(scene, view, size, s, emitters, screen_material.nodes)
-                if self._static is None or self._static[0] != key:
+                kept = self._static is not None and self._static[0] == key
+                if not kept and key == self._last_key:  # the view stood still: keep the rest from now on
                     self._drop_static()
                     base, depth = self.forward_pass.static_layer(gpu, view, size, emitters, params, atlas, matrices,
                                                                  s.shadow_tile_size, screen_material.nodes)
                     self._static = (key, base, depth)
-                _, base, depth = self._static
-                out = self.forward_pass.dynamic_layer(base, depth, gpu, view, emitters, params, atlas, matrices,
-                                                      s.shadow_tile_size, screen_material)
-                return out, None
+                    kept = True
+                self._last_key = key
+                if kept:
+                    _, base, depth = self._static
+                    out = self.forward_pass.dynamic_layer(base, depth, gpu, view, emitters, params, atlas, matrices,
+                                                          s.shadow_tile_size, screen_material)
+                    return out, None
+                # a moving view: one whole pass is cheaper than building a layer used once
+                self._drop_static()
             return self.forward_pass(gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size,
                                      screen_material, object_ids)
         finally:
