@@ -236,3 +236,29 @@ def test_front_to_back_distances_match_each_transformed_bounding_box(ctx, rng):
     centre = inside.transform[:3, :3] @ np.mean(inside.mesh.bounds, axis=0) + inside.transform[:3, 3]
     assert gpu.box_distances(centre)[0] == 0.0
     gpu.release()
+
+
+def test_frustum_culling_skips_only_nodes_that_draw_no_pixel(ctx, rng):
+    """A node GpuScene.in_frustum rejects has every vertex beyond one and the same clip plane (it
+    cannot reach a pixel); nodes with a vertex inside the frustum are kept; some views do cull."""
+    from illusio.passes.gpu_scene import GpuScene
+
+    scene = _random_scene(rng)
+    gpu = GpuScene(ctx, scene)
+    culled = 0
+    for _ in range(20):
+        view = View(Pose.orbit(tuple(rng.normal(0, 1, 3)), float(rng.uniform(0.5, 4)), float(rng.uniform(0, 360)),
+                               float(rng.uniform(-30, 60))), Camera(float(rng.uniform(20, 70)), 0.1, 50.0))
+        vp = view.view_projection((64, 48)).astype(np.float64)
+        keep = gpu.in_frustum(vp)
+        for node, kept in zip(scene.nodes, keep):
+            v = np.c_[node.mesh.vertices, np.ones(len(node.mesh.vertices))] @ (vp @ node.transform).T
+            beyond = ((v[:, :3] > v[:, 3:]).all(axis=0) | (v[:, :3] < -v[:, 3:]).all(axis=0)).any()
+            inside = ((np.abs(v[:, :3]) <= v[:, 3:]).all(axis=1)).any()
+            if not kept:
+                assert beyond
+                culled += 1
+            if inside:
+                assert kept
+    assert culled > 0
+    gpu.release()

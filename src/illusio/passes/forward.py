@@ -115,7 +115,8 @@ class ForwardPass:
         set_uniform(pre, "projection_matrix", view.projection_matrix(size[0] / size[1]))
         attachments = len(fbo.color_attachments)  # one mask per attachment when there are several
         fbo.color_mask = (False,) * 4 if attachments == 1 else ((False,) * 4,) * attachments
-        gpu_scene.draw(pre, lambda index, node: set_uniform(pre, "model_matrix", node.transform), view.pose.position)
+        gpu_scene.draw(pre, lambda index, node: set_uniform(pre, "model_matrix", node.transform), view.pose.position,
+                       cull_to=view.view_projection(size))
         fbo.color_mask = (True,) * 4 if attachments == 1 else ((True,) * 4,) * attachments
         gl.disable(moderngl.DEPTH_TEST)
 
@@ -148,7 +149,8 @@ class ForwardPass:
             gpu_scene.bind_surface(prog, index, node, texture_unit=0)
             set_uniform(prog, "screen_material", index in flagged)
 
-        gpu_scene.draw(prog, set_node, view.pose.position, only)  # front to back: hidden fragments fail unshaded
+        # front to back: hidden fragments fail unshaded
+        gpu_scene.draw(prog, set_node, view.pose.position, only, cull_to=view.view_projection(size))
         gl.depth_func = "<"
         fbo.depth_mask = True
         gl.disable(moderngl.DEPTH_TEST)

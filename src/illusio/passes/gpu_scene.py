@@ -94,11 +94,16 @@ class GpuScene:
         if tex is not None:
             tex.use(texture_unit)
 
-    def draw(self, program: moderngl.Program, set_node=None, front_to_back_from=None, only=None) -> None:
+    def draw(self, program: moderngl.Program, set_node=None, front_to_back_from=None, only=None,
+             cull_to: np.ndarray | None = None) -> None:
         """Draw every visible node (``only``: of these node indices), calling ``set_node(index, node)``
         before each. With ``front_to_back_from`` (an eye position), nearest bounding boxes first: the
-        depth test then rejects hidden fragments before they are shaded."""
-        order = [i for i, node in enumerate(self.scene.nodes) if node.visible and (only is None or i in only)]
+        depth test then rejects hidden fragments before they are shaded. ``cull_to``: a 4×4
+        view-projection matrix (row-major); nodes whose bounding box lies wholly outside its frustum
+        are skipped (they would draw no pixel)."""
+        keep = self.in_frustum(cull_to) if cull_to is not None else None
+        order = [i for i, node in enumerate(self.scene.nodes)
+                 if node.visible and (only is None or i in only) and (keep is None or keep[i])]
         if front_to_back_from is not None and len(order) > 1:
             distance = self.box_distances(np.asarray(front_to_back_from, np.float64))
             order.sort(key=lambda i: distance[i])
@@ -111,12 +116,27 @@ class GpuScene:
     def box_distances(self, eye: np.ndarray) -> np.ndarray:
         """(N,) distance from ``eye`` to each node's world-space bounding box (0 inside it), all nodes
         at once (a per-node loop cost milliseconds a frame in Python)."""
-        nodes = self.scene.nodes
-        corners = self._corners()  # (N, 8, 4) model space
-        transforms = np.stack([np.asarray(n.transform, np.float64) for n in nodes])
-        world = np.einsum("nij,nkj->nki", transforms[:, :3], corners)
+        world = self._world_corners()
         lo, hi = world.min(axis=1), world.max(axis=1)
         return np.linalg.norm(np.maximum(0.0, np.maximum(lo - eye, eye - hi)), axis=1)
+
+    def in_frustum(self, view_projection: np.ndarray) -> np.ndarray:
+        """(N,) bool: False where all 8 corners of a node's transformed bounding box lie beyond one
+        and the same clip plane (conservative: a box across a frustum corner is kept)."""
+        world = self._world_corners()
+        clip = np.einsum("ij,nkj->nki", np.asarray(view_projection, np.float64)[:, :3], world)
+        clip += np.asarray(view_projection, np.float64)[:, 3]
+        xyz, w = clip[..., :3], clip[..., 3:]
+        outside = ((xyz > w).all(axis=1) | (xyz < -w).all(axis=1)).any(axis=1)
+        return ~outside
+
+    def _world_corners(self) -> np.ndarray:
+        """(N, 8, 3) world-space corners of each node's mesh bounding box."""
+        nodes = self.scene.nodes
+        if not nodes:
+            return np.zeros((0, 8, 3))
+        transforms = np.stack([np.asarray(n.transform, np.float64) for n in nodes])
+        return np.einsum("nij,nkj->nki", transforms[:, :3], self._corners())
 
     def _corners(self) -> np.ndarray:
         meshes = tuple(id(n.mesh) for n in self.scene.nodes)

@@ -98,6 +98,10 @@ class View:
     def projection_matrix(self, aspect: float) -> np.ndarray:
         return self.camera.projection(aspect)
 
+    def view_projection(self, size: tuple[int, int]) -> np.ndarray:
+        """World → clip space for an image of ``size`` = (width, height): projection @ view."""
+        return self.projection_matrix(size[0] / size[1]) @ self.view_matrix()
+
     def project(self, points: np.ndarray, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
         """Pixel coordinates (N, 2) (x right, y down) and linear depths (N,) (metres along the view
         axis) of world ``points`` (N, 3) in an image of ``size`` = (width, height)."""
