@@ -48,8 +48,6 @@ class ForwardPass:
     def __init__(self, ctx: Context, depth_prepass: bool = True):
         self.ctx = ctx
         self.depth_prepass = depth_prepass
-        self.programs = {shadows: ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadows))
-                         for shadows in (False, True)}
         self.depth_program = ctx.program("passes/shaders/depth_only.glsl")
 
     def __call__(self, gpu_scene: GpuScene, view: View, size: tuple[int, int], emitters: Emitters,
@@ -132,25 +130,34 @@ class ForwardPass:
         if equal_depth:
             fbo.depth_mask = False
             gl.depth_func = "<="
-        prog = self.programs[shadow_atlas is not None]
-        set_uniform(prog, "view_matrix", view.view_matrix())
-        set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
-        set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
-        bind_emitters(prog, emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size, unit=1)
-        set_uniform(prog, "screen_size", (float(w), float(h)))
-        set_uniform(prog, "screen_albedo", 2)
-        if screen_material is not None:
-            screen_material.texture.use(2)
-            set_uniform(prog, "screen_tint", tuple(float(c) for c in screen_material.tint))
-            set_uniform(prog, "screen_emission", float(screen_material.emission))
         flagged = screen_material.nodes if screen_material is not None else frozenset()
+        eye, cull = view.pose.position, view.view_projection((w, h))
 
-        def set_node(index, node):
-            gpu_scene.bind_surface(prog, index, node, texture_unit=0)
-            set_uniform(prog, "screen_material", index in flagged)
+        def variant(index, node):  # the shader knobs this node needs (a variant each: see surface.glsl)
+            m = node.material
+            screen = index in flagged  # its own texture is replaced: no fetch
+            return (m.texture is not None and not screen, m.specular > 0.0, screen)
 
-        # front to back: hidden fragments fail unshaded
-        gpu_scene.draw(prog, set_node, view.pose.position, only, cull_to=view.view_projection(size))
+        # one program per kind of surface; the order between groups does not change the image (the
+        # depth test decides), within a group front to back
+        for (textured, glossy, screen), indices in gpu_scene.groups(variant, only).items():
+            prog = self.ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadow_atlas is not None),
+                                    TEXTURED=int(textured), GLOSSY=int(glossy), SCREEN_MATERIAL=int(screen))
+            set_uniform(prog, "view_matrix", view.view_matrix())
+            set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
+            set_uniform(prog, "camera_position", np.asarray(eye, np.float32))
+            bind_emitters(prog, emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size, unit=1)
+            if screen:
+                screen_material.texture.use(2)
+                set_uniform(prog, "screen_albedo", 2)
+                set_uniform(prog, "screen_size", (float(w), float(h)))
+                set_uniform(prog, "screen_tint", tuple(float(c) for c in screen_material.tint))
+                set_uniform(prog, "screen_emission", float(screen_material.emission))
+
+            def set_node(index, node, prog=prog):
+                gpu_scene.bind_surface(prog, index, node, texture_unit=0)
+
+            gpu_scene.draw(prog, set_node, eye, indices, cull_to=cull)
         gl.depth_func = "<"
         fbo.depth_mask = True
         gl.disable(moderngl.DEPTH_TEST)

@@ -69,7 +69,7 @@ class GBufferPass:
 
     def __init__(self, ctx: Context, **defines):
         self.ctx = ctx
-        self.program = ctx.program(SHADER, **defines)
+        self.programs = {textured: ctx.program(SHADER, TEXTURED=int(textured), **defines) for textured in (False, True)}
 
     def __call__(self, gpu_scene: GpuScene, view: View, size: tuple[int, int]) -> GBuffer:
         w, h = int(size[0]), int(size[1])
@@ -81,10 +81,13 @@ class GBufferPass:
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         gl.enable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.CULL_FACE)
-        prog = self.program
-        set_uniform(prog, "view_matrix", view.view_matrix())
-        set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
-        set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
-        gpu_scene.draw(prog, lambda index, node: gpu_scene.bind_surface(prog, index, node), cull_to=view.view_projection((w, h)))
+        # textured and untextured nodes each with their own variant (surface.glsl's TEXTURED)
+        for textured, indices in gpu_scene.groups(lambda index, node: node.material.texture is not None).items():
+            prog = self.programs[textured]
+            set_uniform(prog, "view_matrix", view.view_matrix())
+            set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
+            set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
+            gpu_scene.draw(prog, lambda index, node, prog=prog: gpu_scene.bind_surface(prog, index, node), only=indices,
+                           cull_to=view.view_projection((w, h)))
         gl.disable(moderngl.DEPTH_TEST)
         return GBuffer(self.ctx, textures, (w, h))

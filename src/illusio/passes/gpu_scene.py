@@ -113,6 +113,15 @@ class GpuScene:
                 set_node(index, node)
             self.vao(program, node).render(moderngl.TRIANGLES)
 
+    def groups(self, key, only=None) -> dict:
+        """Indices of the visible nodes (``only``: of these) grouped by ``key(index, node)``, each
+        group in scene order (passes drawing each kind of surface with its own program variant)."""
+        out: dict = {}
+        for index, node in enumerate(self.scene.nodes):
+            if node.visible and (only is None or index in only):
+                out.setdefault(key(index, node), []).append(index)
+        return out
+
     def box_distances(self, eye: np.ndarray) -> np.ndarray:
         """(N,) distance from ``eye`` to each node's world-space bounding box (0 inside it), all nodes
         at once (a per-node loop cost milliseconds a frame in Python)."""

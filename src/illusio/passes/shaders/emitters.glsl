@@ -7,6 +7,9 @@
 // SHADOW_MAPS (defined by the including program): 1 compiles the shadow lookups in. A separate
 // variant, not a uniform switch: on llvmpipe the lookup code costs even when skipped (~25 ms at
 // 1080p with no emitter at all).
+// GLOSSY 0 compiles the Phong lobe out, for matte surfaces (k_s = 0), for the same reason as
+// surface.glsl's TEXTURED: a branch on k_s does not spare the pow on llvmpipe.
+#define GLOSSY 1
 #if SHADOW_MAPS
 #include "common/shadow_lookup.glsl"
 #endif
@@ -48,7 +51,9 @@ vec3 direct_light(vec3 p, vec3 n, vec3 v, vec3 albedo, float ks, float shininess
         }
 #endif
         vec3 brdf = diffuse;
-        if (ks > 0.0) brdf += phong_norm * pow(max(dot(reflect(-l, n), v), 0.0), shininess);  // skip pow on matte
+#if GLOSSY
+        if (ks > 0.0) brdf += phong_norm * pow(max(dot(reflect(-l, n), v), 0.0), shininess);
+#endif
         total += visibility * brdf * irradiance;
     }
     return total;

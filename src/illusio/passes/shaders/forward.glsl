@@ -4,15 +4,17 @@
 // the G-buffer dominates (a CPU rasteriser at high resolution). Optional screen-space material: on
 // the nodes flagged, albedo and emission come from a screen-space texture (a stereogram shown on a
 // surface, Dehos et al. Figure 22 step 6). Outputs: 0 radiance; 1 object id (if attached).
+// SCREEN_MATERIAL 1: the nodes drawn take their colour from screen_albedo (the variant for the flagged
+// nodes; variants rather than branches, see surface.glsl); passes/forward.py picks one per node.
 #define MAX_EMITTERS 64
 #define SHADOW_MAPS 0
+#define SCREEN_MATERIAL 0
 #include "surface.glsl"
 
 #if defined(FRAGMENT_SHADER)
 #include "emitters.glsl"
 uniform vec3 ambient;
 uniform float exposure;
-uniform bool screen_material;      // this node takes its colour from screen_albedo
 uniform sampler2D screen_albedo;   // sampled at the pixel's screen position (any resolution)
 uniform vec2 screen_size;          // pixels of this pass's target
 uniform vec3 screen_tint;
@@ -24,11 +26,11 @@ layout(location = 1) out float out_id;
 void main() {
     vec3 colour = surface_albedo();
     vec3 emitted = emission;
-    if (screen_material) {
-        vec3 s = texture(screen_albedo, gl_FragCoord.xy / screen_size).rgb;
-        colour = s * screen_tint;
-        emitted = s * screen_emission;
-    }
+#if SCREEN_MATERIAL
+    vec3 s = texture(screen_albedo, gl_FragCoord.xy / screen_size).rgb;
+    colour = s * screen_tint;
+    emitted = s * screen_emission;
+#endif
     vec3 p = world_position;
     vec3 total = direct_light(p, surface_normal(), normalize(camera_position - p), colour, specular, shininess);
     radiance = vec4((total + ambient * colour + emitted) * exposure, 1.0);

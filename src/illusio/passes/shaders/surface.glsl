@@ -1,5 +1,8 @@
 // Scene surfaces as the G-buffer and forward passes draw them: the vertex stage, and for the fragment
 // stage the node's material (passes.gpu_scene.bind_surface sets these uniforms per node).
+// TEXTURED 0 compiles the albedo texture fetch out, for nodes without a texture: llvmpipe runs both
+// sides of a branch on a uniform, so a fetch skipped by `has_texture` still costs its full price.
+#define TEXTURED 1
 #include "common/camera.glsl"
 
 uniform mat4 model_matrix;
@@ -45,6 +48,10 @@ vec3 surface_normal() {
 }
 
 vec3 surface_albedo() {
+#if TEXTURED
     return has_texture ? albedo * texture(albedo_texture, surface_uv).rgb : albedo;
+#else
+    return albedo;
+#endif
 }
 #endif
