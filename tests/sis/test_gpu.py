@@ -54,6 +54,8 @@ def test_chain_pass_matches_reference_with_row_starts(ctx, rng):
 
 
 def test_fast_pass_with_row_starts_matches_reference_right_of_each_start(ctx, rng):
+    """Between each row's start and the end column (a host's extent) the fast pass gives the
+    reference image bit for bit; without an end column, up to the right edge."""
     h, w = 41, 520
     depth = random_depth(rng, h, w)
     params = StereogramParams(algorithm="fast", strip_width=50, depth_factor=30)
@@ -63,14 +65,39 @@ def test_fast_pass_with_row_starts_matches_reference_right_of_each_start(ctx, rn
     depth_t = ctx.upload(depth, filter="nearest")
     pat_t = ctx.upload((pattern * 255).round().astype(np.uint8), filter="nearest")
     rows_t = ctx.upload(rows[::-1].reshape(1, h).copy(), filter="nearest")  # GL rows count from the bottom
-    out = StereogramRenderer(ctx).algorithm_pass("fast")(depth_t, pat_t, params, rows_t)
-    got = ctx.readback(out, 3)
     want = R.sequential(R.separation(depth, 50, 30), pattern, 50, 80, rows)
-    right = np.arange(w)[None, :] >= rows[:, None]
-    np.testing.assert_array_equal(got[right], want[right])
-    ctx.release(out)
+    for end in (None, int(rng.integers(200, 480))):
+        out = StereogramRenderer(ctx).algorithm_pass("fast")(depth_t, pat_t, params, rows_t, end)
+        got = ctx.readback(out, 3)
+        ctx.release(out)
+        x = np.arange(w)[None, :]
+        shown = (x >= rows[:, None]) & (x < (w if end is None else end))
+        np.testing.assert_array_equal(got[shown], want[shown])
     for t in (depth_t, pat_t, rows_t):
         t.release()
+
+
+def test_row_start_pass_finds_each_rows_first_host_column(ctx, rng):
+    """RowStartPass = NumPy: per row, the first column with depth >= 0 inside the searched columns,
+    times the oversampling; the image width (times it) where a row has none."""
+    from illusio.sis.separation import RowStartPass
+
+    h, w = 33, 211
+    depth = np.full((h, w), -1.0, np.float32)
+    first, end = 40, 170
+    for y in range(h):
+        if rng.random() < 0.8:  # a host span in this row, inside [first, end)
+            a = int(rng.integers(first, end - 1))
+            depth[y, a:int(rng.integers(a + 1, end + 1))] = rng.random()
+    tex = ctx.upload(depth, filter="nearest")
+    for columns, n in ((None, 1), ((first, end), 2)):
+        out = RowStartPass(ctx)(tex, n, columns)
+        got = ctx.readback(out)[0, :, 0][::-1]  # (h, 1) texture: x is the GL row, counted from the bottom
+        ctx.release(out)
+        host = depth >= 0
+        want = np.where(host.any(axis=1), host.argmax(axis=1), w) * n
+        np.testing.assert_array_equal(got, want)
+    tex.release()
 
 
 def test_separation_pass_exact_and_oversampled(ctx, rng, tolerance=None):

@@ -31,10 +31,11 @@ class FastPass:
 
 
     def __call__(self, depth: moderngl.Texture, pattern: moderngl.Texture, params: StereogramParams,
-                 row_starts: moderngl.Texture | None = None) -> moderngl.Texture:
+                 row_starts: moderngl.Texture | None = None, end_column: int | None = None) -> moderngl.Texture:
         """depth: D (R32F, logical width); returns RGBA8 at ``oversample`` times the width (pooled).
-        With ``row_starts``, only the columns from each row's start on are computed (the others keep
-        what the pooled texture held): what a host surface shows, at a fraction of the cost."""
+        With ``row_starts``, only the columns from each row's start on are computed, and with
+        ``end_column`` (output pixels) only those before it (the others keep what the pooled texture
+        held): what a host surface shows, at a fraction of the cost."""
         w, h = depth.size
         w *= params.oversample
         strip_width, first_strip = pixel_widths(params)
@@ -51,6 +52,7 @@ class FastPass:
         set_uniform(prog, "image_height", h)
         set_uniform(prog, "strip_width", strip_width)
         set_uniform(prog, "first_strip", first_strip)
+        set_uniform(prog, "end_column", int(w if end_column is None else end_column))
         out.bind_to_image(0, read=True, write=True, format=GL_R32UI)
         prog.run(group_x=-(-h // self.rows_per_group))
         self.ctx.gl.memory_barrier()

@@ -186,11 +186,12 @@ class MultiSceneRenderer:
         if owned:
             ctx.release(pattern)
         # (5) the stereogram in screen space, each row from the host's left edge
-        row_starts = self.row_start(depth_screen, sis.oversample)
         span = self._host_columns(hosts, view, (w, h))
+        row_starts = self.row_start(depth_screen, sis.oversample, span)
         stereo = self.stereograms.render_texture(depth_screen, sis, frame, row_starts,
                                                  max_row_start=span[1] * sis.oversample,
-                                                 min_row_start=span[0] * sis.oversample, pattern=pattern_screen)
+                                                 min_row_start=span[0] * sis.oversample, pattern=pattern_screen,
+                                                 end_column=span[1] * sis.oversample)
         stereo.filter = (moderngl.LINEAR, moderngl.LINEAR)
         ctx.release(pattern_screen, row_starts)
         # (6) the main scene, lit in one forward pass, the host coloured (and, for a TV, lit) by the

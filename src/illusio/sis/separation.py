@@ -52,12 +52,16 @@ class RowStartPass:
         self.ctx = ctx
         self.program = ctx.program("sis/shaders/row_start.glsl")
 
-    def __call__(self, depth: moderngl.Texture, oversample: int = 1) -> moderngl.Texture:
-        h = depth.size[1]
+    def __call__(self, depth: moderngl.Texture, oversample: int = 1, columns: tuple[int, int] | None = None) -> moderngl.Texture:
+        """``columns``: (first, end) — the host lies within these columns of ``depth`` (fewer to search)."""
+        w, h = depth.size
+        first, end = columns if columns is not None else (0, w)
         out = self.ctx.acquire((h, 1), 1, "i4")
         depth.use(0)
         set_uniform(self.program, "depth_map", 0)
         set_uniform(self.program, "oversample", int(oversample))
+        set_uniform(self.program, "first_column", int(first))
+        set_uniform(self.program, "end_column", int(end))
         out.bind_to_image(0, read=False, write=True)
         self.program.run(group_x=-(-h // 64))
         self.ctx.gl.memory_barrier()

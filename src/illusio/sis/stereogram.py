@@ -100,9 +100,11 @@ class StereogramRenderer:
 
     def render_texture(self, depth: moderngl.Texture, params: StereogramParams, frame: int = 0,
                        row_starts: moderngl.Texture | None = None, max_row_start: int = 0,
-                       min_row_start: int = 0, pattern: moderngl.Texture | None = None) -> moderngl.Texture:
+                       min_row_start: int = 0, pattern: moderngl.Texture | None = None,
+                       end_column: int | None = None) -> moderngl.Texture:
         """D (R32F texture) → stereogram texture at ``oversample`` times the width (pooled).
         ``max_row_start``, ``min_row_start``: range of ``row_starts`` (strip algorithm only).
+        ``end_column``: output columns from there on are not needed (fast algorithm only).
         ``pattern``: a texture to use instead of ``params.pattern`` (the multi-scene pipeline's
         screen-space pattern)."""
         if pattern is not None:
@@ -110,7 +112,7 @@ class StereogramRenderer:
         else:
             pattern, owned = self.pattern_texture(params, depth.size, frame)
         if params.algorithm == "fast":  # fused: no separation map
-            out = self.algorithm_pass("fast")(depth, pattern, params, row_starts)
+            out = self.algorithm_pass("fast")(depth, pattern, params, row_starts, end_column)
         else:
             sep = self.separation_pass(depth, params)
             out = self.compute(sep, pattern, params, row_starts, max_row_start, min_row_start)

@@ -14,6 +14,7 @@ layout(local_size_x = ROWS_PER_GROUP) in;
 // the RGBA8 stereogram bound as R32UI (same texel size): colours move as packed words, with no
 // unorm conversion per pixel
 layout(r32ui, binding = 0) coherent uniform uimage2D stereogram;
+uniform int end_column;
 #else
 layout(rgba8, binding = 0) coherent uniform image2D stereogram;
 #endif
@@ -27,12 +28,15 @@ void main() {
     // two loops instead of a branch per pixel: the first strip from the pattern, then the links.
     // With row starts (a host surface) the columns left of the start are skipped: no chain reaches
     // them (no separation exceeds the first strip) and the host does not show them.
-    int first_end = min(size.x, start + first_strip);
+    // end_column: a host ends there, so nothing right of it is shown (chains only look left: the
+    // columns before it are the same either way)
+    int row_end = min(size.x, end_column);
+    int first_end = min(row_end, start + first_strip);
     for (int x = use_row_starts ? max(start, 0) : 0; x < first_end; ++x) {
         int s = int(floor(separation_at(x, y) + 0.5));
         imageStore(stereogram, ivec2(x, y), uvec4(packUnorm4x8(pattern_texel(x, y, s - strip_width))));
     }
-    for (int x = first_end; x < size.x; ++x) {
+    for (int x = first_end; x < row_end; ++x) {
         int s = int(floor(separation_at(x, y) + 0.5));
         imageStore(stereogram, ivec2(x, y), imageLoad(stereogram, ivec2(x - s, y)));
     }
