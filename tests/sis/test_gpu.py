@@ -36,18 +36,21 @@ def test_chain_pass_matches_reference_with_row_starts(ctx, rng):
     sep = R.separation(random_depth(rng, h, w), 50, 30)
     pattern = quantise(rng.random((23, 77, 3)))
     rows = rng.integers(0, 100, h).astype(np.int32)
+    rows[1::5] = w - rng.integers(1, 80, len(rows[1::5]))  # less than a first strip from the edge
+    ends = np.minimum(rows + rng.integers(1, 300, h), w).astype(np.int32)  # one past each host row
     renderer = StereogramRenderer(ctx)
     sep_t = ctx.upload(sep, filter="nearest")
     pat_t = ctx.upload((pattern * 255).round().astype(np.uint8), filter="nearest")
-    rows_t = ctx.upload(rows[::-1].reshape(1, h).copy(), filter="nearest")  # GL rows count from the bottom
-    expected = R.sequential(sep, pattern, 50, 80, rows)
+    # (start, end) per GL row, counted from the bottom
+    rows_t = ctx.upload(np.stack([rows, ends], -1)[::-1].reshape(1, h, 2).copy(), filter="nearest")
+    expected = R.sequential(sep, pattern, 50, 80, rows, ends)
     for algorithm in ("chain", "strip", "sequential", "symmetric"):
         p = StereogramParams(strip_width=50, depth_factor=30)
         out = renderer.compute(sep_t, pat_t, p, rows_t, max_row_start=int(rows.max()), min_row_start=int(rows.min()),
                                algorithm=algorithm)
         got = ctx.readback(out, 3)
         ctx.release(out)
-        want = R.symmetric(sep, pattern, 50, p.eye_separation_px, rows, 80) if algorithm == "symmetric" else expected
+        want = R.symmetric(sep, pattern, 50, p.eye_separation_px, rows, 80, ends) if algorithm == "symmetric" else expected
         np.testing.assert_array_equal(got, want, err_msg=algorithm)
     for t in (sep_t, pat_t, rows_t):
         t.release()
@@ -62,6 +65,7 @@ def test_fast_pass_with_row_starts_matches_reference_right_of_each_start(ctx, rn
     pattern = quantise(rng.random((23, 77, 3)))
     rows = rng.integers(0, 140, h).astype(np.int32)
     rows[::7] = w  # rows the host does not cross
+    rows[3::7] = w - rng.integers(1, 80, len(rows[3::7]))  # less than a first strip from the edge
     depth_t = ctx.upload(depth, filter="nearest")
     pat_t = ctx.upload((pattern * 255).round().astype(np.uint8), filter="nearest")
     rows_t = ctx.upload(rows[::-1].reshape(1, h).copy(), filter="nearest")  # GL rows count from the bottom
@@ -78,8 +82,8 @@ def test_fast_pass_with_row_starts_matches_reference_right_of_each_start(ctx, rn
 
 
 def test_row_start_pass_finds_each_rows_first_host_column(ctx, rng):
-    """RowStartPass = NumPy: per row, the first column with depth >= 0 inside the searched columns,
-    times the oversampling; the image width (times it) where a row has none."""
+    """RowStartPass = NumPy: per row, the first column with depth >= 0 inside the searched columns
+    and one past the last, times the oversampling; the image width (times it) where a row has none."""
     from illusio.sis.separation import RowStartPass
 
     h, w = 33, 211
@@ -92,11 +96,14 @@ def test_row_start_pass_finds_each_rows_first_host_column(ctx, rng):
     tex = ctx.upload(depth, filter="nearest")
     for columns, n in ((None, 1), ((first, end), 2)):
         out = RowStartPass(ctx)(tex, n, columns)
-        got = ctx.readback(out)[0, :, 0][::-1]  # (h, 1) texture: x is the GL row, counted from the bottom
+        got = ctx.readback(out)[0, ::-1]  # (h, 1) texture: x is the GL row, counted from the bottom
         ctx.release(out)
         host = depth >= 0
-        want = np.where(host.any(axis=1), host.argmax(axis=1), w) * n
-        np.testing.assert_array_equal(got, want)
+        any_host = host.any(axis=1)
+        start = np.where(any_host, host.argmax(axis=1), w) * n
+        end = np.where(any_host, w - host[:, ::-1].argmax(axis=1), w) * n
+        np.testing.assert_array_equal(got[:, 0], start)
+        np.testing.assert_array_equal(got[:, 1], end)
     tex.release()
 
 

@@ -59,3 +59,22 @@ def test_still_camera_frames_change_only_on_the_host_and_match_whole_renders(ctx
     assert (np.abs(b - whole) <= 1e-6).mean() > 0.999
     multi.release()  # frees the kept layer and the scenes' GPU copies; still usable
     np.testing.assert_allclose(multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=5), whole, atol=1e-6)
+
+
+def test_texture_stereogram_covers_the_whole_host_with_its_texture(ctx, rng, tmp_path):
+    """Figure 24's wall with a texture that is never black: every host pixel of the stereogram shows
+    the texture projected on the host, never the black off it (rows of the wall that start less
+    than a strip from the image's right edge once wrapped their first strip around the row)."""
+    from illusio.core.images import write_image
+    from illusio.sis.params import StereogramParams
+
+    texture = tmp_path / "texture.png"
+    write_image(texture, 0.3 + 0.6 * rng.random((64, 64, 3)))
+    scene = load_scene("living-room")
+    params = MultiSceneParams(host="back-wall", emission=0.0, stereogram=StereogramParams(pattern=str(texture)))
+    keep = {}
+    MultiSceneRenderer(ctx).render(scene, hidden_scene(), scene.camera("main"), (480, 300), params, frame=1, keep=keep)
+    host = keep["depth"] >= 0
+    last = np.where(host.any(axis=1), host.shape[1] - 1 - np.argmax(host[:, ::-1], axis=1), -1)
+    assert (last == host.shape[1] - 1).any()  # the wall reaches the right edge in some rows
+    assert (keep["stereogram"][host].max(axis=-1) > 0).all()

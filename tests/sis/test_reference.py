@@ -25,9 +25,30 @@ def test_strip_chain_and_sequential_give_one_image(rng):
     sep = R.separation(depth, 40, 25)
     pattern = rng.random((17, 90, 3)).astype(np.float32)
     rows = rng.integers(0, 60, h).astype(np.int32)
-    a = R.sequential(sep, pattern, 40, 65, rows)
-    np.testing.assert_array_equal(a, R.strip(sep, pattern, 40, 65, rows))
-    np.testing.assert_array_equal(a, R.chain(sep, pattern, 40, 65, rows))
+    rows[::4] = w - rng.integers(1, 65, len(rows[::4]))  # rows starting less than a strip from the edge
+    ends = np.minimum(rows + rng.integers(1, 400, h), w).astype(np.int32)
+    for row_end in (None, ends):
+        a = R.sequential(sep, pattern, 40, 65, rows, row_end)
+        np.testing.assert_array_equal(a, R.strip(sep, pattern, 40, 65, rows, row_end))
+        np.testing.assert_array_equal(a, R.chain(sep, pattern, 40, 65, rows, row_end))
+
+
+def test_first_strip_shows_only_the_host_pattern(rng):
+    """A screen-space pattern that is black off the host (outside [row start, row end)): the
+    stereogram shows none of that black on the host, rows shorter than a strip included (their first
+    strip wraps inside the host's row, not around the image)."""
+    h, w, first = 40, 400, 90
+    sep = R.separation(rng.random((h, w)).astype(np.float32), 60, 30)
+    rows = rng.integers(0, w - 1, h).astype(np.int32)
+    ends = np.where(rng.random(h) < 0.5, w, np.minimum(rows + rng.integers(1, 150, h), w)).astype(np.int32)
+    x = np.arange(w)[None, :]
+    host = (x >= rows[:, None]) & (x < ends[:, None])
+    pattern = np.where(host[..., None], 0.2 + 0.8 * rng.random((h, w, 3)), 0.0).astype(np.float32)
+    for algorithm in (R.sequential, R.chain, R.strip):
+        out = algorithm(sep, pattern, 60, first, rows, ends)
+        assert out[host].min() > 0.0, algorithm.__name__
+    out = R.symmetric(sep, pattern, 60, 120, rows, first, ends)
+    assert out[host].min() > 0.0, "symmetric"
 
 
 def test_algorithm1_recurrence_holds(rng):

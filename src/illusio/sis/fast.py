@@ -50,6 +50,7 @@ class FastPass:
             row_starts.use(2)
         set_uniform(prog, "use_row_starts", row_starts is not None)
         set_uniform(prog, "image_height", h)
+        set_uniform(prog, "image_width", w)
         set_uniform(prog, "strip_width", strip_width)
         set_uniform(prog, "first_strip", first_strip)
         set_uniform(prog, "end_column", int(w if end_column is None else end_column))

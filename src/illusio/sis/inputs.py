@@ -22,8 +22,10 @@ def pixel_widths(params: StereogramParams) -> tuple[int, int]:
 
 @dataclass
 class StereogramInputs:
-    """separation: R32F texture (W, H); pattern: RGBA texture, tiled; row_starts: R32I (H, 1) texture
-    or None (every row starts at column 0); strip_width, first_strip: whole pixels."""
+    """separation: R32F texture (W, H); pattern: RGBA texture, tiled; row_starts: integer (H, 1)
+    texture, each GL row's start column (R) and optionally one past the host's last column (G; 0 or
+    absent: the image width), or None (every row starts at column 0); strip_width, first_strip:
+    whole pixels."""
 
     separation: moderngl.Texture
     pattern: moderngl.Texture
@@ -47,6 +49,7 @@ class StereogramInputs:
             self.row_starts.use(u + 2)
         set_uniform(program, "use_row_starts", self.row_starts is not None)
         set_uniform(program, "image_height", int(self.size[1]))
+        set_uniform(program, "image_width", int(self.size[0]))
         set_uniform(program, "strip_width", int(self.strip_width))
         set_uniform(program, "first_strip", int(self.first_strip))
         return u + 3

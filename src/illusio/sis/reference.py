@@ -9,7 +9,9 @@ Conventions shared by every function here and by the shaders:
 * ``pattern`` T: float32 (H_T, W_T, C), tiled: T[y mod H_T, x mod W_T], rows counted from the top.
 * ``row_start``: int32 (H,), the column where each row's stereogram starts (0 for a whole image; the
   left edge of the host surface in a 3D scene). Each row's first strip is the ``first_strip`` columns
-  from there: W_s + β in Algorithm 1.
+  from there: W_s + β in Algorithm 1. ``row_end``: int32 (H,), one past the host's last column in
+  each row (the image width if not given): the first strip's pattern columns wrap inside
+  [row_start, row_end), so a row shorter than a strip shows only the pattern on the host.
 * Left-anchored algorithms (sequential, strip, chain; the fast GPU pass is the sequential one) make S[x] = S[x − s(x)]: a pixel repeats the one
   s to its left. The symmetric algorithm links x − s/2 and x − s/2 + s for the point at x.
 """
@@ -72,32 +74,42 @@ def _rows(row_start, height):
     return np.asarray(row_start, np.int32)
 
 
+def _ends(row_end, height, width):
+    if row_end is None:
+        return np.full(height, width, np.int32)
+    return np.asarray(row_end, np.int32)
+
+
 @njit(cache=True)
-def _texel(pattern, x, y, shift, start=-1, first_strip=0):
+def _texel(pattern, x, y, shift, start, first_strip, end):
     """T[y mod H_T, (x − shift) mod W_T]; with a row start (start ≥ 0), a column left of it wraps
-    into the first strip (the host's own projected pattern)."""
+    into the first strip, and one at or past the row's ``end`` wraps back into [start, end) (the
+    host's own projected pattern, never what lies off it)."""
     ht, wt = pattern.shape[0], pattern.shape[1]
     v = x - shift
-    if start >= 0 and v < start:
-        v += first_strip
+    if start >= 0:
+        if v < start:
+            v += first_strip
+        if v >= end:
+            v = start + (v - start) % max(end - start, 1)
     return pattern[y % ht, v % wt]
 
 
 @njit(cache=True)
-def _sequential(sep_px, pattern, strip_width, first_strip, row_start, wrap, out):
+def _sequential(sep_px, pattern, strip_width, first_strip, row_start, row_end, wrap, out):
     h, w = sep_px.shape
     for y in range(h):
         for x in range(w):
             s = sep_px[y, x]
             if x - row_start[y] < first_strip:
-                out[y, x] = _texel(pattern, x, y, s - strip_width, row_start[y] if wrap else -1, first_strip)
+                out[y, x] = _texel(pattern, x, y, s - strip_width, row_start[y] if wrap else -1, first_strip, row_end[y])
             else:
                 out[y, x] = out[y, x - s]
     return out
 
 
 def sequential(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
-               row_start: np.ndarray | None = None) -> np.ndarray:
+               row_start: np.ndarray | None = None, row_end: np.ndarray | None = None) -> np.ndarray:
     """Section 3.3, left to right along each row: the first strip (x − row_start < ``first_strip``)
     samples the pattern shifted by s − W_s (Algorithm 1's x − βD), every later pixel copies
     S[x − s(x)]. Returns float32 (H, W, C)."""
@@ -105,7 +117,8 @@ def sequential(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_str
     h, w = sep_px.shape
     pattern = np.ascontiguousarray(pattern, np.float32)
     out = np.zeros((h, w, pattern.shape[2]), np.float32)
-    return _sequential(sep_px, pattern, int(strip_width), int(first_strip), _rows(row_start, h), row_start is not None, out)
+    return _sequential(sep_px, pattern, int(strip_width), int(first_strip), _rows(row_start, h), _ends(row_end, h, w),
+                       row_start is not None, out)
 
 
 def strip_passes(width: int, strip_width: int, first_strip: int) -> int:
@@ -114,25 +127,28 @@ def strip_passes(width: int, strip_width: int, first_strip: int) -> int:
     return 1 + max(0, -(-(width - first_strip) // strip_width))
 
 
-def _pattern_at(pattern, ys, xs, shift, row_start, first_strip):
-    """Vectorised _texel."""
+def _pattern_at(pattern, ys, xs, shift, row_start, first_strip, row_end):
+    """Vectorised _texel (``row_end``: as _ends gives it)."""
     ht, wt = pattern.shape[:2]
     v = xs - shift
     if row_start is not None:
         start = np.asarray(row_start, np.int64)[ys]
+        end = np.asarray(row_end, np.int64)[ys]
         v = np.where(v < start, v + first_strip, v)
+        v = np.where(v >= end, start + (v - start) % np.maximum(end - start, 1), v)
     return pattern[ys % ht, v % wt]
 
 
 def strip(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
-          row_start: np.ndarray | None = None) -> np.ndarray:
+          row_start: np.ndarray | None = None, row_end: np.ndarray | None = None) -> np.ndarray:
     """Algorithm 1: the first strip from the pattern, then strips of W_s columns, each computed all at
     once from the strips before it (every pixel of a strip reads at least W_s to its left)."""
     sep_px = rounded(sep)
     h, w = sep_px.shape
     rows = _rows(row_start, h)
     ys, xs = np.mgrid[0:h, 0:w]
-    out = _pattern_at(np.asarray(pattern, np.float32), ys, xs, sep_px - strip_width, row_start, first_strip).astype(np.float32)
+    out = _pattern_at(np.asarray(pattern, np.float32), ys, xs, sep_px - strip_width, row_start, first_strip,
+                      _ends(row_end, h, w)).astype(np.float32)
     rel = xs - rows[:, None]
     for k in range(1, strip_passes(w + int(rows.max(initial=0)), strip_width, first_strip)):
         lo = first_strip + (k - 1) * strip_width
@@ -142,7 +158,7 @@ def strip(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: i
 
 
 def chain(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
-         row_start: np.ndarray | None = None) -> np.ndarray:
+         row_start: np.ndarray | None = None, row_end: np.ndarray | None = None) -> np.ndarray:
     """Every pixel independently follows its chain x → x − s(x) → … until it lands in the first strip,
     and takes the pattern value there: the same image as :func:`sequential`, with no order between
     pixels."""
@@ -156,7 +172,8 @@ def chain(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: i
         if not moving.any():
             break
         at[moving] -= sep_px[ys[moving], at[moving]]
-    return _pattern_at(np.asarray(pattern, np.float32), ys, at, sep_px[ys, at] - strip_width, row_start, first_strip)
+    return _pattern_at(np.asarray(pattern, np.float32), ys, at, sep_px[ys, at] - strip_width, row_start, first_strip,
+                       _ends(row_end, h, w))
 
 
 def occlusion_separation(sep: float, offset: float, eye_separation: float) -> float:
@@ -170,7 +187,7 @@ def occlusion_separation(sep: float, offset: float, eye_separation: float) -> fl
 
 
 @njit(cache=True)
-def _symmetric(sep, pattern, near_separation, eye_separation, row_start, wrap, first_strip, out, same):
+def _symmetric(sep, pattern, near_separation, eye_separation, row_start, row_end, wrap, first_strip, out, same):
     h, w = sep.shape
     e = np.float32(eye_separation)
     for y in range(h):
@@ -207,14 +224,14 @@ def _symmetric(sep, pattern, near_separation, eye_separation, row_start, wrap, f
             same[left] = right
         for x in range(w - 1, -1, -1):
             if same[x] == x:
-                out[y, x] = _texel(pattern, x, y, 0, r0 if wrap else -1, first_strip)
+                out[y, x] = _texel(pattern, x, y, 0, r0 if wrap else -1, first_strip, row_end[y])
             else:
                 out[y, x] = out[y, same[x]]
     return out
 
 
 def symmetric(sep: np.ndarray, pattern: np.ndarray, near_separation: float, eye_separation: float,
-              row_start: np.ndarray | None = None, first_strip: int = 0) -> np.ndarray:
+              row_start: np.ndarray | None = None, first_strip: int = 0, row_end: np.ndarray | None = None) -> np.ndarray:
     """Thimbleby, Inglis & Witten (1994): for each point x, the pixels x − ⌊s/2⌋ and x − ⌊s/2⌋ + s must
     match, unless the point is hidden from one eye (hidden-surface removal with
     :func:`occlusion_separation`; ``near_separation`` is W_s, nothing is nearer). Constraints are
@@ -227,7 +244,7 @@ def symmetric(sep: np.ndarray, pattern: np.ndarray, near_separation: float, eye_
     out = np.zeros((h, w, pattern.shape[2]), np.float32)
     same = np.zeros(w, np.int32)
     return _symmetric(sep, pattern, np.float32(near_separation), np.float32(eye_separation),
-                      _rows(row_start, h), row_start is not None, int(first_strip), out, same)
+                      _rows(row_start, h), _ends(row_end, h, w), row_start is not None, int(first_strip), out, same)
 
 
 def downsample(image: np.ndarray, factor: int) -> np.ndarray:

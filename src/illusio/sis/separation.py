@@ -45,8 +45,8 @@ class SeparationPass:
 
 
 class RowStartPass:
-    """depth with negative values off the host → R32I (H, 1): each GL row's first host column, times
-    the oversampling factor (the width if the row has none)."""
+    """depth with negative values off the host → RG32I (H, 1): each GL row's first host column and one
+    past its last, times the oversampling factor (both the width if the row has none)."""
 
     def __init__(self, ctx: Context):
         self.ctx = ctx
@@ -56,7 +56,7 @@ class RowStartPass:
         """``columns``: (first, end) — the host lies within these columns of ``depth`` (fewer to search)."""
         w, h = depth.size
         first, end = columns if columns is not None else (0, w)
-        out = self.ctx.acquire((h, 1), 1, "i4")
+        out = self.ctx.acquire((h, 1), 2, "i4")
         depth.use(0)
         set_uniform(self.program, "depth_map", 0)
         set_uniform(self.program, "oversample", int(oversample))
