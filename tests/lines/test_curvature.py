@@ -39,16 +39,20 @@ def test_every_jet_degree_without_adaptation(degree):
 
 
 def test_adaptive_support_averages_noise_and_keeps_clean_fits():
-    """ICI rule: on noise the support grows (error well below the fixed quartic's), on a clean
-    surface the first (quartic) fit stands."""
-    mesh, k_min, k_max = analytic.ellipsoid((1.0, 0.7, 0.5), 4)
-    noisy = analytic.add_noise(mesh, 0.05, seed=1)
-    fixed = estimate_curvature(noisy, adaptive=False, cache=False)
-    adaptive = estimate_curvature(noisy, cache=False)
-    assert mean_relative_error(adaptive.k_max, k_max) < 0.5 * mean_relative_error(fixed.k_max, k_max)
-    clean_fixed = estimate_curvature(mesh, adaptive=False, cache=False)
-    clean = estimate_curvature(mesh, cache=False)
-    assert np.mean(clean.k_max == clean_fixed.k_max) > 0.9
+    """ICI rule with the inverse-variance mean of the fits that join: on noise, support and lower
+    degrees join (error well below the fixed quartic's); on a clean surface the quartic's accuracy
+    stays (the cubic and quadric, biased there — 0.09 and 0.03 on the coarse ellipsoid against the
+    quartic's 0.004 — must not join)."""
+    for subdivisions in (3, 4):
+        mesh, k_min, k_max = analytic.ellipsoid((1.0, 0.7, 0.5), subdivisions)
+        noisy = analytic.add_noise(mesh, 0.05, seed=1)
+        fixed = estimate_curvature(noisy, adaptive=False, cache=False)
+        adaptive = estimate_curvature(noisy, cache=False)
+        assert mean_relative_error(adaptive.k_max, k_max) < 0.6 * mean_relative_error(fixed.k_max, k_max)
+        clean_fixed = estimate_curvature(mesh, adaptive=False, cache=False)
+        clean = estimate_curvature(mesh, cache=False)
+        for got, fit, want in ((clean.k_min, clean_fixed.k_min, k_min), (clean.k_max, clean_fixed.k_max, k_max)):
+            assert mean_relative_error(got, want) < 2 * mean_relative_error(fit, want) + 1e-4
 
 
 def test_curvature_derivative_on_a_torus():

@@ -163,7 +163,7 @@ def curvature(
     rings: int = typer.Option(2, "--rings", help="smallest neighbourhood, in edge rings"),
     degree: int = typer.Option(4, "--degree", help="jet degree: 2, 3 or 4 (3 and 4 also give curvature derivatives)"),
     fixed: bool = typer.Option(False, "--fixed", help="one fit per vertex: no adaptive support (see --extra-rings)"),
-    extra_rings: int = typer.Option(1, "--extra-rings", help="how far the adaptive support may grow on noisy meshes"),
+    extra_rings: int = typer.Option(1, "--extra-rings", help="rings beyond the start that the adaptive fits may use on noisy meshes"),
     no_cache: bool = typer.Option(False, "--no-cache", help="recompute even if a cached result exists"),
 ) -> None:
     """Estimate per-vertex principal curvatures and directions of MESH."""

@@ -29,7 +29,7 @@ from ..scene.mesh import Mesh
 
 __all__ = ["Curvature", "estimate_curvature", "cache_dir", "CACHE_VERSION"]
 
-CACHE_VERSION = 2
+CACHE_VERSION = 3
 
 
 @dataclass
@@ -70,15 +70,19 @@ def cache_dir() -> Path:
 
 
 def estimate_curvature(mesh: Mesh, rings: int = 2, degree: int = 4, cache: bool = True, adaptive: bool = True,
-                       extra_rings: int = 1, confidence: float = 2.5) -> Curvature:
+                       extra_rings: int = 1, confidence: float = 2.0) -> Curvature:
     """Fit a jet of ``degree`` (2, 3 or 4) at every vertex over the smallest neighbourhood of at least
     ``rings`` rings that holds twice the jet's unknowns (lower degrees where none does).
 
-    ``adaptive``: then try a cubic on the same support and on up to ``extra_rings`` more rings,
-    keeping each while the curvature confidence intervals k ± ``confidence``·std (std from the fit's
-    residual) of all the fits so far intersect: the ICI rule of adaptive smoothing (Katkovnik). On a
-    clean surface the first fit stands (a quartic: small bias); on noise the support grows until
-    the noise averages out. ``dcurv`` comes from the fit kept (zero for a quadric)."""
+    ``adaptive``: then also fit every lower degree, each on those rings and on up to ``extra_rings``
+    more (the quartic on the start rings, on one more, the cubic on both, the quadric on both), and
+    let a fit join while the curvature confidence intervals k ± ``confidence``·std (std from each
+    fit's residual and (AᵀA)⁻¹) of all fits so far intersect — the ICI rule of adaptive smoothing
+    (Katkovnik) — then answer with the inverse-variance mean of the jets that joined (their
+    coefficients share one frame, so normal, curvatures and directions stay consistent). On a clean
+    surface the first fit stands (a quartic: small bias); on noise more support and lower degrees
+    join and average it out. ``dcurv`` comes from the cubic terms of the fits that have them (zero
+    when only quadrics joined)."""
     if degree not in (2, 3, 4):
         raise InputError(f"jet degree must be 2, 3 or 4, got {degree}")
     if not 1 <= rings <= 8:
@@ -197,6 +201,10 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
         columns = np.empty((16, limit))
         fit = np.empty(15)  # one candidate: normal (3), k_min, k_max, e_min (3), e_max (3), cubic (4)
         best = np.empty(15)
+        grams = np.empty((extra_rings + 1, size, size))  # normal equations per ring prefix
+        moments = np.empty((extra_rings + 1, size))
+        sums = np.empty(extra_rings + 1)
+        mean = np.empty(10)  # inverse-variance mean of the jets that joined, up to the cubic terms
         n0 = np.empty(3)
         t1 = np.empty(3)
         t2 = np.empty(3)
@@ -239,38 +247,66 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
                 continue
             gram[:] = 0.0
             moment[:] = 0.0
-            hh = _accumulate(vertices, i, n0, t1, t2, 1.0 / radius, queue, 0, ends[start], _unknowns(deg), gram, moment, columns)
-            # candidates of less variance and more bias: the quartic, then the cubic, then the cubic on
-            # one more ring at a time; each is kept while the confidence intervals k ± gamma·std of
-            # all fits so far intersect (the ICI rule of adaptive smoothing): noise widens the
-            # intervals and buys support, a clean surface keeps the first fit
-            lo_low, lo_high, hi_low, hi_high = -np.inf, np.inf, -np.inf, np.inf
-            accepted = False
-            r = start
-            while True:
-                std = _fit_one(gram, moment, hh, ends[r], deg, radius, ata, coef, work, n0, t1, t2, fit)
-                lo_low = max(lo_low, fit[3] - gamma * std)
-                lo_high = min(lo_high, fit[3] + gamma * std)
-                hi_low = max(hi_low, fit[4] - gamma * std)
-                hi_high = min(hi_high, fit[4] + gamma * std)
-                if accepted and (lo_low > lo_high or hi_low > hi_high):
-                    break
-                best[:] = fit
-                accepted = True
-                if gamma <= 0.0:
-                    break
-                if deg > 3:
-                    deg -= 1
-                    continue
-                if r == start + extra_rings or ends[r] == limit:
-                    break
+            block = _unknowns(deg)
+            hh = _accumulate(vertices, i, n0, t1, t2, 1.0 / radius, queue, 0, ends[start], block, gram, moment, columns)
+            # the normal equations of the start rings and of each extra ring's prefix, kept for the
+            # candidates below (the full block of the starting degree: lower degrees are its leading block)
+            grams[0, :block, :block] = gram[:block, :block]
+            moments[0, :block] = moment[:block]
+            sums[0] = hh
+            extra = 0
+            while gamma > 0.0 and extra < extra_rings and ends[start + extra] < limit and start + extra + 1 < len(ends):
+                r = start + extra
                 tail = _grow_ring(queue, ends[r - 1] if r else 0, ends[r], offsets, neighbours, stamp, i, limit)
                 if tail == ends[r]:
                     break
-                r += 1
-                ends[r] = tail
-                hh += _accumulate(vertices, i, n0, t1, t2, 1.0 / radius, queue, ends[r - 1], tail, _unknowns(deg),
-                                  gram, moment, columns)  # the degree never rises again: its block only
+                ends[r + 1] = tail
+                hh += _accumulate(vertices, i, n0, t1, t2, 1.0 / radius, queue, ends[r], tail, block, gram, moment, columns)
+                extra += 1
+                grams[extra, :block, :block] = gram[:block, :block]
+                moments[extra, :block] = moment[:block]
+                sums[extra] = hh
+            # candidates of less variance and more bias, degree by degree, each on the start rings and
+            # then on each extra ring: a fit joins while the confidence intervals k ± gamma·std of all
+            # fits so far intersect (the ICI rule of adaptive smoothing: noise widens the intervals
+            # and buys support and lower degrees, a clean surface keeps the first fit), and the answer
+            # is the inverse-variance mean of the jets that joined (coefficients in one frame)
+            lo_low, lo_high, hi_low, hi_high = -np.inf, np.inf, -np.inf, np.inf
+            mean[:] = 0.0
+            weight_all = 0.0
+            weight_cubic = 0.0
+            joined = 0
+            d = deg
+            while d >= 2 and not (joined and gamma <= 0.0):
+                stop = False
+                for j in range(extra + 1):
+                    std = _fit_one(grams[j], moments[j], sums[j], ends[start + j], d, radius, ata, coef, work, n0, t1, t2, fit)
+                    lo_low = max(lo_low, fit[3] - gamma * std)
+                    lo_high = min(lo_high, fit[3] + gamma * std)
+                    hi_low = max(hi_low, fit[4] - gamma * std)
+                    hi_high = min(hi_high, fit[4] + gamma * std)
+                    if joined and (lo_low > lo_high or hi_low > hi_high):
+                        stop = True
+                        break
+                    w = 1.0 / max(std * std, 1e-30)
+                    for k in range(6):
+                        mean[k] += w * coef[k]
+                    weight_all += w
+                    if d >= 3:
+                        for k in range(6, 10):
+                            mean[k] += w * coef[k]
+                        weight_cubic += w
+                    joined += 1
+                    if gamma <= 0.0:
+                        break
+                if stop:
+                    break
+                d -= 1
+            for k in range(6):
+                mean[k] /= weight_all
+            for k in range(6, 10):
+                mean[k] = mean[k] / weight_cubic if weight_cubic > 0.0 else 0.0
+            _shape(mean, radius, 3 if weight_cubic > 0.0 else 2, n0, t1, t2, best)
             valid[i] = True
             out_n[i] = best[0:3]
             out_k[i, 0] = best[3]
