@@ -3,9 +3,6 @@
 import subprocess
 import sys
 
-import numpy as np
-import pytest
-
 from illusio.core import read_image
 
 
