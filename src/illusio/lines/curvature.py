@@ -80,8 +80,8 @@ def estimate_curvature(mesh: Mesh, rings: int = 2, degree: int = 4, cache: bool 
     fit's residual and (AᵀA)⁻¹) of all fits so far intersect — the ICI rule of adaptive smoothing
     (Katkovnik) — then answer with the inverse-variance mean of the jets that joined (their
     coefficients share one frame, so normal, curvatures and directions stay consistent). On a clean
-    surface the first fit stands (a quartic: small bias); on noise more support and lower degrees
-    join and average it out. ``dcurv`` comes from the cubic terms of the fits that have them (zero
+    surface the quartic's accuracy stands (the biased lower degrees do not join); on noise more
+    support and lower degrees join and average it out. ``dcurv`` comes from the cubic terms of the fits that have them (zero
     when only quadrics joined)."""
     if degree not in (2, 3, 4):
         raise InputError(f"jet degree must be 2, 3 or 4, got {degree}")
@@ -269,16 +269,16 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
             # candidates of less variance and more bias, degree by degree, each on the start rings and
             # then on each extra ring: a fit joins while the confidence intervals k ± gamma·std of all
             # fits so far intersect (the ICI rule of adaptive smoothing: noise widens the intervals
-            # and buys support and lower degrees, a clean surface keeps the first fit), and the answer
-            # is the inverse-variance mean of the jets that joined (coefficients in one frame)
+            # and buys support and lower degrees; on a clean surface the biased fits do not join), and
+            # the answer is the inverse-variance mean of the jets that joined (coefficients in one frame)
             lo_low, lo_high, hi_low, hi_high = -np.inf, np.inf, -np.inf, np.inf
             mean[:] = 0.0
             weight_all = 0.0
             weight_cubic = 0.0
-            joined = 0
-            d = deg
-            while d >= 2 and not (joined and gamma <= 0.0):
-                stop = False
+            joined = False
+            stop = False
+            lowest = 2 if gamma > 0.0 else deg  # not adaptive: the one fit (extra is 0 then too)
+            for d in range(deg, lowest - 1, -1):
                 for j in range(extra + 1):
                     std = _fit_one(grams[j], moments[j], sums[j], ends[start + j], d, radius, ata, coef, work, n0, t1, t2, fit)
                     lo_low = max(lo_low, fit[3] - gamma * std)
@@ -296,12 +296,9 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
                         for k in range(6, 10):
                             mean[k] += w * coef[k]
                         weight_cubic += w
-                    joined += 1
-                    if gamma <= 0.0:
-                        break
+                    joined = True
                 if stop:
                     break
-                d -= 1
             for k in range(6):
                 mean[k] /= weight_all
             for k in range(6, 10):

@@ -81,13 +81,13 @@ class GBufferPass:
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         gl.enable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.CULL_FACE)
+        cull = view.view_projection((w, h))
         # textured and untextured nodes each with their own variant (surface.glsl's TEXTURED)
         for textured, indices in gpu_scene.groups(lambda index, node: node.material.texture is not None).items():
             prog = self.programs[textured]
             set_uniform(prog, "view_matrix", view.view_matrix())
             set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
             set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
-            gpu_scene.draw(prog, lambda index, node, prog=prog: gpu_scene.bind_surface(prog, index, node), only=indices,
-                           cull_to=view.view_projection((w, h)))
+            gpu_scene.draw(prog, lambda index, node, prog=prog: gpu_scene.bind_surface(prog, index, node), only=indices, cull_to=cull)
         gl.disable(moderngl.DEPTH_TEST)
         return GBuffer(self.ctx, textures, (w, h))
