@@ -155,7 +155,7 @@ class ForwardPass:
                 set_uniform(prog, "screen_emission", float(screen_material.emission))
 
             def set_node(index, node, prog=prog):
-                gpu_scene.bind_surface(prog, index, node, texture_unit=0)
+                gpu_scene.bind_surface(prog, index, node, texture_unit=0, view=view, size=(w, h))
 
             gpu_scene.draw(prog, set_node, eye, indices, cull_to=cull)
         gl.depth_func = "<"

@@ -88,6 +88,6 @@ class GBufferPass:
             set_uniform(prog, "view_matrix", view.view_matrix())
             set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
             set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
-            gpu_scene.draw(prog, lambda index, node, prog=prog: gpu_scene.bind_surface(prog, index, node), only=indices, cull_to=cull)
+            gpu_scene.draw(prog, lambda index, node, prog=prog: gpu_scene.bind_surface(prog, index, node, view=view, size=(w, h)), only=indices, cull_to=cull)
         gl.disable(moderngl.DEPTH_TEST)
         return GBuffer(self.ctx, textures, (w, h))

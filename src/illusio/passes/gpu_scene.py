@@ -10,9 +10,17 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
+from ..scene.camera import View
 from ..scene.scene import Node, Scene
+from ..scene.transforms import transform_points
+from .texture_footprint import ANISOTROPY_THRESHOLD, footprint_anisotropy
 
-__all__ = ["GpuScene", "GpuMesh"]
+__all__ = ["GpuScene", "GpuMesh", "MAX_ANISOTROPY"]
+
+MAX_ANISOTROPY = 8.0
+# meshes with more triangles keep anisotropic filtering without measuring their footprint (a
+# per-frame NumPy pass over them would cost more than the filter saves)
+FOOTPRINT_MAX_FACES = 4096
 
 
 @dataclass
@@ -60,7 +68,7 @@ class GpuScene:
         tex = self._textures.get(key)
         if tex is None:
             tex = self.ctx.upload(tex_array.astype(np.float32), mipmaps=True, repeat=True)
-            tex.anisotropy = 8.0
+            tex.anisotropy = MAX_ANISOTROPY
             self._textures[key] = tex
         return tex
 
@@ -77,9 +85,24 @@ class GpuScene:
             self._vaos[key] = vao
         return vao
 
-    def bind_surface(self, program: moderngl.Program, index: int, node: Node, texture_unit: int = 0) -> None:
+    def anisotropy(self, node: Node, view: View, size: tuple[int, int]) -> float:
+        """The anisotropic filtering ``node``'s texture needs in ``view`` at ``size``: 1 (trilinear)
+        where every pixel's footprint in it is nearly round (see :mod:`.texture_footprint`), else
+        :data:`MAX_ANISOTROPY`."""
+        tex, mesh = self.texture(node), node.mesh
+        if tex is None or mesh.uvs is None:
+            return 1.0
+        if len(mesh.faces) > FOOTPRINT_MAX_FACES:
+            return MAX_ANISOTROPY
+        texels = np.asarray(mesh.uvs, np.float64) * np.array(tex.size, np.float64)
+        ratio = footprint_anisotropy(transform_points(node.transform, mesh.vertices), mesh.faces, texels, view, size)
+        return 1.0 if ratio <= ANISOTROPY_THRESHOLD else MAX_ANISOTROPY
+
+    def bind_surface(self, program: moderngl.Program, index: int, node: Node, texture_unit: int = 0,
+                     view: View | None = None, size: tuple[int, int] | None = None) -> None:
         """Set the uniforms of ``shaders/surface.glsl`` for drawing ``node`` (index: its place in the
-        scene; the object id is index + 1)."""
+        scene; the object id is index + 1). With ``view`` and ``size``, the texture is filtered
+        anisotropically only where the node's footprint needs it (:meth:`anisotropy`)."""
         mat = node.material
         set_uniform(program, "model_matrix", node.transform)
         set_uniform(program, "normal_matrix", np.linalg.inv(node.transform[:3, :3].astype(np.float64)).T.astype(np.float32))
@@ -92,6 +115,7 @@ class GpuScene:
         tex = self.texture(node)
         set_uniform(program, "has_texture", tex is not None)
         if tex is not None:
+            tex.anisotropy = self.anisotropy(node, view, size) if view is not None else MAX_ANISOTROPY
             tex.use(texture_unit)
 
     def draw(self, program: moderngl.Program, set_node=None, front_to_back_from=None, only=None,
