@@ -33,7 +33,7 @@ def test_principal_curvatures_of_analytic_surfaces(make, bound):
 def test_every_jet_degree_without_adaptation(degree):
     """Each degree alone: the quartic has the least bias on a clean sphere (its height is not a cubic)."""
     mesh, k_min, k_max = analytic.icosphere(3)
-    c = estimate_curvature(mesh, degree=degree, adaptive=False, cache=False)
+    c = estimate_curvature(mesh, degree=degree, adaptive=False, smoothing=0, cache=False)
     error = mean_relative_error(c.k_min, k_min) + mean_relative_error(c.k_max, k_max)
     assert error < {2: 0.15, 3: 0.15, 4: 0.02}[degree]
 
@@ -46,13 +46,43 @@ def test_adaptive_support_averages_noise_and_keeps_clean_fits():
     for subdivisions in (3, 4):
         mesh, k_min, k_max = analytic.ellipsoid((1.0, 0.7, 0.5), subdivisions)
         noisy = analytic.add_noise(mesh, 0.05, seed=1)
-        fixed = estimate_curvature(noisy, adaptive=False, cache=False)
-        adaptive = estimate_curvature(noisy, cache=False)
+        fixed = estimate_curvature(noisy, adaptive=False, smoothing=0, cache=False)
+        adaptive = estimate_curvature(noisy, adaptive=True, smoothing=0, cache=False)
         assert mean_relative_error(adaptive.k_max, k_max) < 0.6 * mean_relative_error(fixed.k_max, k_max)
-        clean_fixed = estimate_curvature(mesh, adaptive=False, cache=False)
-        clean = estimate_curvature(mesh, cache=False)
+        clean_fixed = estimate_curvature(mesh, adaptive=False, smoothing=0, cache=False)
+        clean = estimate_curvature(mesh, adaptive=True, smoothing=0, cache=False)
         for got, fit, want in ((clean.k_min, clean_fixed.k_min, k_min), (clean.k_max, clean_fixed.k_max, k_max)):
             assert mean_relative_error(got, want) < 2 * mean_relative_error(fit, want) + 1e-4
+
+
+def test_tensor_smoothing_transports_neighbours_so_a_sphere_stays_exact():
+    """Each neighbour's tensor is rotated into the vertex's tangent plane before averaging: on a
+    sphere every transported tensor is (1/R)·I, so five passes change nothing measurable (averaged
+    without the rotation, the tangential parts shrink: sphere-3's error grew 0.004 → 0.02)."""
+    mesh, k_min, k_max = analytic.icosphere(3, 0.5)
+    raw = estimate_curvature(mesh, smoothing=0, cache=False)
+    smooth = estimate_curvature(mesh, smoothing=5, cache=False)
+    for got, fit, want in ((smooth.k_min, raw.k_min, k_min), (smooth.k_max, raw.k_max, k_max)):
+        assert mean_relative_error(got, want) < mean_relative_error(fit, want) + 2e-4
+    np.testing.assert_allclose(np.abs((smooth.e_min * smooth.e_max).sum(1)), 0, atol=1e-5)
+
+
+def test_tensor_smoothing_removes_noise_left_by_the_fits():
+    """Averaging the fits' tensors over the 1-ring, three times: on noise the error falls well
+    below the raw quartic's, also on the coarse torus (768 vertices, a ring spans 22° of the tube)
+    at 10 % noise, where every single fit was poor (libigl's 5-ring quadric: 0.36, benchmarks)."""
+    for make, amount, bound in ((lambda: analytic.ellipsoid((1.0, 0.7, 0.5), 4), 0.05, None),
+                                (lambda: analytic.torus(1.0, 0.35, 96, 32), 0.05, None),
+                                (lambda: analytic.torus(1.0, 0.35, 48, 16), 0.1, 0.25)):
+        mesh, k_min, k_max = make()
+        noisy = analytic.add_noise(mesh, amount, seed=2)
+        raw = estimate_curvature(noisy, smoothing=0, cache=False)
+        smooth = estimate_curvature(noisy, cache=False)
+        error = (mean_relative_error(smooth.k_min, k_min) + mean_relative_error(smooth.k_max, k_max)) / 2
+        raw_error = (mean_relative_error(raw.k_min, k_min) + mean_relative_error(raw.k_max, k_max)) / 2
+        assert error < 0.7 * raw_error
+        if bound is not None:
+            assert error < bound
 
 
 def test_curvature_derivative_on_a_torus():

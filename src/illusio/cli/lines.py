@@ -162,8 +162,9 @@ def curvature(
     output: Path = typer.Option(..., "-o", "--output", help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, valid"),
     rings: int = typer.Option(2, "--rings", help="smallest neighbourhood, in edge rings"),
     degree: int = typer.Option(4, "--degree", help="jet degree: 2, 3 or 4 (3 and 4 also give curvature derivatives)"),
-    fixed: bool = typer.Option(False, "--fixed", help="one fit per vertex: no adaptive support (see --extra-rings)"),
-    extra_rings: int = typer.Option(1, "--extra-rings", help="rings beyond the start that the adaptive fits may use on noisy meshes"),
+    smoothing: int = typer.Option(3, "--smoothing", help="passes of curvature-tensor averaging over each vertex's 1-ring (0: none)"),
+    adaptive: bool = typer.Option(False, "--adaptive", help="also fit lower degrees on more rings and keep those the ICI rule accepts (see --extra-rings)"),
+    extra_rings: int = typer.Option(1, "--extra-rings", help="rings beyond the start that --adaptive fits may use"),
     no_cache: bool = typer.Option(False, "--no-cache", help="recompute even if a cached result exists"),
 ) -> None:
     """Estimate per-vertex principal curvatures and directions of MESH."""
@@ -173,7 +174,8 @@ def curvature(
     if out.suffix.lower() != ".npz":
         raise InputError(f"{out.name}: curvature is written as .npz")
     m = _mesh(mesh)
-    c = estimate_curvature(m, rings, degree, cache=not no_cache, adaptive=not fixed, extra_rings=extra_rings)
+    c = estimate_curvature(m, rings, degree, cache=not no_cache, adaptive=adaptive, extra_rings=extra_rings,
+                           smoothing=smoothing)
     c.save(out)
     typer.echo(f"wrote {out} ({len(c.k_min)} vertices, {int((~c.valid).sum())} without a fit; "
                f"curvature scale {c.scale():.4g} per unit)")
