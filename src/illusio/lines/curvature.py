@@ -1,6 +1,8 @@
 """Per-vertex principal curvatures and directions by fitting a local height function (a Monge-form
 "jet") over a breadth-first neighbourhood, as the report's step 1 does with CGAL's Monge_form
-(Figure 3.4), written here with numba.
+(Figure 3.4), written here with numba; then the fits' curvature tensors averaged over each vertex's
+1-ring a few times (each rotated into the vertex's tangent plane), which removes most of the noise
+a single fit keeps.
 
 Conventions: normals point outwards (the mesh's counter-clockwise winding); curvature is positive
 where the surface bends away from its normal, so a sphere of radius R has k_min = k_max = +1/R and a
@@ -84,13 +86,15 @@ def estimate_curvature(mesh: Mesh, rings: int = 2, degree: int = 4, cache: bool 
     support and lower degrees join and average it out.
 
     ``smoothing``: then average each vertex's curvature tensor with its 1-ring neighbours' this many
-    times (0: the fits as they are) and take the principal curvatures and directions from the
-    average. Each fit sees its own neighbourhood's noise; averaging the fits' tensors removes what
-    is left of it without the bias of one low-degree fit over a wide patch (a quadric over most of a
-    coarse torus's tube). Two passes: benchmarks/RESULTS.md gives the figures — on noisy coarse
-    surfaces the error drops by up to half, on clean coarse ones it grows a little (sphere-3
-    0.004 → 0.02, still a fifth of libigl's). ``dcurv`` comes from the cubic terms of the fits that
-    have them (zero when only quadrics joined), in the final principal frame."""
+    times (0: the fits as they are; each neighbour's tensor rotated into the vertex's tangent plane
+    first, so a sphere stays exact) and take the principal curvatures and directions from the
+    average. Each quartic sees its own neighbourhood's noise; averaging the fits' tensors removes
+    much of it without the bias of one low-degree fit over a wide patch (a quadric over most of a
+    coarse torus's tube), which is why the default is the plain quartic with three passes rather
+    than the adaptive fits (benchmarks/RESULTS.md: mean error 0.075 on the 24 analytic cases,
+    against 0.106 adaptive alone and 0.093 adaptive with three passes; clean surfaces with varying
+    curvature pay a little bias, ellipsoid-3 0.004 → 0.035). ``dcurv`` comes from the cubic terms of
+    the fits that have them (zero when only quadrics joined), in the final principal frame."""
     if degree not in (2, 3, 4):
         raise InputError(f"jet degree must be 2, 3 or 4, got {degree}")
     if not 1 <= rings <= 8:
@@ -332,8 +336,8 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
 def _smooth_tensors(normals, k_min, k_max, e_min, e_max, valid, offsets, neighbours, passes):
     """``passes`` rounds of averaging each valid vertex's curvature tensor k_min e_min e_minᵀ +
     k_max e_max e_maxᵀ (world space, 6 components) with its valid 1-ring neighbours' (uniform
-    weights; each neighbour's rotated into this vertex's tangent plane), then each vertex's principal curvatures and directions from the average restricted to
-    its tangent plane (``normals``: the fits' unit normals). e_max keeps the side of the fit's
+    weights; each neighbour's rotated into this vertex's tangent plane), then each vertex's
+    principal curvatures and directions from the average restricted to its tangent plane (``normals``: the fits' unit normals). e_max keeps the side of the fit's
     e_max, e_min = n × e_max as in :func:`_shape`. Arrays are updated in place."""
     n_vertices = len(k_min)
     tensor = np.zeros((n_vertices, 6))  # xx, xy, xz, yy, yz, zz
