@@ -7,6 +7,7 @@ Baselines in the same run: the G-buffer alone (what shading adds), shading witho
 from __future__ import annotations
 
 from illusio.core import Context
+from illusio.core.renderer import Frame
 from illusio.passes import RenderSettings, SceneRenderer
 from illusio.scene import builtin_scene, turntable
 from illusio.scene.builtin import shapes
@@ -24,16 +25,18 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     cases = [("office", builtin_scene("office")), ("mesh-1M", big)]
     for label, scene in cases:
         view = scene.camera()
-        tris = renderer.prepare(scene).triangle_count
+        renderer.prepare(scene)
+        tris = renderer.gpu_scene.triangle_count
+        frame = Frame(view, size)
 
         def gbuffer_only():
-            g = renderer.gbuffer(scene, view, size)
+            g = renderer.gbuffer(frame)
             ctx.finish()
             g.release()
 
         def shaded(shadows: bool, forward: bool = False):
             def go():
-                tex = renderer.render_texture(scene, view, size, RenderSettings(shadows=shadows, forward=forward))
+                tex = renderer.render_texture(frame, RenderSettings(shadows=shadows, forward=forward))
                 ctx.finish()
                 ctx.release(tex)
             return go
@@ -44,7 +47,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         timings.append(time_case(f"{label}/gbuffer+shading+shadows", shaded(True), repeat, notes=note))
         timings.append(time_case(f"{label}/forward", shaded(False, True), repeat, notes=note))
         timings.append(time_case(f"{label}/forward+shadows", shaded(True, True), repeat, notes=note))
-        renderer.invalidate()
+        renderer.release()
     by = {t.name: t.median_ms for t in timings}
     ratios = {}
     for label, _ in cases:

@@ -17,7 +17,8 @@ from illusio.scene import Pose, View, builtin_scene
 from illusio.scene.builtin import shapes
 from illusio.sis import reference
 from illusio.sis.depth import hidden_scene
-from illusio.sis.multiscene import MultiSceneParams, MultiSceneRenderer
+from illusio.core.renderer import Frame
+from illusio.sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
 from illusio.sis.params import StereogramParams
 from illusio.sis.stereogram import StereogramRenderer, quantise
 from illusio.sis.patterns import random_dots
@@ -45,7 +46,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         params = StereogramParams(algorithm=algorithm)
 
         def go():
-            out = renderer.render_texture(tex, params)
+            out = renderer.stereogram_texture(tex, params)
             ctx.finish()
             ctx.release(out)
         return go
@@ -72,6 +73,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     scene = builtin_scene("living-room")
     hidden = hidden_scene(shapes.torus_knot())
     multi = MultiSceneRenderer(ctx)
+    multi.prepare(MultiSceneSubject(scene, hidden))
     frame = [0]
     tv = scene.camera("tv")
 
@@ -81,13 +83,13 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             # a moving viewer: the camera turns a little every frame, so nothing of the last frame is
             # reused; a still one: only the TV is shaded again (MultiSceneParams.reuse_static)
             view = _turned(tv, 0.2 * (frame[0] % 20) - 2.0) if moving else tv
-            out = multi.render_texture(scene, hidden, view, (w, h), MultiSceneParams(), frame=frame[0])
+            out = multi.render_texture(Frame(view, (w, h), index=frame[0]), MultiSceneParams())
             ctx.finish()
             ctx.release(out)
         return go
 
     def scene_only():
-        out = multi.scene_renderer.render_texture(scene, tv, (w, h), replace(MultiSceneParams().settings, forward=True))
+        out = multi.scene_renderer.render_texture(Frame(tv, (w, h)), replace(MultiSceneParams().settings, forward=True))
         ctx.finish()
         ctx.release(out)
     timings.append(time_case("multiscene/tv frame", multiscene(True), repeat,

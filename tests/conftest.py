@@ -53,6 +53,12 @@ def models() -> Path:
     return MODELS
 
 
+def prepared(renderer, subject):
+    """``renderer`` after ``prepare(subject)`` (one line in tests)."""
+    renderer.prepare(subject)
+    return renderer
+
+
 def tolerance(dtype: str) -> dict:
     return TOLERANCES[dtype]
 

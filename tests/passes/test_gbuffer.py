@@ -1,6 +1,8 @@
 import numpy as np
 
+from illusio.core.renderer import Frame
 from illusio.passes import SceneRenderer, reference
+from tests.conftest import prepared
 from illusio.scene import Camera, Material, Node, Pose, Scene, View
 from illusio.scene.builtin import shapes
 from illusio.scene.mesh import Mesh
@@ -18,7 +20,7 @@ def test_depth_of_a_tilted_plane_matches_the_analytic_ray_plane_distance(ctx):
     s = _scene(Node("plane", shapes.plane((20, 20)), tilt))
     view = s.camera()
     size = (96, 72)
-    g = SceneRenderer(ctx).gbuffer(s, view, size)
+    g = prepared(SceneRenderer(ctx), s).gbuffer(Frame(view, size))
     img = g.read()
     g.release()
     normal = tilt[:3, :3] @ np.array([0, 1, 0.0])
@@ -38,7 +40,7 @@ def test_depth_of_a_sphere_matches_the_analytic_value(ctx):
     s = _scene(Node("ball", shapes.sphere(radius, 256, 128)))
     view = s.camera()
     size = (80, 80)
-    g = SceneRenderer(ctx).gbuffer(s, view, size)
+    g = prepared(SceneRenderer(ctx), s).gbuffer(Frame(view, size))
     img = g.read()
     g.release()
     eye = np.asarray(view.pose.position)
@@ -66,7 +68,7 @@ def test_gbuffer_matches_ray_cast_reference_on_random_triangles(ctx, rng):
         nodes.append(Node(f"soup-{k}", Mesh(v, f, normals), translate(rng.uniform(-0.3, 0.3, 3)), mat))
     s = _scene(*nodes)
     size = (64, 48)
-    g = SceneRenderer(ctx).gbuffer(s, s.camera(), size)
+    g = prepared(SceneRenderer(ctx), s).gbuffer(Frame(s.camera(), size))
     gpu = g.read()
     g.release()
     ref = reference.gbuffer(s, s.camera(), size)

@@ -1,12 +1,13 @@
 import numpy as np
 import pytest
 
+from illusio.core.renderer import Frame
 from illusio.passes import Emitters, SceneRenderer, ShadingParams, emitters_from_lights, reference
 from illusio.passes.gbuffer import GBuffer, GBufferImages
 from illusio.scene import AreaLight, Camera, Material, Node, PointLight, Pose, Scene, View
 from illusio.scene.builtin import shapes
 from illusio.scene.transforms import translate
-from tests.conftest import tolerance
+from tests.conftest import tolerance, prepared
 
 
 def _random_gbuffer(rng, w, h) -> GBufferImages:
@@ -68,7 +69,8 @@ def test_point_light_inverse_square_law(ctx):
     values = []
     for height in (1.0, 2.0):
         s = _plane_scene(PointLight((0, height, 0), intensity=4.0, shadows=False))
-        img = r.render(s, size=(65, 65))
+        r.prepare(s)
+        img = r.render(Frame(size=(65, 65)))
         values.append(img[32, 32, 0])
     assert values[0] / values[1] == pytest.approx(4.0, rel=0.02)
     assert values[1] == pytest.approx(0.5 / np.pi * 4.0 / 4.0, rel=0.02)  # ρ/π · I / h²
@@ -78,7 +80,7 @@ def test_area_light_sampled_as_points_approaches_the_disc_formula(ctx):
     """A small square lamp of radiance L far above gives E ≈ L·A/h² (its samples sum to L·A)."""
     side, h, radiance = 0.2, 3.0, 50.0
     lamp = AreaLight((0, h, 0), (side, 0, 0), (0, 0, side), radiance=radiance, samples=4, shadows=False)
-    img = SceneRenderer(ctx).render(_plane_scene(lamp), size=(65, 65))
+    img = prepared(SceneRenderer(ctx), _plane_scene(lamp)).render(Frame(size=(65, 65)))
     expected = 0.5 / np.pi * radiance * side * side / h**2
     assert img[32, 32, 0] == pytest.approx(expected, rel=0.01)
 
@@ -115,12 +117,12 @@ def test_forward_pass_matches_shading_reference_on_random_scenes(ctx, rng):
 
     scene = _random_scene(rng)
     view, size = scene.camera(), (96, 72)
-    renderer = SceneRenderer(ctx)
-    tex, ids = renderer.render_forward(scene, view, size, RenderSettings(shadows=False), object_ids=True)
+    renderer = prepared(SceneRenderer(ctx), scene)
+    tex, ids = renderer.render_forward(Frame(view, size), RenderSettings(shadows=False), object_ids=True)
     forward = ctx.readback(tex, 3)
     forward_ids = np.rint(ctx.readback(ids)[..., 0]).astype(np.int32)
     ctx.release(tex, ids)
-    gbuf = renderer.gbuffer(scene, view, size)
+    gbuf = renderer.gbuffer(Frame(view, size))
     g = gbuf.read()
     gbuf.release()
     expected = reference.shading(g, emitters_from_lights(scene.lights, False), view.pose.position,
@@ -136,9 +138,9 @@ def test_forward_and_deferred_paths_agree_with_shadows(ctx, rng):
     from illusio.passes import RenderSettings
 
     scene = _random_scene(rng)
-    renderer = SceneRenderer(ctx)
-    deferred = renderer.render(scene, size=(80, 60), settings=RenderSettings(shadows=True))
-    forward = renderer.render(scene, size=(80, 60), settings=RenderSettings(shadows=True, forward=True))
+    renderer = prepared(SceneRenderer(ctx), scene)
+    deferred = renderer.render(Frame(size=(80, 60)), RenderSettings(shadows=True))
+    forward = renderer.render(Frame(size=(80, 60)), RenderSettings(shadows=True, forward=True))
     close = np.abs(forward - deferred) < 5e-3 + 5e-3 * np.abs(deferred)
     assert close.mean() > 0.97  # silhouettes may rasterise one pixel apart
 
@@ -150,8 +152,8 @@ def test_screen_material_colours_its_nodes_from_a_screen_space_texture(ctx, rng)
     size = (64, 48)
     screen = rng.random((size[1], size[0], 3)).astype(np.float32)
     tex = ctx.upload(screen, filter="nearest")
-    renderer = SceneRenderer(ctx)
-    out, _ = renderer.render_forward(scene, scene.camera(), size, RenderSettings(shadows=False),
+    renderer = prepared(SceneRenderer(ctx), scene)
+    out, _ = renderer.render_forward(Frame(scene.camera(), size), RenderSettings(shadows=False),
                                      ScreenMaterial(tex, frozenset({0}), (0.5, 0.5, 0.5), emission=1.0))
     got = ctx.readback(out, 3)
     ctx.release(out)
@@ -168,7 +170,7 @@ def test_reused_static_layer_gives_the_full_forward_frame(ctx, rng):
 
     scene = _random_scene(rng)
     size = (80, 60)
-    renderer = SceneRenderer(ctx)
+    renderer = prepared(SceneRenderer(ctx), scene)
     settings = RenderSettings(shadows=False)
     other = View(Pose.orbit((0, 0.5, 0), 5.0, 10.0, 30.0), Camera(45.0, 0.1, 50.0))
     views = [scene.camera()] * 3 + [other] * 2
@@ -176,16 +178,19 @@ def test_reused_static_layer_gives_the_full_forward_frame(ctx, rng):
     for view in views:
         screen = ctx.upload(rng.random((size[1], size[0], 3)).astype(np.float32), filter="nearest")
         material = ScreenMaterial(screen, frozenset({1, 3}), (0.8, 0.7, 0.6), emission=0.5)
-        reused, _ = renderer.render_forward(scene, view, size, settings, material, reuse_static=True)
-        kept.append(renderer._static is not None)
-        whole, _ = renderer.render_forward(scene, view, size, settings, material)
+        reused, _ = renderer.render_forward(Frame(view, size), settings, material, reuse_static=True)
+        kept.append(renderer.static_layer_kept)
+        whole, _ = renderer.render_forward(Frame(view, size), settings, material)
         a, b = ctx.readback(reused, 3), ctx.readback(whole, 3)
         ctx.release(reused, whole)
         screen.release()
         assert (np.abs(a - b) <= 1e-6).mean() > 0.999
     assert kept == [False, True, True, False, True]
-    renderer.invalidate()
-    assert renderer._static is None
+    assert renderer.prepare(scene) is False  # the same scene by value: the layer stays
+    assert renderer.static_layer_kept
+    scene.nodes[0].material.colour = (0.1, 0.2, 0.3)  # an in-place edit: prepare sees it and drops the layer
+    assert renderer.prepare(scene) is True
+    assert not renderer.static_layer_kept
 
 
 def test_gbuffer_hook_replaces_attachments_before_shading(ctx, rng):
@@ -194,7 +199,7 @@ def test_gbuffer_hook_replaces_attachments_before_shading(ctx, rng):
 
     scene = _random_scene(rng)
     scene.lights.clear()  # ambient only: radiance = ambient · albedo + emission
-    renderer = SceneRenderer(ctx)
+    renderer = prepared(SceneRenderer(ctx), scene)
     size = (48, 36)
 
     def white_albedo(gbuf):
@@ -203,15 +208,15 @@ def test_gbuffer_hook_replaces_attachments_before_shading(ctx, rng):
         ctx.release(gbuf.textures["colour"])
         gbuf.textures["colour"] = colour
 
-    tex = renderer.render_texture(scene, scene.camera(), size, RenderSettings(shadows=False), gbuffer_hook=white_albedo)
+    tex = renderer.render_texture(Frame(scene.camera(), size), RenderSettings(shadows=False), gbuffer_hook=white_albedo)
     got = ctx.readback(tex, 3)
     ctx.release(tex)
-    g = renderer.gbuffer(scene, scene.camera(), size)
+    g = renderer.gbuffer(Frame(scene.camera(), size))
     hit = g.read().mask
     g.release()
     np.testing.assert_allclose(got[hit], np.broadcast_to(np.asarray(scene.ambient, np.float32), got[hit].shape), atol=1e-5)
     with pytest.raises(InputError):
-        renderer.render_texture(scene, scene.camera(), size, RenderSettings(forward=True), gbuffer_hook=white_albedo)
+        renderer.render_texture(Frame(scene.camera(), size), RenderSettings(forward=True), gbuffer_hook=white_albedo)
 
 
 def test_front_to_back_distances_match_each_transformed_bounding_box(ctx, rng):

@@ -1,6 +1,8 @@
 import numpy as np
 
+from illusio.core.renderer import Frame
 from illusio.passes import RenderSettings, SceneRenderer
+from tests.conftest import prepared
 from illusio.scene import Camera, Material, Node, PointLight, Pose, Scene, View
 from illusio.scene.builtin import shapes
 from illusio.scene.transforms import translate
@@ -15,11 +17,11 @@ def test_shadow_of_a_sphere_on_a_plane_matches_the_analytic_shadow(ctx):
     ], lights=[PointLight(tuple(light), intensity=12.0)])
     view = View(Pose((0, 9, 0.01), (0, 0, 0)), Camera(40.0, 0.1, 50.0))
     size = (128, 128)
-    r = SceneRenderer(ctx)
-    g = r.gbuffer(s, view, size)
+    r = prepared(SceneRenderer(ctx), s)
+    g = r.gbuffer(Frame(view, size))
     gb = g.read()
     g.release()
-    lit = r.render(s, view, size, RenderSettings(shadows=True))[..., 1]
+    lit = r.render(Frame(view, size), RenderSettings(shadows=True))[..., 1]
     floor = gb.object_id == 1
     # analytic: does the segment floor point -> light hit the sphere?
     p = gb.position[floor].astype(np.float64)

@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from illusio.core.renderer import Frame
 from illusio.passes import SceneRenderer
 from illusio.passes import gpu_scene as gpu_scene_module
 from illusio.passes.scene_renderer import RenderSettings
@@ -121,19 +122,21 @@ def test_each_node_gets_the_filtering_its_footprint_needs_from_a_shared_texture(
     scene, view = _two_planes(texture)
     renderer = SceneRenderer(ctx)
     settings = RenderSettings(shadows=False, forward=True)
-    gpu = renderer.prepare(scene)
+    renderer.prepare(scene)
+    gpu = renderer.gpu_scene
     size = (320, 240)
     wall, floor = scene.nodes
     assert gpu.anisotropy(wall, view, size) == 1.0
     assert gpu.anisotropy(floor, view, size) == gpu_scene_module.MAX_ANISOTROPY
-    chosen = renderer.render(scene, view, size, settings)
+    chosen = renderer.render(Frame(view, size), settings)
     forced = {}
     for name, value in (("trilinear", 1.0), ("anisotropic", gpu_scene_module.MAX_ANISOTROPY)):
         monkeypatch.setattr(gpu_scene_module.GpuScene, "anisotropy", lambda self, node, view, size, value=value: value)
-        forced[name] = renderer.render(scene, view, size, settings)
+        forced[name] = renderer.render(Frame(view, size), settings)
     monkeypatch.undo()
     floor.visible = False
-    on_wall = renderer.render(scene, view, size, settings).max(axis=-1) > 0
+    renderer.prepare(scene)  # an in-place edit: prepared again (compared by value)
+    on_wall = renderer.render(Frame(view, size), settings).max(axis=-1) > 0
     on_floor = (chosen.max(axis=-1) > 0) & ~on_wall
     assert on_wall.sum() > 5000 and on_floor.sum() > 5000
     assert np.abs(forced["trilinear"] - forced["anisotropic"])[on_floor].max() > 0.01  # the choice shows
@@ -148,12 +151,13 @@ def test_trilinear_filtering_of_a_round_footprint_is_as_accurate_as_anisotropic(
     scene, view = _two_planes(texture)
     scene.nodes[1].visible = False
     renderer = SceneRenderer(ctx)
+    renderer.prepare(scene)
     settings = RenderSettings(shadows=False, forward=True)
     w, h, k = 240, 160, 4
     monkeypatch.setattr(gpu_scene_module.GpuScene, "anisotropy", lambda self, node, view, size: 16.0)
-    reference = renderer.render(scene, view, (w * k, h * k), settings).reshape(h, k, w, k, 3).mean(axis=(1, 3))
+    reference = renderer.render(Frame(view, (w * k, h * k)), settings).reshape(h, k, w, k, 3).mean(axis=(1, 3))
     errors = {}
     for value in (1.0, gpu_scene_module.MAX_ANISOTROPY):
         monkeypatch.setattr(gpu_scene_module.GpuScene, "anisotropy", lambda self, node, view, size, value=value: value)
-        errors[value] = np.abs(renderer.render(scene, view, (w, h), settings) - reference).mean()
+        errors[value] = np.abs(renderer.render(Frame(view, (w, h)), settings) - reference).mean()
     assert errors[1.0] <= 1.05 * errors[gpu_scene_module.MAX_ANISOTROPY]

@@ -1,7 +1,9 @@
 import numpy as np
 import pytest
 
+from illusio.core.renderer import Frame
 from illusio.passes import SceneRenderer
+from tests.conftest import prepared
 from illusio.scene import SHAPES, builtin_scene, shape
 from illusio.scene.mesh import face_normals
 
@@ -39,7 +41,7 @@ RECOGNISABLE = {
 @pytest.mark.parametrize("name", list(RECOGNISABLE))
 def test_builtin_scene_main_view_shows_its_defining_parts(ctx, name):
     scene = builtin_scene(name)
-    g = SceneRenderer(ctx).gbuffer(scene, scene.camera(), (320, 200))
+    g = prepared(SceneRenderer(ctx), scene).gbuffer(Frame(scene.camera(), (320, 200)))
     ids = g.read().object_id
     g.release()
     total = ids.size

@@ -10,7 +10,15 @@ from illusio.sis.decode import check
 from illusio.sis.params import StereogramParams
 from illusio.sis.patterns import snow
 from illusio.sis.snow import SnowPass
+from illusio.core.renderer import Frame
 from illusio.sis.stereogram import StereogramRenderer, quantise, stereogram_cpu
+
+
+def one_frame(ctx, depth, params, index=0):
+    """The stereogram of ``depth`` through the Renderer protocol, at the depth map's size."""
+    renderer = StereogramRenderer(ctx)
+    renderer.prepare(depth)
+    return renderer.render(Frame(size=(depth.shape[1], depth.shape[0]), index=index), params)
 from tests.sis.test_reference import smooth_depth
 
 
@@ -26,7 +34,7 @@ def test_gpu_matches_reference(ctx, rng, algorithm):
     params = StereogramParams(algorithm=algorithm, strip_width=float(rng.integers(40, 90)),
                               depth_factor=float(rng.integers(10, 40)), pattern="colour-dots",
                               dot_size=int(rng.integers(1, 4)), seed=int(rng.integers(1 << 30)))
-    gpu = StereogramRenderer(ctx).render(depth, params)
+    gpu = one_frame(ctx, depth, params)
     cpu = stereogram_cpu(depth, params)
     np.testing.assert_array_equal(gpu, cpu)
 
@@ -138,7 +146,7 @@ def test_every_gpu_algorithm_decodes_back_to_its_depth(ctx, rng, algorithm):
     h, w = 100, 640
     depth = smooth_depth(rng, h, w)
     params = StereogramParams(algorithm=algorithm, strip_width=60, depth_factor=30, seed=int(rng.integers(1 << 30)))
-    image = StereogramRenderer(ctx).render(depth, params)
+    image = one_frame(ctx, depth, params)
     report = check(image, R.separation(depth, 60, 30), 90, "centre" if algorithm == "symmetric" else "left")
     assert report.matched >= 0.99, str(report)
     assert report.checked >= 0.5 * h * w, str(report)
@@ -147,7 +155,7 @@ def test_every_gpu_algorithm_decodes_back_to_its_depth(ctx, rng, algorithm):
 def test_oversampled_stereogram_keeps_its_size_and_guides(ctx, rng):
     depth = smooth_depth(rng, 60, 300)
     p = StereogramParams(strip_width=50, depth_factor=30, oversample=4, guides=True)
-    image = StereogramRenderer(ctx).render(depth, p)
+    image = one_frame(ctx, depth, p)
     assert image.shape == (60, 300, 3)
     assert 0 < image.mean() < 1
     # the guide dots: black discs centred (W_s + β) apart near the top

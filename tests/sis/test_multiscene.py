@@ -8,7 +8,8 @@ from illusio.scene.builtin import shape
 from illusio.scene.camera import Camera, Pose, View
 from illusio.scene.scene import Node, Scene
 from illusio.sis.decode import check
-from illusio.sis.multiscene import MultiSceneParams, MultiSceneRenderer
+from illusio.core.renderer import Frame
+from illusio.sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
 from illusio.sis.reference import separation
 
 
@@ -17,13 +18,27 @@ def hidden_scene():
                  cameras={"main": View(Pose((0, 0, 4.5), (0, 0, 0)), Camera(35, 0.1, 20))})
 
 
+def render(renderer, scene, view, size, params, frame, keep=None):
+    """One frame through the protocol; ``keep`` receives the maps as arrays (depth, stereogram, and
+    the host's visible pixels from the object ids)."""
+    renderer.object_ids = keep is not None
+    renderer.prepare(MultiSceneSubject(scene, hidden_scene()))
+    image = renderer.render(Frame(view, size, index=frame), params)
+    if keep is not None:
+        maps = renderer.maps()
+        keep["depth"] = renderer.ctx.readback(maps["depth"])[..., 0]
+        keep["stereogram"] = renderer.ctx.readback(maps["stereogram"], 3)
+        keep["visible"] = renderer.host_mask(params)
+    return image
+
+
 @pytest.mark.parametrize("host, camera, emission", [("tv-screen", "tv", 0.9), ("back-wall", "main", 0.0)])
 def test_host_shows_a_stereogram_of_the_hidden_scene(ctx, host, camera, emission):
     scene = load_scene("living-room")
     keep = {}
     size = (960, 540)
     params = MultiSceneParams(host=host, emission=emission)
-    image = MultiSceneRenderer(ctx).render(scene, hidden_scene(), scene.camera(camera), size, params, frame=3, keep=keep)
+    image = render(MultiSceneRenderer(ctx), scene, scene.camera(camera), size, params, 3, keep)
     depth = keep["depth"]
     host_mask = depth >= 0
     visible = keep["visible"]
@@ -49,16 +64,17 @@ def test_still_camera_frames_change_only_on_the_host_and_match_whole_renders(ctx
     view, size = scene.camera("tv"), (320, 180)
     multi = MultiSceneRenderer(ctx)
     keep = {}
-    multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=1, keep=keep)
+    render(multi, scene, view, size, MultiSceneParams(), 1, keep)
     host = keep["depth"] >= 0
-    a = multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=4)
-    b = multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=5)  # the kept layer
-    whole = multi.render(scene, hidden_scene(), view, size, MultiSceneParams(reuse_static=False), frame=5)
+    a = render(multi, scene, view, size, MultiSceneParams(), 4)
+    b = render(multi, scene, view, size, MultiSceneParams(), 5)  # the kept layer
+    assert multi.scene_renderer.static_layer_kept
+    whole = render(multi, scene, view, size, MultiSceneParams(reuse_static=False), 5)
     changed = np.abs(a - b).max(axis=-1) > 1e-6
     assert changed.any() and not (changed & ~host).any()  # the snow moves, nothing else
     assert (np.abs(b - whole) <= 1e-6).mean() > 0.999
     multi.release()  # frees the kept layer and the scenes' GPU copies; still usable
-    np.testing.assert_allclose(multi.render(scene, hidden_scene(), view, size, MultiSceneParams(), frame=5), whole, atol=1e-6)
+    np.testing.assert_allclose(render(multi, scene, view, size, MultiSceneParams(), 5), whole, atol=1e-6)
 
 
 def test_texture_stereogram_covers_the_whole_host_with_its_texture(ctx, rng, tmp_path):
@@ -73,8 +89,47 @@ def test_texture_stereogram_covers_the_whole_host_with_its_texture(ctx, rng, tmp
     scene = load_scene("living-room")
     params = MultiSceneParams(host="back-wall", emission=0.0, stereogram=StereogramParams(pattern=str(texture)))
     keep = {}
-    MultiSceneRenderer(ctx).render(scene, hidden_scene(), scene.camera("main"), (480, 300), params, frame=1, keep=keep)
+    render(MultiSceneRenderer(ctx), scene, scene.camera("main"), (480, 300), params, 1, keep)
     host = keep["depth"] >= 0
     last = np.where(host.any(axis=1), host.shape[1] - 1 - np.argmax(host[:, ::-1], axis=1), -1)
     assert (last == host.shape[1] - 1).any()  # the wall reaches the right edge in some rows
     assert (keep["stereogram"][host].max(axis=-1) > 0).all()
+
+
+def test_host_projection_pass_matches_reference_on_a_tilted_quad(ctx, rng):
+    """Steps (2) + (4) against sis.reference.host_projection: a random parallelogram host seen from a
+    random view, random D and pattern; D within 1e-3 (bilinear weights in float32), the pattern's
+    nearest texel equal on nearly every pixel (ties at texel borders may round either way)."""
+    from illusio.passes.gpu_scene import GpuScene
+    from illusio.scene.mesh import Mesh
+    from illusio.sis import reference
+    from illusio.sis.host_projection import HostProjectionPass
+
+    p0 = rng.uniform(-0.3, 0.3, 3) + (-1.0, -0.7, 0.0)
+    e1 = np.array([2.0, rng.uniform(-0.3, 0.3), rng.uniform(-0.5, 0.5)])
+    e2 = np.array([rng.uniform(-0.3, 0.3), 1.4, rng.uniform(-0.5, 0.5)])
+    corners = np.array([p0, p0 + e1, p0 + e2, p0 + e1 + e2], np.float32)
+    uv_lo, uv_hi = rng.uniform(0, 0.3, 2), rng.uniform(0.7, 1.0, 2)
+    uvs = np.array([uv_lo, (uv_hi[0], uv_lo[1]), (uv_lo[0], uv_hi[1]), uv_hi], np.float32)
+    mesh = Mesh(corners, np.array([[0, 1, 3], [0, 3, 2]], np.int32), uvs=uvs, name="host")
+    scene = Scene(name="host", nodes=[Node("host", mesh)])
+    view = View(Pose(tuple(rng.uniform(-0.6, 0.6, 2)) + (2.5,), (0.0, 0.0, 0.0)), Camera(50.0, 0.1, 20.0))
+    size = (96, 72)
+    depth = rng.random((24, 40)).astype(np.float32)
+    pattern = (rng.random((16, 12, 3)) * 255).round().astype(np.uint8)
+    repeat = (2.0, 3.0)
+    gpu = GpuScene(ctx, scene)
+    d_tex = ctx.upload(depth, filter="linear")
+    p_tex = ctx.upload(pattern, filter="nearest")
+    d_out, p_out = HostProjectionPass(ctx)(gpu, list(enumerate(scene.nodes)), view, size, d_tex, p_tex, repeat)
+    got_d, got_p = ctx.readback(d_out)[..., 0], ctx.readback(p_out, 3)
+    ctx.release(d_out, p_out)
+    d_tex.release(), p_tex.release(), gpu.release()
+    want_d, want_p = reference.host_projection(corners[:3], uvs[:3], view.view_projection(size), size, depth,
+                                               pattern.astype(np.float32) / 255, repeat)
+    on_both = (got_d >= 0) & (want_d >= 0)
+    assert on_both.sum() > 0.25 * got_d.size
+    assert ((got_d >= 0) != (want_d >= 0)).mean() < 0.01  # edges may rasterise one pixel apart
+    np.testing.assert_allclose(got_d[on_both], want_d[on_both], atol=1e-3)
+    same = np.abs(got_p - want_p).max(axis=-1) <= 1 / 255 + 1e-6
+    assert same[on_both].mean() > 0.97

@@ -23,7 +23,7 @@ def render(
 ) -> None:
     """Render SCENE to an image."""
     from ..core.context import Context
-    from ..passes.scene_renderer import SceneRenderer
+    from ..passes.scene_renderer import render_scene
 
     out = check_output_path(output, scene_inputs(scene))
     w, h = parse_size(size)
@@ -31,7 +31,6 @@ def render(
         raise InputError(f"--exposure must be positive, got {exposure}")
     sc = resolve_scene(scene)
     view = sc.camera(camera)
-    ctx = Context()
-    img = SceneRenderer(ctx, RenderSettings(shadows=shadows, exposure=exposure)).render(sc, view, (w, h))
+    img = render_scene(sc, view, (w, h), Context(), RenderSettings(shadows=shadows, exposure=exposure))
     write_image(out, img, bit_depth=bit_depth)
     typer.echo(f"wrote {out} ({w}×{h})")

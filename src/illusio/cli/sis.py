@@ -152,7 +152,8 @@ def sis_scene(
     from ..scene.builtin import SHAPES, shape
     from ..scene.mesh import load_mesh
     from ..sis.depth import hidden_scene
-    from ..sis.multiscene import MultiSceneParams, MultiSceneRenderer
+    from ..core.renderer import Frame
+    from ..sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
     from .common import resolve_scene
 
     out = check_output_path(output, scene_inputs(scene) + scene_inputs(hidden))
@@ -170,11 +171,11 @@ def sis_scene(
                                                                      depth_factor=depth_factor, seed=seed),
                               emission=emission, interactive=interactive, spin=spin)
     renderer = MultiSceneRenderer(Context())
-    hidden_sc = hidden_scene(hidden_mesh)
+    renderer.prepare(MultiSceneSubject(main, hidden_scene(hidden_mesh)))
     images = []
     with progress(frames, "rendering frames") as advance:
         for f in range(frames):
-            images.append(renderer.render(main, hidden_sc, view, (w, h), params, frame=f))
+            images.append(renderer.render(Frame(view, (w, h), f / 24, f), params))
             advance()
     write_image(out, images[0])
     typer.echo(f"wrote {out} ({w}×{h})")

@@ -16,9 +16,9 @@ import numpy as np
 from .errors import APT_HINT, GLUnavailable
 from .fullscreen import FullscreenTriangle
 from .programs import ProgramCache
-from .textures import TexturePool, TextureSpec, readback, upload
+from .textures import TexturePool, TextureSpec, readback, upload, write_texture
 
-__all__ = ["Context", "REQUIRED_GL"]
+__all__ = ["Context", "REQUIRED_GL", "default_context"]
 
 REQUIRED_GL = 430
 _CURRENT: list["Context | None"] = [None]  # the Context whose GL context was made current last (one GL thread)
@@ -45,6 +45,7 @@ class Context:
         self.textures = TexturePool(gl)
         self.fullscreen = FullscreenTriangle(gl)
         self._framebuffers: dict[tuple, moderngl.Framebuffer] = {}
+        self._kept: dict[type, Any] = {}
         _CURRENT[0] = self  # creating a context makes it current
 
     def make_current(self) -> None:
@@ -59,6 +60,14 @@ class Context:
     def wrap(cls, gl: moderngl.Context) -> "Context":
         """Adopt an existing context (a window's)."""
         return cls(gl)
+
+    def kept(self, renderer_class):
+        """One renderer of ``renderer_class`` kept on this context for the one-shot functions
+        (``stereogram(depth)``): compiled passes and patterns are paid for once per process."""
+        renderer = self._kept.get(renderer_class)
+        if renderer is None:
+            renderer = self._kept[renderer_class] = renderer_class(self)
+        return renderer
 
     # -- small conveniences every pass uses -------------------------------------------------
     def program(self, path: str, varyings: tuple[str, ...] = (), **defines: Any):
@@ -79,6 +88,39 @@ class Context:
     def readback(self, texture: moderngl.Texture, components: int | None = None) -> np.ndarray:
         self.make_current()
         return readback(texture, components)
+
+    def upload_into(self, texture: moderngl.Texture, array: np.ndarray) -> moderngl.Texture:
+        """Write an (H, W[, C]) array with row 0 at the top into ``texture`` (same size, channels and
+        dtype class), e.g. one acquired from the pool, instead of creating a texture per upload."""
+        self.make_current()
+        return write_texture(texture, array)
+
+    def acquire_upload(self, array: np.ndarray, filter: str = "nearest") -> moderngl.Texture:
+        """A pooled texture holding ``array`` (float32, or uint8 as normalised values); release it."""
+        a = np.asarray(array)
+        c = 1 if a.ndim == 2 else a.shape[2]
+        dtype = "f1" if a.dtype == np.uint8 else "f4"
+        tex = self.acquire((a.shape[1], a.shape[0]), c, dtype, filter=filter)
+        return self.upload_into(tex, a)
+
+    def readback_image(self, texture: moderngl.Texture, components: int = 3, clip: bool = True) -> np.ndarray:
+        """The first ``components`` channels of a colour texture as float32 (H, W, C), row 0 at the
+        top, clipped to [0, 1] unless ``clip`` is False: GL drops the extra channels, and the flip,
+        the conversion and the clip are one NumPy pass (the array path of every Renderer)."""
+        fbo = self.framebuffer([texture])
+        w, h = texture.size
+        out = np.empty((h, w, components), np.float32)
+        if texture.dtype == "f1":
+            raw = np.frombuffer(fbo.read(components=components, dtype="f1", alignment=1), np.uint8)
+            np.divide(raw.reshape(h, w, components)[::-1], np.float32(255), out=out)
+            return out
+        raw = np.frombuffer(fbo.read(components=components, dtype="f4", alignment=1), np.float32)
+        flipped = raw.reshape(h, w, components)[::-1]
+        if clip:
+            np.clip(flipped, 0.0, 1.0, out=out)
+        else:
+            out[...] = flipped
+        return out
 
     def readback_u8(self, texture: moderngl.Texture, components: int = 1) -> np.ndarray:
         """The first ``components`` channels as uint8 (H, W, C), row 0 at the top, converted by GL
@@ -124,12 +166,30 @@ class Context:
 
     def release_all(self) -> None:
         self.make_current()
+        for renderer in self._kept.values():
+            renderer.release()
+        self._kept.clear()
         for fbo in self._framebuffers.values():
             fbo.release()
         self._framebuffers.clear()
         self.textures.clear()
         self.gl.release()
+        self.gl = None
         _CURRENT[0] = None
+        if _DEFAULT[0] is self:
+            _DEFAULT[0] = None
+
+
+_DEFAULT: list["Context | None"] = [None]
+
+
+def default_context() -> Context:
+    """The process's headless context for one-shot functions (``stereogram(depth)``), made on first
+    use and kept: a new GL context per call costs more than the work. Renderers, passes, the CLI and
+    the viewer take a Context explicitly; this is only the one-shot functions' default."""
+    if _DEFAULT[0] is None or _DEFAULT[0].gl is None:
+        _DEFAULT[0] = Context()
+    return _DEFAULT[0]
 
 
 def _create_headless(backend: str | None) -> moderngl.Context:

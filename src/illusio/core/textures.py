@@ -14,7 +14,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["TextureSpec", "TexturePool", "upload", "readback", "GL_DTYPES"]
+__all__ = ["TextureSpec", "TexturePool", "upload", "write_texture", "readback", "GL_DTYPES"]
 
 # numpy dtype -> moderngl dtype string
 GL_DTYPES = {np.dtype(np.float32): "f4", np.dtype(np.float16): "f2", np.dtype(np.uint8): "f1",
@@ -110,6 +110,24 @@ def upload(gl: moderngl.Context, array: np.ndarray, *, filter: str = "linear", m
     tex.filter = (moderngl.LINEAR_MIPMAP_LINEAR if mipmaps else f, f)
     tex.repeat_x = tex.repeat_y = repeat
     return tex
+
+
+def write_texture(texture: moderngl.Texture, array: np.ndarray) -> moderngl.Texture:
+    """Write an (H, W) or (H, W, C) array, row 0 at the top, into an existing texture of the same
+    size and channels (float arrays into float textures, uint8 into 'f1'). Returns the texture."""
+    a = np.asarray(array)
+    if a.ndim == 2:
+        a = a[:, :, None]
+    w, h = texture.size
+    if a.shape != (h, w, texture.components):
+        raise InputError(f"cannot write an array of shape {np.shape(array)} into a {w}×{h}×{texture.components} texture")
+    want = _NP_DTYPES[texture.dtype]
+    if a.dtype != want:
+        if texture.dtype == "f1" or a.dtype.kind not in "fiu":
+            raise InputError(f"cannot write dtype {a.dtype} into a {texture.dtype} texture")
+        a = a.astype(want)
+    texture.write(np.ascontiguousarray(a[::-1]), alignment=1)
+    return texture
 
 
 def readback(texture: moderngl.Texture, components: int | None = None, level: int = 0) -> np.ndarray:

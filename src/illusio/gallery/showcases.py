@@ -8,6 +8,7 @@ from typing import Callable
 
 from ..core.context import Context
 from ..core.images import write_image
+from ..core.renderer import Frame
 from ..passes.scene_renderer import SceneRenderer
 from ..scene.builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .html import Item, Section
@@ -24,13 +25,14 @@ def builtin_scenes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
                       "Lambert + Phong shading from point and rectangular area lights.")
     for name in SCENES:
         scene = builtin_scene(name)
+        renderer.prepare(scene)
         for cam_name, view in scene.cameras.items():
             t0 = time.perf_counter()
-            img = renderer.render(scene, view, size)
+            img = renderer.render(Frame(view, size))
             ms = (time.perf_counter() - t0) * 1000
             rel = f"scenes/{name}-{cam_name}.png"
             write_image(out_dir / rel, img)
-            tris = renderer.prepare(scene).triangle_count
+            tris = renderer.gpu_scene.triangle_count
             section.items.append(Item(rel, f"{name} — camera '{cam_name}'",
                                       f"{len(scene.nodes)} nodes, {tris:,} triangles, {len(scene.lights)} lights; "
                                       f"{size[0]}×{size[1]} in {ms:.0f} ms on {ctx.info()['renderer']}"))
@@ -44,7 +46,8 @@ def builtin_shapes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
     small = (max(1, size[0] // 2), max(1, size[1] // 2))
     for name in SHAPES:
         scene = turntable(shape(name))
-        img = renderer.render(scene, None, small)
+        renderer.prepare(scene)
+        img = renderer.render(Frame(None, small))
         rel = f"shapes/{name}.png"
         write_image(out_dir / rel, img)
         m = scene.node("subject").mesh

@@ -15,7 +15,8 @@ from ..scene import builtin_scene
 from ..scene.builtin import shape, textures
 from ..sis.decode import check
 from ..sis.depth import depth_from_scene, hidden_scene
-from ..sis.multiscene import MultiSceneParams, MultiSceneRenderer
+from ..core.renderer import Frame
+from ..sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
 from ..sis.params import ALGORITHMS, StereogramParams
 from ..sis.physics import Screen, depth_range, separation_px
 from ..sis.reference import separation
@@ -33,20 +34,21 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     section.items.append(separation_plot(out_dir, "sis/figure-20.png"))
     sis = StereogramRenderer(ctx)
     depth = depth_from_scene(ctx, hidden_scene(shape("torus-knot")), (w, h))
+    sis.prepare(depth)
     write_image(out_dir / "sis/depth.png", 1.0 - depth)
     section.items.append(Item("sis/depth.png", "Figure 28 — depth map", "rendered torus knot, white = near"))
     base = StereogramParams(strip_width=max(2.0, 100 * scale), depth_factor=max(1.0, 50 * scale), guides=True)
     texture_path = out_dir / "sis/planks-texture.png"
     write_image(texture_path, textures.planks(256, 3, 5))  # the wallpaper stripes are too faint to fuse
     for name, params in (("random-dot", base), ("texture", StereogramParams(**{**base.__dict__, "pattern": str(texture_path)}))):
-        img = sis.render(depth, params)
+        img = sis.render(Frame(size=(w, h)), params)
         rel = f"sis/{name}.png"
         write_image(out_dir / rel, img)
         section.items.append(Item(rel, f"Figure 28 — {name} stereogram", f"fast GPU pass, W_s = {params.strip_width:.0f}, β = {params.depth_factor:.0f} px"))
     sep = separation(depth, base.strip_width, base.depth_factor)
     for algorithm in ALGORITHMS:
         params = StereogramParams(**{**base.__dict__, "algorithm": algorithm, "guides": False})
-        img = sis.render(depth, params)
+        img = sis.render(Frame(size=(w, h)), params)
         report = check(img, sep, int(params.far_separation + 0.5), "centre" if algorithm == "symmetric" else "left")
         rel = f"sis/algorithm-{algorithm}.png"
         write_image(out_dir / rel, img)
@@ -54,19 +56,19 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     scene = builtin_scene("living-room")
     multi = MultiSceneRenderer(ctx)
     hidden = hidden_scene(shape("torus-knot"))
+    multi.prepare(MultiSceneSubject(scene, hidden))
     for camera in ("tv", "main"):
-        keep = {}
-        img = multi.render(scene, hidden, scene.camera(camera), (w, h), MultiSceneParams(), frame=1, keep=keep)
+        img = multi.render(Frame(scene.camera(camera), (w, h), index=1), MultiSceneParams())
         rel = f"sis/tv-{camera}.png"
         write_image(out_dir / rel, img)
         section.items.append(Item(rel, f"Figure 23 — TV snow hiding a torus knot ('{camera}' camera)", "stereogram computed in screen space, shown as the TV's glow"))
-        d = keep["depth"]
+        d = ctx.readback(multi.maps()["depth"])[..., 0]
         write_image(out_dir / f"sis/tv-{camera}-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
         section.items.append(Item(f"sis/tv-{camera}-depth.png", "its screen-space depth (step 2 of Figure 22)", "white = near, black = off the TV"))
     frames = []
     spinning = MultiSceneParams(spin=15.0)
     for f in range(24):  # the snow changes and the hidden knot turns every frame
-        frames.append(multi.render(scene, hidden, scene.camera("tv"), (w // 2, h // 2), spinning, frame=f))
+        frames.append(multi.render(Frame(scene.camera("tv"), (w // 2, h // 2), f / 24, f), spinning))
     write_video(out_dir / "sis/tv-animated.gif", frames)
     section.items.append(Item("sis/tv-animated.gif", "Section 4.3 — animated snow and a turning hidden knot",
                               "24 frames, 15° per frame; each frame's stereogram is recomputed from the new depth and snow"))
@@ -74,17 +76,18 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     write_image(wall_texture, textures.value_noise(256, 32, seed=4)[..., None] * np.array([0.55, 0.45, 0.35]) + np.array([0.35, 0.3, 0.25]))
     wall = MultiSceneParams(host="back-wall", stereogram=StereogramParams(pattern=str(wall_texture), strip_width=100, depth_factor=40),
                             emission=0.0)
-    keep = {}
-    img = multi.render(scene, hidden_scene(shape("torus")), scene.camera("main"), (w, h), wall, frame=1, keep=keep)
+    multi.prepare(MultiSceneSubject(scene, hidden_scene(shape("torus"))))
+    img = multi.render(Frame(scene.camera("main"), (w, h), index=1), wall)
     write_image(out_dir / "sis/wall.png", img)
     section.items.append(Item("sis/wall.png", "Figure 24 — a texture stereogram as the wall behind the sofa",
                               "the wall's mottled texture hides a torus; lit like any wall (no glow)"))
-    d = keep["depth"]
+    d = ctx.readback(multi.maps()["depth"])[..., 0]
     write_image(out_dir / "sis/wall-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
     section.items.append(Item("sis/wall-depth.png", "Figure 24 (bottom) — the wall's screen-space depth", "white = near, black = off the wall"))
     interactive = MultiSceneParams(host="rug", stereogram=StereogramParams(pattern="random-dot", strip_width=100, depth_factor=40),
                                    emission=0.0, interactive=True)
-    img = multi.render(scene, hidden, scene.camera("main"), (w, h), interactive, frame=1)
+    multi.prepare(MultiSceneSubject(scene, hidden))
+    img = multi.render(Frame(scene.camera("main"), (w, h), index=1), interactive)
     write_image(out_dir / "sis/interactive-rug.png", img)
     section.items.append(Item("sis/interactive-rug.png", "Figure 25 — interaction mode on the rug",
                               "the hidden knot is seen from where the viewer stands relative to the rug"))

@@ -61,7 +61,7 @@ def score(predicted: np.ndarray, target: np.ndarray, tolerance: float = 2.0) -> 
 def phong_render(ctx, mesh, view, size) -> np.ndarray:
     """The shaded image the edge detectors see (report, chapter 4): the mesh in grey Lambert + Phong,
     lit by a lamp at the eye and one above it, on a white background. (H, W, 3) linear."""
-    from ..passes.scene_renderer import RenderSettings, SceneRenderer
+    from ..passes.scene_renderer import RenderSettings, render_scene
     from ..scene.scene import Material, Node, PointLight, Scene
 
     eye = np.asarray(view.pose.position, np.float64)
@@ -72,7 +72,7 @@ def phong_render(ctx, mesh, view, size) -> np.ndarray:
                   lights=[PointLight(tuple(eye), intensity=reach**2 * 2.2, shadows=False),
                           PointLight(tuple(eye + (up + right * 0.5) * reach), intensity=reach**2 * 1.2, shadows=False)],
                   ambient=(0.05, 0.05, 0.05), background=(1.0, 1.0, 1.0))
-    return SceneRenderer(ctx, RenderSettings(shadows=False)).render(scene, view, size)
+    return render_scene(scene, view, size, ctx, RenderSettings(shadows=False))
 
 
 def image_edges(image: np.ndarray, method: str = "canny", sigma: float = 1.5, fraction: float = 0.08) -> np.ndarray:

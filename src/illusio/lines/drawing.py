@@ -16,7 +16,7 @@ import numpy as np
 
 from ..core.context import Context
 from ..core.errors import InputError
-from ..passes.gpu_scene import set_uniform
+from ..core.gl import set_uniform
 from ..scene.camera import Camera, Pose, View
 from ..scene.mesh import Mesh
 from .curvature import Curvature, estimate_curvature

@@ -7,7 +7,7 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
-from ..passes.gpu_scene import set_uniform
+from ..core.gl import set_uniform
 
 __all__ = ["adaptive_laplacian", "RidgeFilterPass", "REPORT_THRESHOLD"]
 

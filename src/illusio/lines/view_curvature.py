@@ -18,7 +18,7 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
-from ..passes.gpu_scene import set_uniform
+from ..core.gl import set_uniform
 from ..scene.camera import View
 from .gpu_mesh import CurvatureMesh
 

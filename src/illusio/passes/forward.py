@@ -15,7 +15,8 @@ import numpy as np
 
 from ..core.context import Context
 from ..scene.camera import View
-from .gpu_scene import GpuScene, set_uniform
+from ..core.gl import set_uniform
+from .gpu_scene import GpuScene
 from .lights import Emitters
 from .shading import MAX_EMITTERS, ShadingParams, bind_emitters
 

@@ -10,7 +10,8 @@ import numpy as np
 
 from ..core.context import Context
 from ..scene.camera import View
-from .gpu_scene import GpuScene, set_uniform
+from ..core.gl import set_uniform
+from .gpu_scene import GpuScene
 
 __all__ = ["GBufferPass", "GBuffer", "GBufferImages"]
 

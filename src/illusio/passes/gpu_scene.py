@@ -10,6 +10,7 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
+from ..core.gl import set_uniform
 from ..scene.camera import View
 from ..scene.scene import Node, Scene
 from ..scene.transforms import transform_points
@@ -195,19 +196,3 @@ class GpuScene:
         self._vaos.clear()
         self._meshes.clear()
         self._textures.clear()
-
-
-def set_uniform(program, name: str, value) -> None:
-    """Set a uniform if the program uses it (drivers drop unused ones). Matrices (4×4, 3×3 numpy
-    arrays, row-major like the rest of illusio) are transposed to GL's column-major order; other
-    arrays are written flat as they are."""
-    u = program.get(name, None)
-    if u is None:
-        return
-    if isinstance(value, np.ndarray):
-        a = np.asarray(value, dtype=np.int32 if value.dtype.kind in "iu" else np.float32)
-        if a.ndim == 2 and a.shape in ((4, 4), (3, 3)) and u.dimension in (9, 16):
-            a = a.T
-        u.write(np.ascontiguousarray(a).tobytes())
-    else:
-        u.value = value

@@ -1,20 +1,22 @@
 """Scene -> image: G-buffer, cube shadow maps and deferred shading composed in plain Python.
 
-``SceneRenderer`` keeps compiled passes and the GPU copy of the last scene, so a window can call
-:meth:`SceneRenderer.render` every frame with a changed view or parameters at no set-up cost.
+``SceneRenderer`` follows the Renderer protocol (core/renderer.py): ``prepare(scene)`` once, then
+``render(Frame(view, size), RenderSettings(...))`` every frame with a changed view or settings at no
+set-up cost. Techniques that draw a scene keep one inside their own renderer.
 """
 
 from __future__ import annotations
 
-import hashlib
 from dataclasses import dataclass
 
 import moderngl
 import numpy as np
 
-from ..core.context import Context
+from ..core.context import Context, default_context
 from ..core.errors import InputError
-from ..scene.camera import View
+from ..core.gl import MAX_SIZE, check_size
+from ..core.params import check_ranges, param
+from ..core.renderer import Frame, Renderer
 from ..scene.scene import Scene
 from .forward import ForwardPass, ScreenMaterial
 from .gbuffer import GBuffer, GBufferPass
@@ -23,9 +25,7 @@ from .lights import Emitters, emitters_from_lights
 from .shading import MAX_EMITTERS, ShadingParams, ShadingPass
 from .shadows import ShadowPass
 
-__all__ = ["SceneRenderer", "RenderSettings", "render_scene", "MAX_SIZE"]
-
-MAX_SIZE = 8192
+__all__ = ["SceneRenderer", "RenderSettings", "render_scene", "MAX_SIZE", "check_size"]
 
 
 @dataclass(frozen=True)
@@ -35,97 +35,111 @@ class RenderSettings:
     instead of through the G-buffer (same image; faster where G-buffer bandwidth dominates, as on a
     CPU rasteriser at high resolution)."""
 
-    shadows: bool = True
-    shadow_tile_size: int = 512
-    exposure: float = 1.0
-    forward: bool = False
+    shadows: bool = param(True, help="cube shadow maps of every light")
+    shadow_tile_size: int = param(512, range=(64, 4096), unit="px", step=64, label="shadow map size",
+                                  help="pixels per cube face")
+    exposure: float = param(1.0, range=(0.01, 16.0), log=True, help="scale on the linear radiance")
+    forward: bool = param(False, label="forward shading", help="light in the pass that draws (same image)")
+
+    __post_init__ = check_ranges
 
 
-def check_size(size) -> tuple[int, int]:
-    try:
-        w, h = (int(v) for v in size)
-    except (TypeError, ValueError):
-        raise InputError(f"image size must be (width, height), got {size!r}") from None
-    if not (1 <= w <= MAX_SIZE and 1 <= h <= MAX_SIZE):
-        raise InputError(f"image size {w}×{h} is out of range (1..{MAX_SIZE} per side)")
-    return w, h
+class SceneRenderer(Renderer):
+    """Owns the G-buffer, shadow and shading passes for one context; its subject is a Scene, its
+    params a :class:`RenderSettings`. ``maps()`` holds the last deferred frame's G-buffer (colour,
+    depth, normal, position, object_id, emission)."""
 
-
-class SceneRenderer:
-    """Owns the G-buffer, shadow and shading passes for one context."""
+    Params = RenderSettings
+    subject_name = "a scene"
 
     def __init__(self, ctx: Context, settings: RenderSettings = RenderSettings()):
-        self.ctx = ctx
-        self.settings = settings
+        super().__init__(ctx)
+        self.settings = settings  # used when a frame is rendered with params=None
         self.gbuffer_pass = GBufferPass(ctx)
         self.shading_pass = ShadingPass(ctx)
         self.forward_pass = ForwardPass(ctx)
         self._shadow_passes: dict[int, ShadowPass] = {}
         self._gpu_scene: GpuScene | None = None
-        self._static: tuple[bytes, moderngl.Texture, moderngl.Texture] | None = None  # see render_forward
-        self._last_key: bytes | None = None  # the static key of the last reuse_static frame
+        self.scene: Scene | None = None
+        self._static: tuple[tuple, moderngl.Texture, moderngl.Texture] | None = None  # see render_forward
+        self._last_key: tuple | None = None  # the static key of the last reuse_static frame
 
-    def prepare(self, scene: Scene) -> GpuScene:
-        """The GPU copy of ``scene``, uploaded on first use (call :meth:`invalidate` after edits)."""
-        if self._gpu_scene is None or self._gpu_scene.scene is not scene:
-            self.invalidate()
-            self._gpu_scene = GpuScene(self.ctx, scene)
-        return self._gpu_scene
+    def _load(self, scene: Scene) -> None:
+        if not isinstance(scene, Scene):
+            raise InputError(f"SceneRenderer draws a Scene, got {type(scene).__name__}")
+        self.scene = scene
+        self._gpu_scene = GpuScene(self.ctx, scene)
 
-    def invalidate(self) -> None:
+    def _unload(self) -> None:
+        super()._unload()
         self._drop_static()
         self._last_key = None
         if self._gpu_scene is not None:
             self._gpu_scene.release()
             self._gpu_scene = None
+        self.scene = None
 
-    def gbuffer(self, scene: Scene, view: View, size) -> GBuffer:
+    @property
+    def gpu_scene(self) -> GpuScene:
+        """The GPU copy of the prepared scene."""
+        self._require_subject()
+        return self._gpu_scene
+
+    def _params(self, params):
+        return super()._params(params if params is not None else self.settings)
+
+    def _view(self, frame: Frame):
+        return frame.view if frame.view is not None else self.scene.camera()
+
+    def gbuffer(self, frame: Frame) -> GBuffer:
         """The G-buffer textures (pooled: release them)."""
-        return self.gbuffer_pass(self.prepare(scene), view, check_size(size))
+        return self.gbuffer_pass(self.gpu_scene, self._view(frame), frame.size)
 
-    def render_texture(self, scene: Scene, view: View, size, settings: RenderSettings | None = None,
-                       gbuffer_hook=None) -> moderngl.Texture:
+    def render_texture(self, frame: Frame, params: RenderSettings | None = None, gbuffer_hook=None) -> moderngl.Texture:
         """Linear radiance as an RGBA float32 texture (pooled: release it).
 
         ``gbuffer_hook(gbuffer)``, if given, runs between the G-buffer and shading and may replace
         G-buffer textures (a technique re-texturing a surface in screen space; it releases what it
         replaces). It needs the deferred path: ``settings.forward`` must be off."""
-        s = settings or self.settings
+        s = self._params(params)
         if s.forward:
             if gbuffer_hook is not None:
                 raise InputError("a G-buffer hook needs the deferred path (RenderSettings(forward=False))")
-            return self.render_forward(scene, view, size, s)[0]
-        size = check_size(size)
-        gpu = self.prepare(scene)
-        gbuf = self.gbuffer_pass(gpu, view, size)
+            self._keep_maps({})
+            return self.render_forward(frame, s)[0]
+        gpu = self.gpu_scene
+        view = self._view(frame)
+        gbuf = self.gbuffer_pass(gpu, view, frame.size)
         if gbuffer_hook is not None:
             gbuffer_hook(gbuf)
-        emitters, atlas, matrices = self._lights(scene, gpu, s)
-        params = ShadingParams(scene.ambient, scene.background, s.exposure)
+        emitters, atlas, matrices = self._lights(gpu, s)
+        params = ShadingParams(self.scene.ambient, self.scene.background, s.exposure)
         out = self.shading_pass(gbuf, emitters, view.pose.position, params, atlas, matrices, s.shadow_tile_size)
-        gbuf.release()
+        self._keep_maps(dict(gbuf.textures))  # the G-buffer stays readable until the next frame
         if atlas is not None:
             self.ctx.release(atlas)
         return out
 
-    def render_forward(self, scene: Scene, view: View, size, settings: RenderSettings | None = None,
+    def render_forward(self, frame: Frame, settings: RenderSettings | None = None,
                        screen_material: ScreenMaterial | None = None, object_ids: bool = False,
                        reuse_static: bool = False) -> tuple[moderngl.Texture, moderngl.Texture | None]:
         """The forward path: (radiance RGBA float32, object ids R32F or None), both pooled.
         ``screen_material``: nodes coloured from a screen-space texture (see :class:`ScreenMaterial`).
         ``reuse_static``: frame after frame where only the screen texture changes (a stereogram on a TV
         seen by a still camera), keep the rest of the image and its depth and shade only the
-        screen-material nodes. The rest is kept from the second frame with an unchanged scene, lights,
-        view, size and settings (a frame that differs from the last is drawn whole in one pass: a
-        moving camera gains nothing from a layer used once); the same image either way."""
-        s = settings or self.settings
-        size = check_size(size)
-        gpu = self.prepare(scene)
-        emitters, atlas, matrices = self._lights(scene, gpu, s)
-        params = ShadingParams(scene.ambient, scene.background, s.exposure)
+        screen-material nodes. The rest is kept from the second frame with an unchanged scene (by
+        value, as prepared), view, size and settings (a frame that differs from the last is drawn
+        whole in one pass: a moving camera gains nothing from a layer used once); the same image
+        either way."""
+        s = self._params(settings)
+        gpu = self.gpu_scene
+        view = self._view(frame)
+        size = frame.size
+        emitters, atlas, matrices = self._lights(gpu, s)
+        params = ShadingParams(self.scene.ambient, self.scene.background, s.exposure)
         try:
             if reuse_static and screen_material is not None and not object_ids:
-                key = _static_key(scene, view, size, s, emitters, screen_material.nodes)
+                key = (self._subject_key, view, size, s, screen_material.nodes)
                 kept = self._static is not None and self._static[0] == key
                 if not kept and key == self._last_key:  # the view stood still: keep the rest from now on
                     self._drop_static()
@@ -147,14 +161,20 @@ class SceneRenderer:
             if atlas is not None:
                 self.ctx.release(atlas)
 
+    @property
+    def static_layer_kept(self) -> bool:
+        """Whether a forward static layer is kept for the next frame (see render_forward)."""
+        return self._static is not None
+
     def _drop_static(self) -> None:
         if self._static is not None:
             self.ctx.release(self._static[1])
             self._static[2].release()
             self._static = None
 
-    def _lights(self, scene: Scene, gpu: GpuScene, s: RenderSettings) -> tuple[Emitters, moderngl.Texture | None, np.ndarray | None]:
+    def _lights(self, gpu: GpuScene, s: RenderSettings) -> tuple[Emitters, moderngl.Texture | None, np.ndarray | None]:
         """The scene's emitters and, with shadows on, their shadow atlas (pooled) and face matrices."""
+        scene = self.scene
         emitters = emitters_from_lights(scene.lights, s.shadows, MAX_EMITTERS)
         if not (s.shadows and (emitters.shadow_row >= 0).any()):
             return emitters, None, None
@@ -164,37 +184,14 @@ class SceneRenderer:
         atlas, matrices = shadow(gpu, emitters.shadow_positions, 0.02, far)
         return emitters, atlas, matrices
 
-    def render(self, scene: Scene, view: View | None = None, size=(640, 480), settings: RenderSettings | None = None) -> np.ndarray:
-        """Float32 (H, W, 3) linear colour in [0, 1], row 0 on top."""
-        tex = self.render_texture(scene, view or scene.camera(), size, settings)
-        try:
-            return np.clip(self.ctx.readback(tex, 3), 0.0, 1.0)
-        finally:
-            self.ctx.release(tex)
 
-
-def render_scene(scene: Scene, view: View | None = None, size=(640, 480), ctx: Context | None = None,
+def render_scene(scene: Scene, view=None, size=(640, 480), ctx: Context | None = None,
                  settings: RenderSettings = RenderSettings()) -> np.ndarray:
-    """One-shot render of ``scene`` (its ``main`` camera by default); creates a context if needed."""
-    own = ctx is None
-    ctx = ctx or Context()
+    """One-shot render of ``scene`` (its ``main`` camera by default): float32 (H, W, 3), row 0 on
+    top. Without ``ctx``, the process's default headless context is used (and kept)."""
+    renderer = SceneRenderer(ctx or default_context())
     try:
-        return SceneRenderer(ctx, settings).render(scene, view, size)
+        renderer.prepare(scene)
+        return renderer.render(Frame(view, size), settings)
     finally:
-        if own:
-            ctx.release_all()
-
-
-def _static_key(scene: Scene, view: View, size, settings: RenderSettings, emitters: Emitters, dynamic) -> bytes:
-    """A digest of everything the static layer of a forward frame depends on."""
-    h = hashlib.sha256()
-    h.update(repr((id(scene), tuple(size), settings, sorted(dynamic), scene.ambient, scene.background)).encode())
-    h.update(view.view_matrix().tobytes())
-    h.update(view.projection_matrix(size[0] / size[1]).tobytes())
-    for node in scene.nodes:
-        m = node.material
-        h.update(repr((node.visible, id(node.mesh), m.colour, m.specular, m.shininess, m.emission, id(m.texture))).encode())
-        h.update(node.transform.tobytes())
-    for a in (emitters.position, emitters.normal, emitters.weight, emitters.shadow_row):
-        h.update(np.ascontiguousarray(a).tobytes())
-    return h.digest()
+        renderer.release()

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..core.context import Context
 from .gbuffer import GBuffer
-from .gpu_scene import set_uniform
+from ..core.gl import set_uniform
 from .lights import Emitters
 
 __all__ = ["ShadingPass", "ShadingParams", "MAX_EMITTERS", "bind_emitters"]

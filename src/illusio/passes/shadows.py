@@ -8,7 +8,8 @@ import numpy as np
 
 from ..core.context import Context
 from ..scene.transforms import frustum, look_at
-from .gpu_scene import GpuScene, set_uniform
+from ..core.gl import set_uniform
+from .gpu_scene import GpuScene
 
 __all__ = ["ShadowPass", "cube_face_matrices"]
 

@@ -1,5 +1,11 @@
 """Autostereograms and multi-scene images (Dehos, Hébert, Renaud 2014).
 
+Kept, frame after frame (the Renderer protocol of illusio.core.renderer)::
+
+    renderer = StereogramRenderer(ctx)
+    renderer.prepare(depth)
+    image = renderer.render(Frame(size=(w, h), index=n), StereogramParams(pattern="snow"))
+
 One-shot::
 
     from illusio.sis import stereogram, StereogramParams
@@ -15,10 +21,12 @@ from .depth import check_depth, read_depth
 from .params import ALGORITHMS, PATTERNS, StereogramParams
 from .physics import (depth_from_separation, depth_range, max_separation_px, screen_width_cm, separation_cm,
                       separation_px)
+from .multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject, hidden_view_from_viewer
 from .stereogram import StereogramRenderer, draw_guides, stereogram, stereogram_cpu
 
 __all__ = [
     "StereogramParams", "ALGORITHMS", "PATTERNS", "StereogramRenderer", "stereogram", "stereogram_cpu",
+    "MultiSceneParams", "MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer",
     "draw_guides", "check_depth", "read_depth", "DecodeReport", "check", "decode_separation",
     "expected_separation", "separation_to_depth", "separation_cm", "screen_width_cm", "separation_px",
     "depth_from_separation", "max_separation_px", "depth_range",

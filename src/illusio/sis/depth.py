@@ -15,7 +15,8 @@ import numpy as np
 from ..core.context import Context
 from ..core.errors import InputError
 from ..core.images import read_image
-from ..passes.gpu_scene import GpuScene, set_uniform
+from ..core.gl import set_uniform
+from ..passes.gpu_scene import GpuScene
 from ..scene.camera import Camera, Pose, View
 from ..scene.mesh import Mesh
 from ..scene.scene import Scene

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import moderngl
 
-from ..passes.gpu_scene import set_uniform
+from ..core.gl import set_uniform
 from .params import StereogramParams
 
 __all__ = ["StereogramInputs", "pixel_widths"]

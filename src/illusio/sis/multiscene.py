@@ -12,25 +12,28 @@ a TV) sampled in screen space.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
 
 from ..core.context import Context
 from ..core.errors import InputError
+from ..core.params import check_ranges, param
+from ..core.renderer import Frame, Renderer
 from ..passes.forward import ScreenMaterial
-from ..passes.gpu_scene import GpuScene, set_uniform
-from ..passes.scene_renderer import RenderSettings, SceneRenderer, check_size
+from ..passes.gpu_scene import GpuScene
+from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.camera import Pose, View
 from ..scene.scene import Node, Scene
 from ..scene.transforms import transform_points
 from .depth import HiddenDepthPass
+from .host_projection import HostProjectionPass
 from .params import StereogramParams
 from .separation import RowStartPass
 from .stereogram import StereogramRenderer
 
-__all__ = ["MultiSceneParams", "MultiSceneRenderer", "hidden_view_from_viewer"]
+__all__ = ["MultiSceneParams", "MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer"]
 
 
 @dataclass(frozen=True)
@@ -47,16 +50,18 @@ class MultiSceneParams:
     the view and the settings stay the same from one frame to the next (a still camera on an animated
     TV), only the host is shaded again; the image is the same either way."""
 
-    host: str = "tv-screen"
-    stereogram: StereogramParams = field(default_factory=lambda: StereogramParams(pattern="snow", strip_width=100, depth_factor=40))
-    reference_width: int = 1920
-    hidden_size: int = 512
-    emission: float = 0.9
-    pattern_repeat: tuple[float, float] = (1.0, 1.0)
-    interactive: bool = False
-    spin: float = 0.0
-    settings: RenderSettings = field(default_factory=lambda: RenderSettings(shadows=False))
-    reuse_static: bool = True
+    host: str = param("tv-screen", panel=False, help="name or tag of the host surface")
+    stereogram: StereogramParams = param(default_factory=lambda: StereogramParams(pattern="snow", strip_width=100, depth_factor=40))
+    reference_width: int = param(1920, range=(16, 8192), unit="px", panel=False)
+    hidden_size: int = param(512, range=(16, 4096), unit="px", step=16, label="hidden depth size")
+    emission: float = param(0.9, range=(0.0, 4.0), help="host glow (a TV); 0 for a lit wall")
+    pattern_repeat: tuple[float, float] = param((1.0, 1.0), panel=False)
+    interactive: bool = param(False, help="orient the hidden scene by where the viewer stands (Figure 25)")
+    spin: float = param(0.0, range=(-30.0, 30.0), unit="°/frame", help="the hidden scene turns")
+    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+    reuse_static: bool = param(True, help="a still camera shades only the host again")
+
+    __post_init__ = check_ranges
 
     def scaled_stereogram(self, width: int) -> StereogramParams:
         """The stereogram parameters for a frame ``width`` pixels wide."""
@@ -92,36 +97,64 @@ def hidden_view_from_viewer(host: Node, viewer: View, hidden: Scene, base: View)
     return View(Pose.orbit(tuple(centre), distance, azimuth, elevation), base.camera)
 
 
-class MultiSceneRenderer:
-    """Keeps every pass of Figure 22 for one context; call :meth:`render_texture` or :meth:`render`
-    every frame (frame number drives the snow and the spin)."""
+@dataclass(frozen=True)
+class MultiSceneSubject:
+    """What a multi-scene image draws: the main scene (with the host surface) and the hidden scene
+    whose depth the stereogram encodes."""
+
+    main: Scene
+    hidden: Scene
+
+
+class MultiSceneRenderer(Renderer):
+    """Every pass of Figure 22 for one context (the Renderer protocol).
+
+    Subject: :class:`MultiSceneSubject` (or a ``(main, hidden)`` pair). Params:
+    :class:`MultiSceneParams`. ``frame.view`` is the main scene's camera (None: its main camera);
+    ``frame.index`` drives the snow and the spin. ``maps()``: "depth" (the hidden scene's D in screen
+    space, −1 off the host), "stereogram" (RGBA8, at oversample × the width) and, with
+    ``object_ids = True``, "object_id" (node index + 1; then every frame is drawn whole)."""
+
+    Params = MultiSceneParams
+    subject_name = "a MultiSceneSubject(main, hidden)"
 
     def __init__(self, ctx: Context):
-        self.ctx = ctx
+        super().__init__(ctx)
         self.scene_renderer = SceneRenderer(ctx)
         self.stereograms = StereogramRenderer(ctx)
         self.hidden_depth = HiddenDepthPass(ctx)
         self.row_start = RowStartPass(ctx)
-        self.projection = ctx.program("sis/shaders/host_projection.glsl")
+        self.host_projection = HostProjectionPass(ctx)
         self._hidden_gpu: GpuScene | None = None
-        self.last_depth: np.ndarray | None = None  # set by render(..., keep_depth=True)
+        self.subject: MultiSceneSubject | None = None
+        self.object_ids = False
 
-    def release(self) -> None:
-        """Free the GPU copies of both scenes and the kept layers (the renderer stays usable)."""
-        self.scene_renderer.invalidate()
-        self.stereograms.release()
+    def prepare(self, subject) -> bool:
+        if isinstance(subject, tuple) and len(subject) == 2:
+            subject = MultiSceneSubject(*subject)
+        if not isinstance(subject, MultiSceneSubject):
+            raise InputError(f"MultiSceneRenderer draws a MultiSceneSubject(main, hidden), got {type(subject).__name__}")
+        return super().prepare(subject)
+
+    def _load(self, subject: MultiSceneSubject) -> None:
+        self.subject = subject
+        self.scene_renderer.prepare(subject.main)
+        self._hidden_gpu = GpuScene(self.ctx, subject.hidden)
+
+    def _unload(self) -> None:
+        super()._unload()
+        self.scene_renderer.release()
         if self._hidden_gpu is not None:
             self._hidden_gpu.release()
             self._hidden_gpu = None
+        self.subject = None
 
-    def _hidden(self, hidden: Scene) -> GpuScene:
-        if self._hidden_gpu is None or self._hidden_gpu.scene is not hidden:
-            if self._hidden_gpu is not None:
-                self._hidden_gpu.release()
-            self._hidden_gpu = GpuScene(self.ctx, hidden)
-        return self._hidden_gpu
+    def release(self) -> None:
+        super().release()
+        self.stereograms.release()
 
-    def hidden_view(self, scene: Scene, hidden: Scene, view: View, params: MultiSceneParams, frame: int) -> View:
+    def hidden_view(self, view: View, params: MultiSceneParams, frame: int) -> View:
+        scene, hidden = self.subject.main, self.subject.hidden
         base = hidden.camera()
         if params.interactive:
             base = hidden_view_from_viewer(host_nodes(scene, params.host)[0][1], view, hidden, base)
@@ -135,13 +168,13 @@ class MultiSceneRenderer:
             base = View(Pose(tuple(centre + rotated), tuple(centre), base.pose.up), base.camera)
         return base
 
-    def render_texture(self, scene: Scene, hidden: Scene, view: View | None = None, size=(1920, 1080),
-                       params: MultiSceneParams = MultiSceneParams(), frame: int = 0,
-                       keep: dict | None = None) -> moderngl.Texture:
-        """Linear radiance, RGBA float32 texture (pooled). ``keep``: a dict that receives the screen-space
-        depth and stereogram as arrays (for figures and tests)."""
-        w, h = check_size(size)
-        view = view or scene.camera()
+    def render_texture(self, frame: Frame, params: MultiSceneParams | None = None) -> moderngl.Texture:
+        """Linear radiance, RGBA float32 texture (pooled)."""
+        params = self._params(params)
+        self._require_subject()
+        scene = self.subject.main
+        w, h = frame.size
+        view = frame.view or scene.camera()
         hosts = host_nodes(scene, params.host)
         sis = params.scaled_stereogram(w)
         ctx = self.ctx
@@ -149,49 +182,23 @@ class MultiSceneRenderer:
         aspect = float(extent[0] / max(extent[1], 1e-9))
         hidden_size = (params.hidden_size, max(1, int(round(params.hidden_size / aspect))))
 
-        gpu = self.scene_renderer.prepare(scene)
         # (1) the hidden scene's depth image
-        hidden_depth = self.hidden_depth(self._hidden(hidden), self.hidden_view(scene, hidden, view, params, frame), hidden_size)
-        hidden_depth.filter = (moderngl.LINEAR, moderngl.LINEAR)
+        hidden_depth = self.hidden_depth(self._hidden_gpu, self.hidden_view(view, params, frame.index), hidden_size)
         # (3) the pattern image: snow made for this frame, or the texture
-        pattern, owned = self.stereograms.pattern_texture(sis, hidden_size, frame)
-        pattern.repeat_x = pattern.repeat_y = True
-        pattern.filter = (moderngl.NEAREST, moderngl.NEAREST)
-        # (2) + (4) both projected to screen space through the host: the nearest host surface over
-        # its whole extent, whatever stands in front of it (an occluder must not cut the rows)
-        depth_screen = ctx.acquire((w, h), 1, "f4")
-        pattern_screen = ctx.acquire((w, h), 4, "f1")
-        fbo = ctx.framebuffer([depth_screen, pattern_screen], depth=True)
-        fbo.use()
-        fbo.viewport = (0, 0, w, h)
-        fbo.clear(-1.0, 0.0, 0.0, 0.0, depth=1.0)
-        ctx.gl.enable(moderngl.DEPTH_TEST)
-        ctx.gl.disable(moderngl.CULL_FACE)
-        prog = self.projection
-        set_uniform(prog, "view_matrix", view.view_matrix())
-        set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
-        hidden_depth.use(0)
-        pattern.use(1)
-        for name, value in (("hidden_depth", 0), ("pattern", 1), ("pattern_repeat", tuple(float(v) for v in params.pattern_repeat))):
-            set_uniform(prog, name, value)
-        for index, node in hosts:
-            if node.mesh.uvs is None:
-                raise InputError(f"host {node.name!r} has no texture coordinates to carry a stereogram")
-            set_uniform(prog, "uv_min", tuple(float(v) for v in node.mesh.uvs.min(axis=0)))
-            set_uniform(prog, "uv_max", tuple(float(v) for v in node.mesh.uvs.max(axis=0)))
-            set_uniform(prog, "model_matrix", node.transform)
-            gpu.vao(prog, node).render(moderngl.TRIANGLES)
-        ctx.gl.disable(moderngl.DEPTH_TEST)
+        pattern, owned = self.stereograms.pattern_texture(sis, hidden_size, frame.index)
+        # (2) + (4) both projected to screen space through the host
+        depth_screen, pattern_screen = self.host_projection(self.scene_renderer.gpu_scene, hosts, view, (w, h),
+                                                            hidden_depth, pattern, params.pattern_repeat)
         ctx.release(hidden_depth)
         if owned:
             ctx.release(pattern)
         # (5) the stereogram in screen space, each row from the host's left edge
         span = self._host_columns(hosts, view, (w, h))
         row_starts = self.row_start(depth_screen, sis.oversample, span)
-        stereo = self.stereograms.render_texture(depth_screen, sis, frame, row_starts,
-                                                 max_row_start=span[1] * sis.oversample,
-                                                 min_row_start=span[0] * sis.oversample, pattern=pattern_screen,
-                                                 end_column=span[1] * sis.oversample)
+        stereo = self.stereograms.stereogram_texture(depth_screen, sis, frame.index, row_starts,
+                                                     max_row_start=span[1] * sis.oversample,
+                                                     min_row_start=span[0] * sis.oversample, pattern=pattern_screen,
+                                                     end_column=span[1] * sis.oversample)
         stereo.filter = (moderngl.LINEAR, moderngl.LINEAR)
         ctx.release(pattern_screen, row_starts)
         # (6) the main scene, lit in one forward pass, the host coloured (and, for a TV, lit) by the
@@ -199,16 +206,19 @@ class MultiSceneRenderer:
         tint = tuple(float(c) for c in hosts[0][1].material.colour) if params.emission == 0 else (1.0, 1.0, 1.0)
         material = ScreenMaterial(stereo, frozenset(i for i, _ in hosts), tint, float(params.emission))
         settings = replace(params.settings, forward=True)
-        out, ids = self.scene_renderer.render_forward(scene, view, (w, h), settings, material, object_ids=keep is not None,
-                                                      reuse_static=params.reuse_static)
-        if keep is not None:
-            keep["depth"] = ctx.readback(depth_screen)[..., 0]
-            host_ids = np.array([i + 1 for i, _ in hosts], np.float32)
-            keep["visible"] = np.isin(np.rint(ctx.readback(ids)[..., 0]), host_ids)
-            keep["stereogram"] = ctx.readback(stereo, 3)
-            ctx.release(ids)
-        ctx.release(depth_screen, stereo)
+        out, ids = self.scene_renderer.render_forward(Frame(view, (w, h), frame.time, frame.index), settings, material,
+                                                      object_ids=self.object_ids, reuse_static=params.reuse_static)
+        self._keep_maps({"depth": depth_screen, "stereogram": stereo, "object_id": ids})
         return out
+
+    def host_mask(self, params: MultiSceneParams | None = None) -> np.ndarray:
+        """(H, W) bool: where the last frame shows the host (needs ``object_ids = True``)."""
+        params = self._params(params)
+        ids = self._maps.get("object_id")
+        if ids is None:
+            raise InputError("host_mask needs object ids: set renderer.object_ids = True before the frame")
+        host_ids = np.array([i + 1 for i, _ in host_nodes(self.subject.main, params.host)], np.float32)
+        return np.isin(np.rint(self.ctx.readback(ids)[..., 0]), host_ids)
 
     @staticmethod
     def _host_columns(hosts, view: View, size) -> tuple[int, int]:
@@ -224,12 +234,3 @@ class MultiSceneRenderer:
             xs.extend(px[:, 0].tolist())
         xs = np.asarray(xs, np.float64)
         return int(np.clip(np.floor(xs.min()), 0, w)), int(np.clip(np.ceil(xs.max()), 0, w))
-
-    def render(self, scene: Scene, hidden: Scene, view: View | None = None, size=(1920, 1080),
-               params: MultiSceneParams = MultiSceneParams(), frame: int = 0, keep: dict | None = None) -> np.ndarray:
-        """Float32 (H, W, 3) linear colour in [0, 1], row 0 on top."""
-        tex = self.render_texture(scene, hidden, view, size, params, frame, keep)
-        try:
-            return np.clip(self.ctx.readback(tex, 3), 0.0, 1.0)
-        finally:
-            self.ctx.release(tex)

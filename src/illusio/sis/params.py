@@ -5,9 +5,10 @@ The CLI, the gallery and the viewer read their defaults from here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 from ..core.errors import InputError
+from ..core.params import check_ranges, param
 from ..scene.camera import Screen
 from .physics import depth_range, max_separation_px
 
@@ -41,18 +42,20 @@ class StereogramParams:
     seed: for every random pattern.
     """
 
-    algorithm: str = "fast"
-    strip_width: float = 100.0
-    depth_factor: float = 50.0
-    exact: bool = False
-    screen: Screen = field(default_factory=Screen)
-    pattern: str = "random-dot"
-    dot_size: int = 1
-    guides: bool = False
-    cross_eyed: bool = False
-    invert: bool = False
-    oversample: int = 1
-    seed: int = 0
+    algorithm: str = param("fast", choices=ALGORITHMS, help="how the links are followed")
+    strip_width: float = param(100.0, range=(2.0, 1000.0), unit="px", label="strip width W_s",
+                               help="separation of the nearest depth")
+    depth_factor: float = param(50.0, range=(0.0, 1000.0), unit="px", label="depth factor β",
+                                help="separations span [W_s, W_s + β]")
+    exact: bool = param(False, help="equation (3) on the screen instead of W_s + β·D")
+    screen: Screen = param(default_factory=Screen, panel=False)
+    pattern: str = param("random-dot", panel=False, help="a built-in pattern or an image path")
+    dot_size: int = param(1, range=(1, 64), unit="px", step=1, help="pixels per random dot")
+    guides: bool = param(False, help="two guide dots W_s + β apart")
+    cross_eyed: bool = param(False, help="for crossed eyes")
+    invert: bool = param(False, help="D → 1 − D")
+    oversample: int = param(1, range=(1, 8), step=1, help="compute at N times the width")
+    seed: int = param(0, range=(0, 2**31 - 1), step=1, help="seed of every random pattern")
 
     def __post_init__(self):
         if self.algorithm not in ALGORITHMS:
@@ -64,6 +67,7 @@ class StereogramParams:
             raise InputError(f"oversample must be an integer in 1..8, got {self.oversample}")
         if not 1 <= int(self.dot_size) <= 64:
             raise InputError(f"dot size must be in 1..64 pixels, got {self.dot_size}")
+        check_ranges(self)
 
     @property
     def far_separation(self) -> float:

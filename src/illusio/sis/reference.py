@@ -25,7 +25,7 @@ from ..scene.camera import Screen
 from .physics import depth_range, separation_px
 
 __all__ = ["separation", "rounded", "sequential", "strip", "chain", "symmetric", "occlusion_separation",
-           "upsample_depth", "downsample", "strip_passes"]
+           "upsample_depth", "downsample", "strip_passes", "host_projection"]
 
 
 def upsample_depth(depth: np.ndarray, factor: int) -> np.ndarray:
@@ -253,3 +253,57 @@ def downsample(image: np.ndarray, factor: int) -> np.ndarray:
         return image
     h, w, c = image.shape
     return image[:, : w - w % factor].reshape(h, w // factor, factor, c).mean(axis=2, dtype=np.float32)
+
+
+def host_projection(corners: np.ndarray, uvs: np.ndarray, view_projection: np.ndarray, size: tuple[int, int],
+                    hidden_depth: np.ndarray, pattern: np.ndarray, pattern_repeat=(1.0, 1.0)) -> tuple[np.ndarray, np.ndarray]:
+    """Steps (2) and (4) of Figure 22 for a planar parallelogram host, by casting each pixel centre's
+    ray onto its plane: (D in screen space, −1 off the host; the pattern in screen space, RGB, 0 off
+    the host). ``corners``: (3, 3) world points p0, p1, p2 with the fourth at p1 + p2 − p0; ``uvs``:
+    their (3, 2) texture coordinates (affine across the parallelogram). D is sampled bilinearly with
+    texel centres at (i + ½)/W and clamped edges, the pattern at the nearest texel, repeated — the
+    GL conventions of the pass (row 0 of the arrays at the top, uv (0, 0) at the bottom left)."""
+    w, h = size
+    inv = np.linalg.inv(np.asarray(view_projection, np.float64))
+    xs = (np.arange(w) + 0.5) / w * 2 - 1
+    ys = 1 - (np.arange(h) + 0.5) / h * 2  # row 0 at the top
+    ndc_x, ndc_y = np.meshgrid(xs, ys)
+
+    def unproject(z):
+        p = np.stack([ndc_x, ndc_y, np.full_like(ndc_x, z), np.ones_like(ndc_x)], -1) @ inv.T
+        return p[..., :3] / p[..., 3:]
+
+    near, far = unproject(-1.0), unproject(1.0)
+    direction = far - near
+    p0, p1, p2 = (np.asarray(c, np.float64) for c in corners)
+    e1, e2 = p1 - p0, p2 - p0
+    normal = np.cross(e1, e2)
+    t = ((p0 - near) @ normal) / (direction @ normal)
+    hit = near + t[..., None] * direction
+    # hit = p0 + a e1 + b e2: solve the 2×2 system in the plane
+    gram = np.array([[e1 @ e1, e1 @ e2], [e1 @ e2, e2 @ e2]])
+    rel = hit - p0
+    a, b = np.linalg.solve(gram, np.stack([rel @ e1, rel @ e2], -1)[..., None])[..., 0].transpose(2, 0, 1)
+    on = (t > 0) & (a >= 0) & (a <= 1) & (b >= 0) & (b <= 1)
+    uv0, uv1, uv2 = (np.asarray(u, np.float64) for u in uvs)
+    uv = uv0 + a[..., None] * (uv1 - uv0) + b[..., None] * (uv2 - uv0)
+    corners_uv = np.stack([uv0, uv1, uv2, uv1 + uv2 - uv0])
+    lo, hi = corners_uv.min(axis=0), corners_uv.max(axis=0)
+    st = (uv - lo) / np.maximum(hi - lo, 1e-6)
+    # D, bilinear, clamped; array row r holds GL row H-1-r
+    dh, dw = hidden_depth.shape
+    fx = np.clip(st[..., 0] * dw - 0.5, 0, dw - 1)
+    fy = np.clip(st[..., 1] * dh - 0.5, 0, dh - 1)
+    x0, y0 = np.floor(fx).astype(int), np.floor(fy).astype(int)
+    x1, y1 = np.minimum(x0 + 1, dw - 1), np.minimum(y0 + 1, dh - 1)
+    tx, ty = fx - x0, fy - y0
+    gl_rows = np.asarray(hidden_depth, np.float64)[::-1]
+    depth = ((gl_rows[y0, x0] * (1 - tx) + gl_rows[y0, x1] * tx) * (1 - ty)
+             + (gl_rows[y1, x0] * (1 - tx) + gl_rows[y1, x1] * tx) * ty)
+    ph, pw = pattern.shape[:2]
+    rep = st * np.asarray(pattern_repeat, np.float64)
+    px = np.floor(rep[..., 0] * pw).astype(int) % pw
+    py = np.floor(rep[..., 1] * ph).astype(int) % ph
+    colour = np.asarray(pattern, np.float32)[::-1][py, px][..., :3]
+    return (np.where(on, depth, -1.0).astype(np.float32),
+            np.where(on[..., None], colour, 0.0).astype(np.float32))

@@ -5,7 +5,7 @@ from __future__ import annotations
 import moderngl
 
 from ..core.context import Context
-from ..passes.gpu_scene import set_uniform
+from ..core.gl import set_uniform
 from .params import StereogramParams
 
 __all__ = ["SeparationPass", "RowStartPass", "bind_depth_mapping"]

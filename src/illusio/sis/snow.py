@@ -5,7 +5,7 @@ from __future__ import annotations
 import moderngl
 
 from ..core.context import Context
-from ..passes.gpu_scene import set_uniform
+from ..core.gl import set_uniform
 
 __all__ = ["SnowPass"]
 

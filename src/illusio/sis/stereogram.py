@@ -5,7 +5,8 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from ..core.context import Context
+from ..core.context import Context, default_context
+from ..core.renderer import Frame, Renderer
 from ..core.errors import InputError
 from . import reference
 from .depth import check_depth
@@ -42,18 +43,81 @@ def draw_guides(image: np.ndarray, spacing: float) -> np.ndarray:
     return img
 
 
-class StereogramRenderer:
-    """Owns the compiled stereogram passes for one context; call :meth:`render_texture` (GPU in, GPU
-    out) or :meth:`render` (arrays) every frame with changed parameters."""
+class StereogramRenderer(Renderer):
+    """The stereogram of a depth map, frame after frame (the Renderer protocol).
+
+    Subject: D, float32 (H, W) in [0, 1], 0 = near. Params: :class:`StereogramParams`. A frame whose
+    size differs from the depth map's gets the depth map resampled (bilinear) to it; ``frame.index``
+    drives the snow pattern. ``render_texture`` returns the RGBA8 stereogram at ``oversample`` times
+    the width; ``render`` averages that back and draws the guide dots. ``maps()``: "depth" (the
+    uploaded D) and, for every algorithm but "fast", "separation" (pixels, R32F).
+
+    :meth:`compute` and :meth:`stereogram_texture` are the GPU-in, GPU-out steps the multi-scene
+    renderer composes."""
+
+    Params = StereogramParams
+    subject_name = "a depth map"
 
     def __init__(self, ctx: Context):
-        self.ctx = ctx
+        super().__init__(ctx)
         self.separation_pass = SeparationPass(ctx)
         self._algorithms: dict[str, object] = {}
         self._snow: SnowPass | None = None
         self._pattern_key = None
         self._pattern_texture: moderngl.Texture | None = None
+        self._depth: np.ndarray | None = None
+        self._depth_texture: moderngl.Texture | None = None
 
+    # -- the protocol -------------------------------------------------------------------------
+    def _load(self, depth) -> None:
+        self._depth = check_depth(depth)
+
+    def _unload(self) -> None:
+        super()._unload()
+        self._drop_depth_texture()
+        self._depth = None
+
+    def _drop_depth_texture(self) -> None:
+        if self._depth_texture is not None:
+            self.ctx.release(self._depth_texture)
+            self._depth_texture = None
+
+    def depth_texture(self, size: tuple[int, int]) -> moderngl.Texture:
+        """D on the GPU at ``size`` (uploaded once per subject and size; pooled)."""
+        self._require_subject()
+        if self._depth_texture is None or self._depth_texture.size != tuple(size):
+            self._drop_depth_texture()
+            d = self._depth
+            if (d.shape[1], d.shape[0]) != tuple(size):
+                d = resize_depth(d, size)
+            self._depth_texture = self.ctx.acquire_upload(d)
+        return self._depth_texture
+
+    def render_texture(self, frame: Frame, params: StereogramParams | None = None) -> moderngl.Texture:
+        """The stereogram, RGBA8 texture at ``oversample`` times the frame's width (pooled)."""
+        params = self._params(params)
+        depth = self.depth_texture(frame.size)
+        maps: dict[str, moderngl.Texture] = {"depth": depth}
+        out = self.stereogram_texture(depth, params, frame.index, maps=maps)
+        self._keep_maps(maps)
+        return out
+
+    def render(self, frame: Frame, params: StereogramParams | None = None) -> np.ndarray:
+        """The stereogram, float32 (H, W, 3) in [0, 1], row 0 at the top (guide dots drawn)."""
+        params = self._params(params)
+        return finish(super().render(frame, params), params)
+
+    def _unload_pattern(self) -> None:
+        if self._pattern_texture is not None:
+            self._pattern_texture.release()
+            self._pattern_texture = None
+            self._pattern_key = None
+
+    def release(self) -> None:
+        super().release()
+        self._unload_pattern()
+
+    # -- steps ---------------------------------------------------------------------------------
     def algorithm_pass(self, name: str):
         if name not in self._algorithms:
             cls = {"sequential": SequentialPass, "strip": StripPass, "fast": FastPass, "chain": ChainPass,
@@ -63,7 +127,8 @@ class StereogramRenderer:
 
     def pattern_texture(self, params: StereogramParams, size: tuple[int, int], frame: int = 0) -> tuple[moderngl.Texture, bool]:
         """The pattern for a stereogram of ``size`` (logical pixels) and whether the caller must release
-        it (GPU snow is made per frame; the others are uploaded once and kept)."""
+        it (GPU snow is made per frame; the others are uploaded once and kept while their parameters
+        are the same)."""
         w, h = size
         n = params.oversample
         if params.pattern == "snow":
@@ -72,8 +137,7 @@ class StereogramRenderer:
             return self._snow((w * n, h), params.seed, frame, params.dot_size, n), True
         key = (params.pattern, w, h, params.seed, params.dot_size, n, params.far_separation)
         if key != self._pattern_key:
-            if self._pattern_texture is not None:
-                self._pattern_texture.release()
+            self._unload_pattern()
             array = make_pattern(params.pattern, w, h, int(round(params.far_separation)), params.seed, params.dot_size, 0, n)
             self._pattern_texture = self.ctx.upload((quantise(array) * 255).round().astype(np.uint8), filter="nearest")
             self._pattern_key = key
@@ -83,13 +147,13 @@ class StereogramRenderer:
                 row_starts: moderngl.Texture | None = None, max_row_start: int = 0, min_row_start: int = 0,
                 algorithm: str | None = None) -> moderngl.Texture:
         """Separation map + pattern → the stereogram, RGBA8 texture (pooled: release it). ``algorithm``
-        overrides ``params.algorithm``: any but "fast", which starts from depth (see render_texture),
-        plus "chain"."""
+        overrides ``params.algorithm``: any but "fast", which starts from depth (see
+        stereogram_texture), plus "chain"."""
         algorithm = algorithm or params.algorithm
         strip_width, first_strip = pixel_widths(params)
         inputs = StereogramInputs(separation, pattern, strip_width, first_strip, row_starts)
         if algorithm == "fast":
-            raise InputError("the fast pass starts from depth: use render_texture")
+            raise InputError("the fast pass starts from depth: use stereogram_texture")
         p = self.algorithm_pass(algorithm)
         if algorithm == "symmetric":
             n = params.oversample
@@ -98,15 +162,15 @@ class StereogramRenderer:
             return p(inputs, max_row_start, min_row_start)
         return p(inputs)
 
-    def render_texture(self, depth: moderngl.Texture, params: StereogramParams, frame: int = 0,
-                       row_starts: moderngl.Texture | None = None, max_row_start: int = 0,
-                       min_row_start: int = 0, pattern: moderngl.Texture | None = None,
-                       end_column: int | None = None) -> moderngl.Texture:
+    def stereogram_texture(self, depth: moderngl.Texture, params: StereogramParams, frame: int = 0,
+                           row_starts: moderngl.Texture | None = None, max_row_start: int = 0,
+                           min_row_start: int = 0, pattern: moderngl.Texture | None = None,
+                           end_column: int | None = None, maps: dict | None = None) -> moderngl.Texture:
         """D (R32F texture) → stereogram texture at ``oversample`` times the width (pooled).
         ``max_row_start``, ``min_row_start``: range of ``row_starts`` (strip algorithm only).
         ``end_column``: output columns from there on are not needed (fast algorithm only).
         ``pattern``: a texture to use instead of ``params.pattern`` (the multi-scene pipeline's
-        screen-space pattern)."""
+        screen-space pattern). ``maps``: receives the separation map (then the caller owns it)."""
         if pattern is not None:
             owned = False
         else:
@@ -116,28 +180,20 @@ class StereogramRenderer:
         else:
             sep = self.separation_pass(depth, params)
             out = self.compute(sep, pattern, params, row_starts, max_row_start, min_row_start)
-            self.ctx.release(sep)
+            if maps is not None:
+                maps["separation"] = sep
+            else:
+                self.ctx.release(sep)
         if owned:
             self.ctx.release(pattern)
         return out
 
-    def render(self, depth: np.ndarray, params: StereogramParams = StereogramParams(), frame: int = 0) -> np.ndarray:
-        """D (float32 (H, W), 0 = near) → stereogram, float32 (H, W, 3) in [0, 1]."""
-        d = check_depth(depth)
-        tex = self.ctx.upload(d, filter="nearest")
-        try:
-            out = self.render_texture(tex, params, frame)
-            image = self.ctx.readback(out, 3)
-            self.ctx.release(out)
-        finally:
-            tex.release()
-        return finish(image, params)
 
-    def release(self) -> None:
-        if self._pattern_texture is not None:
-            self._pattern_texture.release()
-            self._pattern_texture = None
-            self._pattern_key = None
+def resize_depth(depth: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    """D resampled to ``size`` (width, height), bilinear."""
+    from PIL import Image
+
+    return np.asarray(Image.fromarray(np.asarray(depth, np.float32)).resize(tuple(size), Image.Resampling.BILINEAR), np.float32)
 
 
 def finish(image: np.ndarray, params: StereogramParams) -> np.ndarray:
@@ -167,13 +223,15 @@ def stereogram_cpu(depth: np.ndarray, params: StereogramParams = StereogramParam
 def stereogram(depth: np.ndarray, params: StereogramParams = StereogramParams(), ctx: Context | None = None,
                cpu: bool = False, frame: int = 0) -> np.ndarray:
     """One stereogram from D (float32 (H, W) in [0, 1], 0 = near): float32 (H, W, 3), row 0 on top.
-    ``cpu``: use the reference instead of the GPU (same image)."""
+    ``cpu``: use the reference instead of the GPU (same image). Without ``ctx``, the process's default
+    headless context is used; either way the context keeps one renderer for these calls, so a
+    script calling this in a loop pays for the GL set-up and the pattern once."""
     if cpu:
         return stereogram_cpu(depth, params, frame)
-    own = ctx is None
-    ctx = ctx or Context()
+    d = check_depth(depth)
+    renderer = (ctx or default_context()).kept(StereogramRenderer)
+    renderer.prepare(d)
     try:
-        return StereogramRenderer(ctx).render(depth, params, frame)
+        return renderer.render(Frame(None, (d.shape[1], d.shape[0]), index=frame), params)
     finally:
-        if own:
-            ctx.release_all()
+        renderer.release_subject()

@@ -10,7 +10,7 @@ from __future__ import annotations
 import moderngl
 
 from ..core.context import Context
-from ..passes.gpu_scene import set_uniform
+from ..core.gl import set_uniform
 from .inputs import StereogramInputs
 from .reference import strip_passes
 
