@@ -18,7 +18,9 @@ import numpy as np
 from illusio.core import Context
 from illusio.lines import analytic
 from illusio.lines.curvature import estimate_curvature
-from illusio.lines.drawing import LineParams, LineRenderer, framing_view
+from illusio.core.renderer import Frame
+from illusio.lines.drawing import LineRenderer, framing_view
+from illusio.lines.params import LineParams
 from illusio.scene.mesh import load_mesh
 
 from .runner import Timing, time_case
@@ -99,7 +101,8 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             timings.append(theirs)
             ratios[f"libigl / ours time {name}"] = theirs.median_ms / ours.median_ms
         curv = estimate_curvature(mesh)
-        gm = renderer.prepare(mesh, curv)
+        renderer.prepare((mesh, curv))
+        gm = renderer.gpu_mesh()
         view = framing_view(mesh)
         scale = curv.scale()
         depth = renderer.depth_texture(size)
@@ -113,7 +116,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         t = time_case(f"hybrid passes {name}", hybrid, repeat, notes=f"{n}, {size[0]}x{size[1]}, view curvature + ridge filter")
         timings.append(t)
         ratios[f"hybrid frames per second {name}"] = 1000.0 / t.median_ms
-        d = time_case(f"drawing {name}", lambda: renderer.render(mesh, view, size, LineParams(), curv), max(1, repeat // 2),
+        d = time_case(f"drawing {name}", lambda: renderer.render(Frame(view, size), LineParams()), max(1, repeat // 2),
                       notes=f"{n}, default drawing: hybrid ridges + object-space silhouettes, read back")
         timings.append(d)
         ratios[f"drawing frames per second {name}"] = 1000.0 / d.median_ms

@@ -4,10 +4,16 @@ import numpy as np
 import pytest
 
 from illusio.lines.curvature import Curvature
-from illusio.lines.drawing import LineParams, LineRenderer, framing_view, image_silhouettes
+from illusio.core.renderer import Frame
+from tests.conftest import tolerance
+from illusio.lines.drawing import LineRenderer, framing_view
+from illusio.lines.params import LineParams
+from illusio.lines.reference import image_silhouettes
+from illusio.lines.reference import ridge_filter as adaptive_laplacian
+from illusio.lines.reference import view_curvature as view_dependent_curvature
 from illusio.lines.gpu_mesh import CurvatureMesh
-from illusio.lines.ridge_filter import RidgeFilterPass, adaptive_laplacian
-from illusio.lines.view_curvature import ViewCurvaturePass, view_dependent_curvature
+from illusio.lines.ridge_filter import RidgeFilterPass
+from illusio.lines.view_curvature import ViewCurvaturePass
 from illusio.scene.builtin import shape
 from illusio.scene.camera import Camera, Pose, View
 from illusio.scene.mesh import Mesh
@@ -101,8 +107,9 @@ def test_adaptive_laplacian_weights_follow_the_report():
 def test_image_silhouettes_match_numpy(ctx):
     mesh = shape("torus-knot")
     renderer = LineRenderer(ctx)
+    renderer.prepare(mesh)
     view = framing_view(mesh, 20, 30)
-    d = renderer.render(mesh, view, (256, 256), LineParams(lines=("silhouettes",), silhouette_space="image"), keep_maps=True)
+    d = renderer.drawing(Frame(view, (256, 256)), LineParams(lines=("silhouettes",), silhouette_space="image"))
     ref = image_silhouettes(d.q_t1[..., 3], 0.05)
     drawn = d.image[..., 0] < 0.5
     assert ref.sum() > 500
@@ -132,10 +139,58 @@ def test_drawing_drops_exactly_the_short_ridge_fragments(ctx):
     renderer = LineRenderer(ctx)
     view = framing_view(mesh)
     kinds = ("apparent-ridges",)
-    raw = renderer.render(mesh, view, (512, 512), LineParams(lines=kinds, min_ridge_pixels=0), keep_maps=True)
-    clean = renderer.render(mesh, view, (512, 512), LineParams(lines=kinds, min_ridge_pixels=40), keep_maps=True)
+    renderer.prepare(mesh)
+    raw = renderer.drawing(Frame(view, (512, 512)), LineParams(lines=kinds, min_ridge_pixels=0))
+    clean = renderer.drawing(Frame(view, (512, 512)), LineParams(lines=kinds, min_ridge_pixels=40))
     expected = drop_short_fragments(raw.ridge_mask, 40 * 512 / 1024)
     assert raw.ridge_mask.sum() > 500 and 0 < expected.sum() < raw.ridge_mask.sum()
     np.testing.assert_array_equal(clean.ridge_mask, expected)
     np.testing.assert_array_equal(clean.image[..., 0] < 0.5, expected)
+    renderer.release()
+
+
+def test_compose_pass_matches_reference(ctx, rng):
+    """ComposePass against lines.reference.compose on random maps: random view depths with holes
+    (background) and jumps, a random ridge mask, random colours; every pixel equal within 8 bits."""
+    from illusio.lines import reference
+    from illusio.lines.compose import ComposePass
+
+    h, w = 37, 53
+    q_t1 = np.zeros((h, w, 4), np.float32)
+    q_t1[..., 3] = np.where(rng.random((h, w)) < 0.2, 0.0, rng.uniform(1.0, 3.0, (h, w)))
+    ridges = rng.random((h, w)) < 0.3
+    ridge_colour, silhouette_colour = tuple(rng.random(3)), tuple(rng.random(3))
+    q_tex = ctx.upload(q_t1, filter="nearest")
+    r_tex = ctx.upload(ridges.astype(np.float32), filter="nearest")
+    for show_ridges, show_silhouettes in ((True, False), (False, True), (True, True)):
+        out = ctx.acquire((w, h), 4, "f1")
+        ComposePass(ctx)(q_tex, r_tex, out, None, show_ridges, show_silhouettes, ridge_colour, silhouette_colour, 0.3)
+        got = ctx.readback(out, 3)
+        ctx.release(out)
+        want = reference.compose(q_t1, ridges, show_ridges, show_silhouettes, ridge_colour, silhouette_colour, 0.3)
+        np.testing.assert_allclose(got, want, **tolerance("uint8"))
+    q_tex.release(), r_tex.release()
+
+
+def test_new_curvature_params_estimate_again_and_the_same_do_not(ctx, monkeypatch):
+    """The curvature settings are part of the line renderer's cache key (by value): equal params keep
+    the GPU mesh, other params estimate again; a new mesh equal by value is not loaded again."""
+    from illusio.lines import drawing as drawing_module
+    from illusio.lines.params import CurvatureParams
+
+    calls = []
+    real = drawing_module.estimate_curvature
+    monkeypatch.setattr(drawing_module, "estimate_curvature", lambda *a, **k: calls.append(k) or real(*a, **k))
+    renderer = LineRenderer(ctx)
+    mesh = shape("blob")
+    assert renderer.prepare(mesh) is True
+    frame = Frame(framing_view(mesh), (64, 64))
+    renderer.render(frame, LineParams())
+    renderer.render(frame, LineParams(tau=-1.0))
+    assert len(calls) == 1
+    renderer.render(frame, LineParams(curvature=CurvatureParams(smoothing=1)))
+    assert len(calls) == 2 and calls[-1]["smoothing"] == 1
+    assert renderer.prepare(shape("blob")) is False  # another object, the same mesh by value
+    renderer.render(frame, LineParams(curvature=CurvatureParams(smoothing=1)))
+    assert len(calls) == 2
     renderer.release()

@@ -6,7 +6,9 @@ import pytest
 from illusio.lines import analytic
 from illusio.lines.compare import line_mask, score
 from illusio.lines.curvature import estimate_curvature
-from illusio.lines.drawing import LineParams, LineRenderer, framing_view
+from illusio.core.renderer import Frame
+from illusio.lines.drawing import LineRenderer, framing_view
+from illusio.lines.params import LineParams
 from illusio.lines.object_space import chain, contours, ridges, suggestive_contours, valleys, vertex_gradient, zero_crossings
 from illusio.scene.mesh import load_mesh
 
@@ -69,9 +71,10 @@ def test_hybrid_and_object_space_apparent_ridges_agree(ctx, models, name):
     3 px ≥ 0.8 with default settings (measured 0.95 on these meshes at 512²)."""
     mesh = load_mesh(models / name)
     renderer = LineRenderer(ctx)
+    renderer.prepare(mesh)
     view = framing_view(mesh)
-    hybrid = renderer.render(mesh, view, (512, 512), LineParams(lines=("apparent-ridges",))).image
-    judd = renderer.render(mesh, view, (512, 512), LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space")).image
+    hybrid = renderer.render(Frame(view, (512, 512)), LineParams(lines=("apparent-ridges",)))
+    judd = renderer.render(Frame(view, (512, 512)), LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space"))
     s = score(line_mask(hybrid), line_mask(judd), 3.0)
     assert s.f1 >= 0.8, str(s)
     renderer.release()

@@ -10,10 +10,11 @@ import typer
 
 from ..core.errors import InputError
 from ..core.images import check_output_path, read_image, write_image
+from ..lines.params import CurvatureParams, LineParams
 from .common import parse_size
 
-DEBUG_VIEWS = ("q1", "t1", "curvature")
-
+_DEFAULT = LineParams()
+_CURVATURE = CurvatureParams()
 
 def _mesh(source: str):
     from ..scene.builtin import SHAPES, shape
@@ -35,26 +36,28 @@ def _floats(text: str, count: tuple[int, ...], name: str) -> list[float]:
 def lines(
     mesh: str = typer.Argument(..., help="mesh file (.obj .ply .off .stl .gltf .glb) or built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="drawing to write: .png, or .svg (polylines per line type)"),
-    line_types: str = typer.Option("apparent-ridges,silhouettes", "--lines", help="comma-separated: apparent-ridges, silhouettes, suggestive, ridges, valleys"),
-    method: str = typer.Option("hybrid", "--method", help="apparent ridges by the hybrid GPU method or Judd's object-space one"),
-    tau: float = typer.Option(None, "--tau", help="τ: q = 2^τ q1 (relative to the mesh's curvature scale unless --raw)"),
-    lam: float = typer.Option(None, "--lambda", help="λ of the direction-adaptive Laplacian"),
-    threshold: float = typer.Option(None, "--threshold", help="ridge filter response threshold (0.2 in the report)"),
+    line_types: str = typer.Option(",".join(_DEFAULT.lines), "--lines", help="comma-separated: apparent-ridges, silhouettes, suggestive, ridges, valleys"),
+    method: str = typer.Option(_DEFAULT.method, "--method", help="apparent ridges by the hybrid GPU method or Judd's object-space one"),
+    tau: float = typer.Option(_DEFAULT.tau, "--tau", help="τ: q = 2^τ q1 (relative to the mesh's curvature scale unless --raw)"),
+    lam: float = typer.Option(_DEFAULT.lam, "--lambda", help="λ of the direction-adaptive Laplacian"),
+    threshold: float = typer.Option(_DEFAULT.threshold, "--threshold", help="ridge filter response threshold (0.2 in the report)"),
     raw: bool = typer.Option(False, "--raw", help="the report's raw τ (q1 in 1/mesh units, no curvature scale)"),
-    min_ridge_pixels: int = typer.Option(None, "--min-ridge-pixels", help="drop hybrid ridge fragments shorter than this (pixels at 1024, scaled; 0 keeps all; default 24)"),
+    min_ridge_pixels: int = typer.Option(_DEFAULT.min_ridge_pixels, "--min-ridge-pixels", help="drop hybrid ridge fragments shorter than this (pixels at 1024, scaled; 0 keeps all)"),
     view: str = typer.Option("30,15", "--view", help="AZIMUTH,ELEVATION in degrees around the mesh"),
     camera: str = typer.Option(None, "--camera", help="EYE_X,EYE_Y,EYE_Z[,TARGET_X,TARGET_Y,TARGET_Z] instead of --view"),
     size: str = typer.Option("1024x1024", "--size", help="WIDTHxHEIGHT"),
-    silhouettes: str = typer.Option("object", "--silhouettes", help="object (n·v = 0 zero crossings) or image (depth edges)"),
+    silhouettes: str = typer.Option(_DEFAULT.silhouette_space, "--silhouettes", help="object (n·v = 0 zero crossings) or image (depth edges)"),
     grid: bool = typer.Option(False, "--grid", help="write the τ × λ grid of hybrid apparent ridges instead"),
     compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny or an edge IMAGE: print scores, write OUT-compare.png"),
     debug: str = typer.Option(None, "--debug", help="write a debug view instead: q1, t1 or curvature"),
 ) -> None:
     """Draw MESH with apparent ridges and the classic line types."""
     from ..core.context import Context
+    from ..core.renderer import Frame
     from ..lines import compare as cmp
-    from ..lines.drawing import LineParams, LineRenderer, framing_view, image_silhouettes
-    from ..lines.svg import trace_polylines, visible_polylines, write_svg
+    from ..lines.debug import DEBUG_VIEWS, debug_view
+    from ..lines.drawing import LineRenderer, framing_view
+    from ..lines.svg import write_drawing_svg
     from ..scene.camera import Pose, View
 
     inputs = [mesh] + ([compare] if compare and compare not in cmp.EDGE_METHODS else [])
@@ -65,9 +68,8 @@ def lines(
         raise InputError(f"--debug must be one of {', '.join(DEBUG_VIEWS)}")
     w, h = parse_size(size)
     kinds = tuple(t.strip() for t in line_types.split(",") if t.strip())
-    params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw)
-    params = replace(params, **{k: v for k, v in (("tau", tau), ("lam", lam), ("threshold", threshold),
-                                                      ("min_ridge_pixels", min_ridge_pixels)) if v is not None})
+    params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw, tau=tau, lam=lam,
+                        threshold=threshold, min_ridge_pixels=min_ridge_pixels)
     m = _mesh(mesh)
     if camera:
         c = _floats(camera, (3, 6), "--camera")
@@ -79,31 +81,22 @@ def lines(
         az_el = _floats(view, (2,), "--view")
         v = framing_view(m, az_el[0], az_el[1])
     renderer = LineRenderer(Context())
+    renderer.prepare(m)
     if grid:
         from ..lines.tuning import parameter_grid
 
         tile = (max(64, w // 4), max(64, h // 4))
-        write_image(out, parameter_grid(renderer, m, v, tile, params=params))
+        write_image(out, parameter_grid(renderer, v, tile, params=params))
         typer.echo(f"wrote {out} (τ × λ grid, tiles {tile[0]}×{tile[1]})")
         return
-    drawing = renderer.render(m, v, (w, h), params, keep_maps=True)
+    drawing = renderer.drawing(Frame(v, (w, h)), params)
     if debug:
-        write_image(out, debug_view(debug, drawing, renderer, m))
+        write_image(out, debug_view(debug, drawing, m, renderer.curvature(params.curvature)))
         typer.echo(f"wrote {out} ({debug} view)")
         return
     if out.suffix.lower() == ".svg":
-        depth = drawing.q_t1[..., 3]
-        groups = {k: (visible_polylines(s, v, (w, h), depth), params.colours[k], params.widths[k])
-                  for k, s in drawing.segments.items()}
-        # image-space lines are pixels: traced into polylines, the same lines as the PNG's
-        if drawing.ridge_mask is not None:
-            groups["apparent-ridges"] = (trace_polylines(drawing.ridge_mask), params.colours["apparent-ridges"],
-                                         params.widths["apparent-ridges"])
-        if "silhouettes" in kinds and params.silhouette_space == "image":
-            groups["silhouettes"] = (trace_polylines(image_silhouettes(depth, params.depth_jump)),
-                                     params.colours["silhouettes"], params.widths["silhouettes"])
-        write_svg(out, (w, h), groups)
-        typer.echo(f"wrote {out} ({sum(len(g[0]) for g in groups.values())} polylines)")
+        count = write_drawing_svg(out, drawing, params)
+        typer.echo(f"wrote {out} ({count} polylines)")
     else:
         write_image(out, drawing.image)
         typer.echo(f"wrote {out} ({w}×{h})")
@@ -122,49 +115,14 @@ def lines(
         typer.echo(f"wrote {side} (red: ours only, blue: {compare} only, black: both)")
 
 
-def debug_view(kind: str, drawing, renderer, mesh) -> np.ndarray:
-    """q1 map (grey), t1 direction field (hue), or the mean curvature seen from the view (blue
-    concave, red convex)."""
-    maps = drawing.q_t1
-    covered = maps[..., 3] > 0
-    if kind == "q1":
-        return np.where(covered, maps[..., 0], 1.0)
-    if kind == "t1":
-        angle = np.arctan2(maps[..., 2], maps[..., 1])  # t1 and −t1 are one direction: double the angle
-        rgb = 0.5 + 0.5 * np.stack([np.cos(2 * angle), np.cos(2 * angle - 2.094), np.cos(2 * angle + 2.094)], -1)
-        return np.where(covered[..., None], rgb, 1.0).astype(np.float32)
-    curv = renderer.prepare(mesh).curvature
-    mean = (curv.k_min + curv.k_max) / 2 / max(curv.scale(), 1e-12)
-    colour = np.clip(np.stack([0.5 + mean, 0.5 - np.abs(mean) * 0.5, 0.5 - mean], -1), 0, 1)
-    # shade each visible pixel by the nearest projected vertex's colour
-    px, depth = drawing.view.project(mesh.vertices, drawing.size)
-    w, h = drawing.size
-    image = np.ones((h, w, 3), np.float32)
-    xi, yi = px[:, 0].astype(int), px[:, 1].astype(int)
-    ok = (xi >= 0) & (xi < w) & (yi >= 0) & (yi < h) & (depth > 0)
-    order = np.argsort(-depth[ok])  # far first, near last wins
-    image[yi[ok][order], xi[ok][order]] = colour[ok][order]
-    known = np.zeros((h, w), bool)
-    known[yi[ok], xi[ok]] = True
-    return np.where(covered[..., None], _fill(image, known), 1.0).astype(np.float32)
-
-
-def _fill(image: np.ndarray, known: np.ndarray) -> np.ndarray:
-    """Every pixel takes the colour of the nearest known one."""
-    from scipy import ndimage
-
-    _, (iy, ix) = ndimage.distance_transform_edt(~known, return_indices=True)
-    return image[iy, ix]
-
-
 def curvature(
     mesh: str = typer.Argument(..., help="mesh file or built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, valid"),
-    rings: int = typer.Option(2, "--rings", help="smallest neighbourhood, in edge rings"),
-    degree: int = typer.Option(4, "--degree", help="jet degree: 2, 3 or 4 (3 and 4 also give curvature derivatives)"),
-    smoothing: int = typer.Option(3, "--smoothing", help="passes of curvature-tensor averaging over each vertex's 1-ring (0: none)"),
+    rings: int = typer.Option(_CURVATURE.rings, "--rings", help="smallest neighbourhood, in edge rings"),
+    degree: int = typer.Option(_CURVATURE.degree, "--degree", help="jet degree: 2, 3 or 4 (3 and 4 also give curvature derivatives)"),
+    smoothing: int = typer.Option(_CURVATURE.smoothing, "--smoothing", help="passes of curvature-tensor averaging over each vertex's 1-ring (0: none)"),
     adaptive: bool = typer.Option(False, "--adaptive", help="also fit lower degrees on more rings and keep those the ICI rule accepts (see --extra-rings)"),
-    extra_rings: int = typer.Option(1, "--extra-rings", help="rings beyond the start that --adaptive fits may use"),
+    extra_rings: int = typer.Option(_CURVATURE.extra_rings, "--extra-rings", help="rings beyond the start that --adaptive fits may use"),
     no_cache: bool = typer.Option(False, "--no-cache", help="recompute even if a cached result exists"),
 ) -> None:
     """Estimate per-vertex principal curvatures and directions of MESH."""
@@ -173,9 +131,10 @@ def curvature(
     out = check_output_path(output, [mesh] if Path(mesh).exists() else [])
     if out.suffix.lower() != ".npz":
         raise InputError(f"{out.name}: curvature is written as .npz")
+    settings = CurvatureParams(rings=rings, degree=degree, smoothing=smoothing, adaptive=adaptive, extra_rings=extra_rings)
     m = _mesh(mesh)
-    c = estimate_curvature(m, rings, degree, cache=not no_cache, adaptive=adaptive, extra_rings=extra_rings,
-                           smoothing=smoothing)
+    c = estimate_curvature(m, settings.rings, settings.degree, cache=not no_cache, adaptive=settings.adaptive,
+                           extra_rings=settings.extra_rings, confidence=settings.confidence, smoothing=settings.smoothing)
     c.save(out)
     typer.echo(f"wrote {out} ({len(c.k_min)} vertices, {int((~c.valid).sum())} without a fit; "
                f"curvature scale {c.scale():.4g} per unit)")

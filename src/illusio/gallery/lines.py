@@ -11,7 +11,9 @@ from pathlib import Path
 from ..core.context import Context
 from ..core.images import write_image
 from ..lines import compare as cmp
-from ..lines.drawing import LineParams, LineRenderer, framing_view
+from ..core.renderer import Frame
+from ..lines.drawing import LineRenderer, framing_view
+from ..lines.params import LineParams
 from ..lines.tuning import parameter_grid
 from ..scene.builtin import shape
 from ..scene.mesh import load_mesh
@@ -40,10 +42,11 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
     renderer = LineRenderer(ctx)
     knot = shape("torus-knot")
     view = framing_view(knot, 20, 30)
+    renderer.prepare(knot)
     for kinds, label in ((("apparent-ridges",), "apparent ridges (hybrid)"), (("silhouettes",), "silhouettes (object space)"),
                          (("silhouettes", "suggestive"), "silhouettes + suggestive contours"),
                          (("silhouettes", "ridges", "valleys"), "silhouettes + ridges (red) and valleys (green)")):
-        img = renderer.render(knot, view, tile, LineParams(lines=kinds)).image
+        img = renderer.render(Frame(view, tile), LineParams(lines=kinds))
         rel = f"lines/knot-{'-'.join(kinds)}.png"
         write_image(out_dir / rel, img)
         section.items.append(Item(rel, label, "built-in torus knot"))
@@ -55,24 +58,26 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
             meshes += [(name, load_mesh(models / f), v) for name, f, v in TEST_MESHES if (models / f).exists()]
     for name, mesh, (az, el) in meshes:
         v = framing_view(mesh, az, el)
-        img = renderer.render(mesh, v, tile, LineParams()).image
+        renderer.prepare(mesh)
+        img = renderer.render(Frame(v, tile), LineParams())
         write_image(out_dir / f"lines/{name}.png", img)
         section.items.append(Item(f"lines/{name}.png", f"{name}: default drawing", "apparent ridges (hybrid) + silhouettes"))
     # the τ × λ grid (Figure 4.2) and the comparison with Canny, on the last mesh shown
     name, mesh, (az, el) = meshes[min(1, len(meshes) - 1)]
     v = framing_view(mesh, az, el)
-    write_image(out_dir / "lines/grid.png", parameter_grid(renderer, mesh, v, (side // 3, side // 3)))
+    renderer.prepare(mesh)
+    write_image(out_dir / "lines/grid.png", parameter_grid(renderer, v, (side // 3, side // 3)))
     section.items.append(Item("lines/grid.png", f"τ × λ grid on the {name} (report Figure 4.2)", "rows τ = −3, −2, −1, 0; columns λ = 0, 0.5, 1, 2"))
     phong = cmp.phong_render(ctx, mesh, v, tile)
     write_image(out_dir / "lines/phong.png", phong)
     target = cmp.image_edges(phong, "canny")
-    ours = cmp.line_mask(renderer.render(mesh, v, tile, LineParams()).image)
+    ours = cmp.line_mask(renderer.render(Frame(v, tile), LineParams()))
     s = cmp.score(ours, target)
     write_image(out_dir / "lines/compare-canny.png", cmp.overlay(ours, target))
     section.items.append(Item("lines/phong.png", "the shaded render the edge detectors see", "Lambert + Phong, lamps at and above the eye"))
     section.items.append(Item("lines/compare-canny.png", "apparent ridges + silhouettes against Canny edges", f"red ours only, blue Canny only, black both; {s}"))
-    hybrid = renderer.render(mesh, v, tile, LineParams(lines=("apparent-ridges",))).image
-    judd = renderer.render(mesh, v, tile, LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space")).image
+    hybrid = renderer.render(Frame(v, tile), LineParams(lines=("apparent-ridges",)))
+    judd = renderer.render(Frame(v, tile), LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space"))
     agree = cmp.score(cmp.line_mask(hybrid), cmp.line_mask(judd), 3.0)
     write_image(out_dir / "lines/methods.png", cmp.overlay(cmp.line_mask(hybrid), cmp.line_mask(judd)))
     section.items.append(Item("lines/methods.png", "hybrid (red) against Judd's object-space apparent ridges + contours (blue)", f"agreement: {agree}"))

@@ -12,8 +12,10 @@ import numpy as np
 from ..core.images import atomic_output
 from ..scene.camera import View
 from .object_space import Segments, chain
+from .params import LineParams
+from .reference import image_silhouettes
 
-__all__ = ["visible_polylines", "trace_polylines", "write_svg"]
+__all__ = ["visible_polylines", "trace_polylines", "write_svg", "drawing_groups", "write_drawing_svg"]
 
 
 def visible_polylines(segments: Segments, view: View, size, depth: np.ndarray, slack: float = 0.01) -> list[np.ndarray]:
@@ -111,3 +113,26 @@ def write_svg(path: str | os.PathLike, size, groups: dict[str, tuple[list[np.nda
     with atomic_output(p) as tmp:
         Path(tmp).write_text("\n".join(parts), encoding="utf-8")
     return p
+
+
+def drawing_groups(drawing, params: LineParams) -> dict[str, tuple[list[np.ndarray], tuple, float]]:
+    """The polylines of a :class:`~illusio.lines.drawing.Drawing` per line type, ready for
+    :func:`write_svg`: object-space lines clipped by visibility; image-space lines (hybrid ridges,
+    image silhouettes) traced from their pixels, so the SVG holds the same lines as the PNG."""
+    depth = drawing.q_t1[..., 3]
+    groups = {k: (visible_polylines(s, drawing.view, drawing.size, depth), params.colour(k), params.width(k))
+              for k, s in drawing.segments.items()}
+    if drawing.ridge_mask is not None:
+        groups["apparent-ridges"] = (trace_polylines(drawing.ridge_mask), params.colour("apparent-ridges"),
+                                     params.width("apparent-ridges"))
+    if "silhouettes" in params.lines and params.silhouette_space == "image":
+        groups["silhouettes"] = (trace_polylines(image_silhouettes(depth, params.depth_jump)),
+                                 params.colour("silhouettes"), params.width("silhouettes"))
+    return groups
+
+
+def write_drawing_svg(path: str | os.PathLike, drawing, params: LineParams) -> int:
+    """Write ``drawing`` as an SVG (atomically); returns the number of polylines."""
+    groups = drawing_groups(drawing, params)
+    write_svg(path, drawing.size, groups)
+    return sum(len(g[0]) for g in groups.values())

@@ -9,7 +9,9 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from .compare import Scores, line_mask, score
-from .drawing import LineParams, LineRenderer
+from ..core.renderer import Frame
+from .drawing import LineRenderer
+from .params import LineParams
 
 __all__ = ["parameter_grid", "best_parameters", "TAUS", "LAMBDAS"]
 
@@ -21,16 +23,17 @@ def _hybrid(params: LineParams) -> LineParams:
     return replace(params, lines=("apparent-ridges",), method="hybrid")
 
 
-def parameter_grid(renderer: LineRenderer, mesh, view, size, taus=TAUS, lambdas=LAMBDAS,
+def parameter_grid(renderer: LineRenderer, view, size, taus=TAUS, lambdas=LAMBDAS,
                    params: LineParams = LineParams()) -> np.ndarray:
-    """One hybrid apparent-ridge drawing per (τ, λ): rows τ, columns λ, labelled. (H, W, 3) linear."""
+    """One hybrid apparent-ridge drawing of the prepared mesh per (τ, λ): rows τ, columns λ, labelled.
+    (H, W, 3) linear."""
     w, h = size
     gap = 4
     sheet = Image.new("RGB", (len(lambdas) * (w + gap) - gap, len(taus) * (h + gap) - gap), (160, 160, 160))
     draw = ImageDraw.Draw(sheet)
     for r, tau in enumerate(taus):
         for c, lam in enumerate(lambdas):
-            img = renderer.render(mesh, view, size, replace(_hybrid(params), tau=tau, lam=lam)).image
+            img = renderer.render(Frame(view, size), replace(_hybrid(params), tau=tau, lam=lam))
             tile = Image.fromarray((np.clip(img, 0, 1) * 255 + 0.5).astype(np.uint8))
             x, y = c * (w + gap), r * (h + gap)
             sheet.paste(tile, (x, y))
@@ -38,13 +41,14 @@ def parameter_grid(renderer: LineRenderer, mesh, view, size, taus=TAUS, lambdas=
     return np.asarray(sheet, np.float32) / 255.0
 
 
-def best_parameters(renderer: LineRenderer, mesh, view, size, target: np.ndarray, taus=TAUS, lambdas=LAMBDAS,
+def best_parameters(renderer: LineRenderer, view, size, target: np.ndarray, taus=TAUS, lambdas=LAMBDAS,
                     params: LineParams = LineParams(), tolerance: float = 2.0) -> tuple[float, float, Scores]:
-    """The (τ, λ) on the grid whose hybrid drawing has the best F1 against the ``target`` line mask."""
+    """The (τ, λ) on the grid whose hybrid drawing of the prepared mesh has the best F1 against the
+    ``target`` line mask."""
     best = None
     for tau in taus:
         for lam in lambdas:
-            img = renderer.render(mesh, view, size, replace(_hybrid(params), tau=tau, lam=lam)).image
+            img = renderer.render(Frame(view, size), replace(_hybrid(params), tau=tau, lam=lam))
             s = score(line_mask(img), target, tolerance)
             if best is None or s.f1 > best[2].f1:
                 best = (tau, lam, s)

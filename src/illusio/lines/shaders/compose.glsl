@@ -1,7 +1,7 @@
 #version 430
 // The drawing's base: white paper, the hybrid apparent ridges (ridge filter output) and the
 // image-space silhouettes (covered pixels with an uncovered 4-neighbour or a depth jump larger than
-// depth_jump × depth), each in its colour. Linear RGB out. NumPy reference: lines.drawing.image_silhouettes.
+// depth_jump × depth), each in its colour. Linear RGB out. NumPy reference: lines.reference.compose.
 #include "common/fullscreen.glsl"
 
 #if defined(FRAGMENT_SHADER)
