@@ -7,12 +7,10 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from ..core.errors import InputError
-from ..scene.builtin import SCENES, SHAPES, shape, turntable
-from ..scene.loader import load_scene
-from ..scene.mesh import MESH_FORMATS, load_mesh
-from ..scene.scene import Scene
+from ..core.gl import check_size
+from ..scene.sources import resolve_mesh, resolve_scene
 
-__all__ = ["parse_size", "resolve_scene", "progress", "scene_inputs"]
+__all__ = ["parse_size", "resolve_scene", "resolve_mesh", "progress", "scene_inputs"]
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -21,22 +19,10 @@ def parse_size(text: str) -> tuple[int, int]:
         w, h = (int(v) for v in text.lower().replace("×", "x").split("x"))
     except ValueError:
         raise InputError(f"--size must look like 1920x1080, got {text!r}") from None
-    if not (1 <= w <= 8192 and 1 <= h <= 8192):
-        raise InputError(f"--size {w}x{h} is out of range (1..8192 per side)")
-    return w, h
-
-
-def resolve_scene(source: str) -> Scene:
-    """A built-in scene, a YAML scene file, a mesh file or a built-in shape (on the turntable)."""
-    if source in SCENES or Path(source).suffix.lower() in (".yaml", ".yml"):
-        return load_scene(source)
-    if source in SHAPES:
-        return turntable(shape(source))
-    if Path(source).suffix.lower() in MESH_FORMATS:
-        return turntable(load_mesh(source))
-    if not Path(source).exists():
-        raise InputError(f"{source}: no such file, and not a built-in scene ({', '.join(SCENES)}) or shape ({', '.join(SHAPES)})")
-    raise InputError(f"{source}: not a scene (.yaml) or mesh ({', '.join(MESH_FORMATS)})")
+    try:
+        return check_size((w, h))
+    except InputError as exc:
+        raise InputError(f"--size: {exc}") from None
 
 
 def scene_inputs(source: str) -> list[str]:

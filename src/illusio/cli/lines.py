@@ -11,17 +11,10 @@ import typer
 from ..core.errors import InputError
 from ..core.images import check_output_path, read_image, write_image
 from ..lines.params import CurvatureParams, LineParams
-from .common import parse_size
+from .common import parse_size, resolve_mesh
 
 _DEFAULT = LineParams()
 _CURVATURE = CurvatureParams()
-
-def _mesh(source: str):
-    from ..scene.builtin import SHAPES, shape
-    from ..scene.mesh import load_mesh
-
-    return shape(source) if source in SHAPES else load_mesh(source)
-
 
 def _floats(text: str, count: tuple[int, ...], name: str) -> list[float]:
     try:
@@ -70,7 +63,7 @@ def lines(
     kinds = tuple(t.strip() for t in line_types.split(",") if t.strip())
     params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw, tau=tau, lam=lam,
                         threshold=threshold, min_ridge_pixels=min_ridge_pixels)
-    m = _mesh(mesh)
+    m = resolve_mesh(mesh)
     if camera:
         c = _floats(camera, (3, 6), "--camera")
         lo, hi = m.bounds
@@ -132,7 +125,7 @@ def curvature(
     if out.suffix.lower() != ".npz":
         raise InputError(f"{out.name}: curvature is written as .npz")
     settings = CurvatureParams(rings=rings, degree=degree, smoothing=smoothing, adaptive=adaptive, extra_rings=extra_rings)
-    m = _mesh(mesh)
+    m = resolve_mesh(mesh)
     c = estimate_curvature(m, settings.rings, settings.degree, cache=not no_cache, adaptive=settings.adaptive,
                            extra_rings=settings.extra_rings, confidence=settings.confidence, smoothing=settings.smoothing)
     c.save(out)

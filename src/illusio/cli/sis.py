@@ -10,30 +10,32 @@ import typer
 from ..core.errors import InputError
 from ..core.images import check_output_path, read_image, write_image, write_video
 from ..scene.camera import Screen
+from ..sis.multiscene import MultiSceneParams
 from ..sis.params import ALGORITHMS, StereogramParams
 from .common import parse_size, progress, scene_inputs
 
 _DEFAULT = StereogramParams()
+_MULTI = MultiSceneParams()
 _SCREEN = Screen()
 
 
 def _depth_input(source: str, size: tuple[int, int] | None, ctx_factory):
     """D (0 = near) from a depth file (white = near), or a mesh / built-in shape rendered to depth."""
-    from ..scene.builtin import SHAPES, shape
-    from ..scene.mesh import MESH_FORMATS, load_mesh
+    from ..core.renderer import DEFAULT_SIZE
+    from ..scene.builtin import SHAPES
+    from ..scene.sources import is_mesh_source, resolve_mesh
     from ..sis.depth import depth_from_scene, hidden_scene, read_depth
 
     p = Path(source)
-    if source in SHAPES or p.suffix.lower() in MESH_FORMATS:
-        mesh = shape(source) if source in SHAPES else load_mesh(p)
-        return depth_from_scene(ctx_factory(), hidden_scene(mesh), size or (1280, 720))
+    if is_mesh_source(source):
+        return depth_from_scene(ctx_factory(), hidden_scene(resolve_mesh(source)), size or DEFAULT_SIZE)
     if not p.exists():
         raise InputError(f"{source}: no such file, and not a built-in shape ({', '.join(SHAPES)})")
     depth = read_depth(p)
     if size and (depth.shape[1], depth.shape[0]) != size:
-        from PIL import Image
+        from ..sis.stereogram import resize_depth
 
-        depth = np.asarray(Image.fromarray(depth).resize(size, Image.Resampling.BILINEAR), np.float32)
+        depth = resize_depth(depth, size)
     return depth
 
 
@@ -57,18 +59,18 @@ def sis(
     pattern: str = typer.Option(_DEFAULT.pattern, "--pattern", help="random-dot, grey-dots, colour-dots, pink-noise, snow, or an image file"),
     strip_width: float = typer.Option(_DEFAULT.strip_width, "--strip-width", help="W_s, pixels: separation of the nearest depth"),
     depth_factor: float = typer.Option(_DEFAULT.depth_factor, "--depth-factor", help="β, pixels: separations span [W_s, W_s + β]"),
-    exact: bool = typer.Option(False, "--exact", help="equation (3) of the physical screen instead of the linear W_s + β·D"),
+    exact: bool = typer.Option(_DEFAULT.exact, "--exact", help="equation (3) of the physical screen instead of the linear W_s + β·D"),
     screen_diagonal: float = typer.Option(_SCREEN.diagonal_cm, "--screen-diagonal", help="d, cm"),
     aspect: float = typer.Option(_SCREEN.aspect, "--aspect", help="a = width / height"),
     distance: float = typer.Option(_SCREEN.viewing_distance_cm, "--distance", help="f, viewer to screen, cm"),
     eye_separation: float = typer.Option(_SCREEN.eye_separation_cm, "--eye-separation", help="e, cm"),
     screen_width_px: int = typer.Option(_SCREEN.width_px, "--screen-width-px", help="w_p, pixels across the screen"),
-    guides: bool = typer.Option(False, "--guides", help="two guide dots W_s + β apart"),
-    cross_eyed: bool = typer.Option(False, "--cross-eyed", help="for crossed eyes (default: wall-eyed)"),
-    invert: bool = typer.Option(False, "--invert", help="black = near"),
-    oversample: int = typer.Option(1, "--oversample", help="compute at N times the width (smooth depth steps)"),
-    dot_size: int = typer.Option(1, "--dot-size", help="pixels per random dot"),
-    seed: int = typer.Option(0, "--seed", help="seed of the random pattern"),
+    guides: bool = typer.Option(_DEFAULT.guides, "--guides", help="two guide dots W_s + β apart"),
+    cross_eyed: bool = typer.Option(_DEFAULT.cross_eyed, "--cross-eyed", help="for crossed eyes (default: wall-eyed)"),
+    invert: bool = typer.Option(_DEFAULT.invert, "--invert", help="black = near"),
+    oversample: int = typer.Option(_DEFAULT.oversample, "--oversample", help="compute at N times the width (smooth depth steps)"),
+    dot_size: int = typer.Option(_DEFAULT.dot_size, "--dot-size", help="pixels per random dot"),
+    seed: int = typer.Option(_DEFAULT.seed, "--seed", help="seed of the random pattern"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT in pixels (default: the depth map's)"),
     print_size: str = typer.Option(None, "--print-size", help="WIDTHxHEIGHTcm for print (with --dpi); sets the size and the physical model"),
     dpi: float = typer.Option(300.0, "--dpi", help="dots per inch with --print-size"),
@@ -133,28 +135,26 @@ def sis_scene(
     scene: str = typer.Argument("living-room", help="built-in scene or .yaml with a host surface"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png); with --frames, the first frame"),
     hidden: str = typer.Option("torus-knot", "--hidden", help="what the stereogram hides: a built-in shape or a mesh file"),
-    host: str = typer.Option("tv-screen", "--host", help="name or tag of the surface showing the stereogram"),
+    host: str = typer.Option(_MULTI.host, "--host", help="name or tag of the surface showing the stereogram"),
     camera: str = typer.Option("tv", "--camera", help="camera of the scene"),
-    pattern: str = typer.Option("snow", "--pattern", help="snow (changes every frame), random-dot, ..., or an image"),
-    algorithm: str = typer.Option("fast", "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
-    strip_width: float = typer.Option(100.0, "--strip-width", help="W_s for a 1920-pixel-wide frame (scaled with the size)"),
-    depth_factor: float = typer.Option(40.0, "--depth-factor", help="β for a 1920-pixel-wide frame"),
-    emission: float = typer.Option(0.9, "--emission", help="host glow (TV); 0 for a lit surface such as a wall"),
-    interactive: bool = typer.Option(False, "--interactive", help="orient the hidden scene by the viewer's position (Figure 25)"),
-    spin: float = typer.Option(0.0, "--spin", help="degrees per frame the hidden scene turns"),
-    size: str = typer.Option("1920x1080", "--size", help="WIDTHxHEIGHT"),
+    pattern: str = typer.Option(_MULTI.stereogram.pattern, "--pattern", help="snow (changes every frame), random-dot, ..., or an image"),
+    algorithm: str = typer.Option(_MULTI.stereogram.algorithm, "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
+    strip_width: float = typer.Option(_MULTI.stereogram.strip_width, "--strip-width", help="W_s for a 1920-pixel-wide frame (scaled with the size)"),
+    depth_factor: float = typer.Option(_MULTI.stereogram.depth_factor, "--depth-factor", help="β for a 1920-pixel-wide frame"),
+    emission: float = typer.Option(_MULTI.emission, "--emission", help="host glow (TV); 0 for a lit surface such as a wall"),
+    interactive: bool = typer.Option(_MULTI.interactive, "--interactive", help="orient the hidden scene by the viewer's position (Figure 25)"),
+    spin: float = typer.Option(_MULTI.spin, "--spin", help="degrees per frame the hidden scene turns"),
+    size: str = typer.Option(f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"),
     frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
     video: Path = typer.Option(None, "--video", help="write the frames as a video (.mp4 or .gif)"),
-    seed: int = typer.Option(0, "--seed", help="seed of the pattern"),
+    seed: int = typer.Option(_MULTI.stereogram.seed, "--seed", help="seed of the pattern"),
 ) -> None:
     """Render SCENE with a stereogram on its host surface hiding another shape (Figure 22)."""
     from ..core.context import Context
-    from ..scene.builtin import SHAPES, shape
-    from ..scene.mesh import load_mesh
     from ..sis.depth import hidden_scene
     from ..core.renderer import Frame
-    from ..sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
-    from .common import resolve_scene
+    from ..sis.multiscene import MultiSceneRenderer, MultiSceneSubject
+    from .common import resolve_mesh, resolve_scene
 
     out = check_output_path(output, scene_inputs(scene) + scene_inputs(hidden))
     if video:
@@ -166,7 +166,7 @@ def sis_scene(
     w, h = parse_size(size)
     main = resolve_scene(scene)
     view = main.camera(camera if camera in main.cameras else None)
-    hidden_mesh = shape(hidden) if hidden in SHAPES else load_mesh(hidden)
+    hidden_mesh = resolve_mesh(hidden)
     params = MultiSceneParams(host=host, stereogram=StereogramParams(algorithm=algorithm, pattern=pattern, strip_width=strip_width,
                                                                      depth_factor=depth_factor, seed=seed),
                               emission=emission, interactive=interactive, spin=spin)

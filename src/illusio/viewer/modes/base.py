@@ -1,0 +1,69 @@
+"""What every viewer mode is: a technique's renderer, its subject and params, a home view and the
+navigation that suits it. Modes hold no technique logic: they choose subjects and params and call
+the technique's Renderer through the protocol (illusio.core.renderer)."""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import moderngl
+
+from ...core.context import Context
+from ...core.errors import InputError
+from ...core.params import with_values
+from ...core.renderer import Frame, Renderer
+from ...scene.camera import View
+from ..navigation import FixedCamera, OrbitCamera, WalkCamera
+
+__all__ = ["Mode"]
+
+
+class Mode:
+    """One technique in the viewer.
+
+    ``variants``: the mode's setups (the sis mode's TV, wall, interactive wall, raw stereogram), the
+    first the default. ``renderer`` and ``params`` are the technique's; the panel edits ``params``.
+    ``render(frame)`` returns the image to show (pooled; the viewer releases it); ``aside()`` an
+    optional second image shown beside it (owned by the renderer, a map) and how to show it."""
+
+    name: ClassVar[str] = ""
+    variants: ClassVar[tuple[str, ...]] = ("default",)
+    #: what the CLI's SOURCE means in this mode
+    source_help: ClassVar[str] = ""
+
+    def __init__(self, ctx: Context, source: str | None = None, variant: str | None = None):
+        self.ctx = ctx
+        variant = variant or self.variants[0]
+        if variant not in self.variants:
+            raise InputError(f"{self.name} mode has no variant {variant!r}; choose one of {', '.join(self.variants)}")
+        self.variant = variant
+        self.source = source
+        self.renderer: Renderer | None = None
+        self.params = None
+
+    # -- for the viewer -------------------------------------------------------------------------
+    def navigation(self) -> WalkCamera | OrbitCamera | FixedCamera:
+        """A fresh camera controller at the mode's home view."""
+        return WalkCamera.from_view(self.home_view())
+
+    def home_view(self) -> View | None:
+        raise NotImplementedError
+
+    def image_size(self, size: tuple[int, int]) -> tuple[int, int]:
+        """The size of the rendered image in a window of ``size`` (half the width with an aside)."""
+        return size
+
+    def render(self, frame: Frame) -> moderngl.Texture:
+        return self.renderer.render_texture(frame, self.params)
+
+    def aside(self) -> tuple[moderngl.Texture, str] | None:
+        """(texture, "colour" | "depth") to show beside the image, or None."""
+        return None
+
+    def set_param(self, name: str, value) -> None:
+        """Change one field of ``params`` (dotted for nested Params); raises InputError if refused."""
+        self.params = with_values(self.params, **{name: value})
+
+    def release(self) -> None:
+        if self.renderer is not None:
+            self.renderer.release()

@@ -1,0 +1,31 @@
+"""The plain mode: a scene (or a mesh on the turntable) through the shared scene renderer, with its
+lighting settings in the panel."""
+
+from __future__ import annotations
+
+from ...passes.scene_renderer import RenderSettings, SceneRenderer
+from ...scene.sources import is_mesh_source, resolve_scene
+from ..navigation import OrbitCamera
+from .base import Mode
+
+__all__ = ["PlainMode"]
+
+
+class PlainMode(Mode):
+    name = "plain"
+    source_help = "a built-in scene, a .yaml scene, a mesh file or a built-in shape (default living-room)"
+
+    def __init__(self, ctx, source=None, variant=None):
+        super().__init__(ctx, source or "living-room", variant)
+        self.scene = resolve_scene(self.source)
+        self.renderer = SceneRenderer(ctx)
+        self.renderer.prepare(self.scene)
+        self.params = RenderSettings()
+
+    def home_view(self):
+        return self.scene.camera()
+
+    def navigation(self):
+        if is_mesh_source(self.source):
+            return OrbitCamera.from_view(self.home_view())
+        return super().navigation()

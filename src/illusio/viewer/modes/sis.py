@@ -1,0 +1,61 @@
+"""The autostereogram mode: the living room with the stereogram on its TV (Figure 23), on the wall
+behind the sofa (Figure 24), the wall in the interaction mode of Figure 25 (walking around it turns
+the hidden scene), or the raw stereogram full screen with its depth map beside it."""
+
+from __future__ import annotations
+
+from ...core.renderer import Frame
+from ...scene.sources import resolve_mesh, resolve_scene
+from ...sis.depth import depth_from_scene, hidden_scene
+from ...sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
+from ...sis.params import StereogramParams
+from ...sis.stereogram import StereogramRenderer
+from ..navigation import FixedCamera
+from .base import Mode
+
+__all__ = ["SisMode"]
+
+_WALL = dict(host="back-wall", emission=0.0,
+             stereogram=StereogramParams(pattern="pink-noise", strip_width=100, depth_factor=40))
+
+
+class SisMode(Mode):
+    name = "sis"
+    variants = ("tv", "wall", "interactive", "raw")
+    source_help = "the hidden shape: a built-in shape or a mesh file (default torus-knot)"
+
+    def __init__(self, ctx, source=None, variant=None, scene: str = "living-room"):
+        super().__init__(ctx, source or "torus-knot", variant)
+        self.hidden = hidden_scene(resolve_mesh(self.source))
+        if self.variant == "raw":
+            self.renderer = StereogramRenderer(ctx)
+            self.params = StereogramParams(pattern="random-dot", strip_width=100, depth_factor=50)
+            self._depth_size = None
+            return
+        self.scene = resolve_scene(scene)
+        self.renderer = MultiSceneRenderer(ctx)
+        self.renderer.prepare(MultiSceneSubject(self.scene, self.hidden))
+        self.params = {"tv": MultiSceneParams(),
+                       "wall": MultiSceneParams(**_WALL),
+                       "interactive": MultiSceneParams(**_WALL, interactive=True)}[self.variant]
+
+    def home_view(self):
+        return None if self.variant == "raw" else self.scene.camera("main")
+
+    def navigation(self):
+        return FixedCamera() if self.variant == "raw" else super().navigation()
+
+    def image_size(self, size):
+        return (max(1, size[0] // 2), size[1]) if self.variant == "raw" else size
+
+    def render(self, frame: Frame):
+        if self.variant == "raw" and frame.size != self._depth_size:
+            # the hidden shape's depth at the image's size: the subject of the stereogram
+            self.renderer.prepare(depth_from_scene(self.ctx, self.hidden, frame.size))
+            self._depth_size = frame.size
+        return super().render(frame)
+
+    def aside(self):
+        if self.variant == "raw":
+            return self.renderer.maps()["depth"], "depth"
+        return None
