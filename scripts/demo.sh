@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Set everything up, then render the demo gallery into demo-out/ (open demo-out/index.html).
+# Set everything up (with the viewer's window: `illusio view` afterwards), then render the demo
+# gallery into demo-out/ (open demo-out/index.html).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh viewer
 .venv/bin/illusio info
 .venv/bin/illusio demo --out demo-out "$@"

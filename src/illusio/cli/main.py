@@ -12,7 +12,7 @@ import warnings
 import typer
 
 from ..core.errors import IllusioError
-from . import demo, info, lines, render, sis
+from . import demo, info, lines, render, sis, view
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="illusio: perception-driven rendering on a headless OpenGL core.")
@@ -24,6 +24,7 @@ app.command("sis-scene")(sis.sis_scene)
 app.command("sis-decode")(sis.sis_decode)
 app.command("lines")(lines.lines)
 app.command("curvature")(lines.curvature)
+app.command("view")(view.view)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

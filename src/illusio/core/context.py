@@ -18,7 +18,7 @@ from .fullscreen import FullscreenTriangle
 from .programs import ProgramCache
 from .textures import TexturePool, TextureSpec, readback, upload, write_texture
 
-__all__ = ["Context", "REQUIRED_GL", "default_context"]
+__all__ = ["Context", "REQUIRED_GL", "default_context", "release_current"]
 
 REQUIRED_GL = 430
 _CURRENT: list["Context | None"] = [None]  # the Context whose GL context was made current last (one GL thread)
@@ -31,8 +31,14 @@ class Context:
     ``fullscreen`` (FullscreenTriangle).
     """
 
-    def __init__(self, gl: moderngl.Context | None = None, *, backend: str | None = None):
+    def __init__(self, gl: moderngl.Context | None = None, *, backend: str | None = None,
+                 activate=None, deactivate=None):
+        # how to make this context current and to leave it: moderngl's enter/exit for a headless
+        # context; the window toolkit's calls for a window's (see wrap)
+        self._activate = activate or (lambda: self.gl.__enter__())
+        self._deactivate = deactivate or (lambda: self.gl.__exit__(None, None, None))
         if gl is None:
+            release_current()
             gl = _create_headless(backend)
         if gl.version_code < REQUIRED_GL:
             raise GLUnavailable(
@@ -53,13 +59,15 @@ class Context:
         Context in one process, e.g. a CLI call inside a script, would otherwise receive this one's
         GL calls). Called by every entry point below; passes call it before direct ``gl`` work."""
         if _CURRENT[0] is not self:
-            self.gl.__enter__()
+            release_current()
+            self._activate()
             _CURRENT[0] = self
 
     @classmethod
-    def wrap(cls, gl: moderngl.Context) -> "Context":
-        """Adopt an existing context (a window's)."""
-        return cls(gl)
+    def wrap(cls, gl: moderngl.Context, activate=None, deactivate=None) -> "Context":
+        """Adopt an existing context (a window's); ``activate`` and ``deactivate`` make it current
+        and leave it through the window toolkit (e.g. glfw.make_context_current)."""
+        return cls(gl, activate=activate, deactivate=deactivate)
 
     def kept(self, renderer_class):
         """One renderer of ``renderer_class`` kept on this context for the one-shot functions
@@ -181,6 +189,16 @@ class Context:
 
 
 _DEFAULT: list["Context | None"] = [None]
+
+
+def release_current() -> None:
+    """Leave no illusio Context current on this thread. A headless EGL context and a window's GLX
+    context cannot both be current (X answers BadAccess to glXMakeCurrent): the viewer's window calls
+    this before it makes its own, and every switch between Contexts goes through it."""
+    ctx = _CURRENT[0]
+    if ctx is not None and ctx.gl is not None:
+        ctx._deactivate()
+    _CURRENT[0] = None
 
 
 def default_context() -> Context:

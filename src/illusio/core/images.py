@@ -28,6 +28,7 @@ __all__ = [
     "check_output_path",
     "as_image",
     "write_video",
+    "VideoWriter",
 ]
 
 _PIL_FORMATS = {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff", ".webp"}
@@ -257,18 +258,66 @@ def _write_png16(p: Path, img: np.ndarray) -> Path:
     return p
 
 
+def _video_frame(image: np.ndarray) -> np.ndarray:
+    return (np.clip(linear_to_srgb(as_image(image)[..., :3]), 0, 1) * 255 + 0.5).astype(np.uint8)
+
+
+class VideoWriter:
+    """Frames appended one at a time to an .mp4 (H.264) or a looping .gif, written to a temporary
+    file and renamed onto ``path`` when the ``with`` block ends without an error (a long recording
+    never holds every frame in memory)::
+
+        with VideoWriter("walk.mp4", fps=30) as video:
+            for image in frames:
+                video.append(image)     # linear float (H, W, 3)
+    """
+
+    def __init__(self, path: str | os.PathLike, fps: float = 12):
+        self.path = Path(path)
+        self.fps = float(fps)
+        self.suffix = self.path.suffix.lower()
+        if self.suffix not in (".mp4", ".gif"):
+            raise InputError(f"{self.path.name}: a video must end in .mp4 or .gif")
+        if not self.fps > 0:
+            raise InputError(f"frames per second must be positive, got {fps}")
+        self.frames = 0
+        self._atomic = atomic_output(self.path)
+        self._gif: list[np.ndarray] = []
+        self._writer = None
+
+    def __enter__(self) -> "VideoWriter":
+        self._tmp = self._atomic.__enter__()
+        if self.suffix == ".mp4":
+            import imageio.v2 as iio2
+
+            self._writer = iio2.get_writer(self._tmp, format="FFMPEG", fps=self.fps, codec="libx264",
+                                           macro_block_size=1, quality=8)
+        return self
+
+    def append(self, image: np.ndarray) -> None:
+        frame = _video_frame(image)
+        if self._writer is not None:
+            self._writer.append_data(frame)
+        else:
+            self._gif.append(frame)  # a GIF is written whole (they are short)
+        self.frames += 1
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        try:
+            if self._writer is not None:
+                self._writer.close()
+            elif exc_type is None:
+                import imageio.v3 as iio
+
+                iio.imwrite(self._tmp, np.stack(self._gif), extension=".gif", duration=1000 / self.fps, loop=0)
+        finally:
+            self._atomic.__exit__(exc_type, exc, tb)
+        return False
+
+
 def write_video(path: str | os.PathLike, images: list[np.ndarray], fps: float = 12) -> Path:
     """Write linear float frames (H, W, 3) as an .mp4 (H.264) or a looping .gif, atomically."""
-    import imageio.v3 as iio
-
-    p = Path(path)
-    suffix = p.suffix.lower()
-    if suffix not in (".mp4", ".gif"):
-        raise InputError(f"{p.name}: a video must end in .mp4 or .gif")
-    frames = np.stack([(np.clip(linear_to_srgb(as_image(i)[..., :3]), 0, 1) * 255 + 0.5).astype(np.uint8) for i in images])
-    with atomic_output(p) as tmp:
-        if suffix == ".gif":
-            iio.imwrite(tmp, frames, extension=".gif", duration=1000 / fps, loop=0)
-        else:
-            iio.imwrite(tmp, frames, extension=".mp4", fps=fps, codec="libx264", macro_block_size=1)
-    return p
+    with VideoWriter(path, fps) as video:
+        for image in images:
+            video.append(image)
+    return Path(path)

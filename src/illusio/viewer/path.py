@@ -3,7 +3,8 @@
 The file is a JSON list of keyframes ``{"t": seconds, "eye": [x, y, z], "target": [x, y, z]}`` in
 increasing time. Between keyframes eye and target follow cubic Hermite curves whose tangents are the
 finite differences of the neighbouring keyframes over their time span (a non-uniform Catmull–Rom
-spline): the path passes through every keyframe with a continuous velocity. Before the first and
+spline; one-sided differences at the first and last keyframe): the path passes through every
+keyframe with a continuous velocity. Before the first and
 after the last keyframe it holds still.
 """
 
@@ -104,9 +105,12 @@ class CameraPath:
         t = self._t
         n = len(t)
         m = np.zeros_like(points)
+        if n > 1:  # one-sided at the ends: two keyframes give a straight line at constant speed
+            m[0] = (points[1] - points[0]) / (t[1] - t[0])
+            m[-1] = (points[-1] - points[-2]) / (t[-1] - t[-2])
         if n > 2:
             m[1:-1] = (points[2:] - points[:-2]) / (t[2:] - t[:-2])[:, None]
-        return m  # zero at the ends: the path starts and stops gently
+        return m
 
     def at(self, t: float) -> tuple[np.ndarray, np.ndarray]:
         """(eye, target) at time ``t`` seconds."""

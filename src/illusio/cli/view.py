@@ -1,0 +1,68 @@
+"""``illusio view``: each technique live in a window, or a camera path recorded offscreen."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from ..core.errors import InputError
+from ..core.images import check_output_path
+from .common import parse_size, progress
+
+
+def view(
+    source: str = typer.Argument(None, help="what to show: a scene or mesh (plain), the hidden shape (sis), a mesh (lines); "
+                                            "default: the mode's own"),
+    technique: str = typer.Option("plain", "--technique", "-t", help="plain, sis or lines"),
+    variant: str = typer.Option(None, "--view", help="the technique's view: sis tv|wall|interactive|raw, lines drawing|q1|t1|curvature"),
+    size: str = typer.Option("1280x720", "--size", help="WIDTHxHEIGHT of the window or the video"),
+    path: Path = typer.Option(None, "--path", help="play a camera path (JSON keyframes t, eye, target)"),
+    output: Path = typer.Option(None, "-o", "--output", help="record to a video (.mp4 or .gif) offscreen, no window"),
+    fps: float = typer.Option(30.0, "--fps", help="frames per second of the recorded video"),
+    exit_after: int = typer.Option(None, "--exit-after", help="close after N frames"),
+    screenshot: Path = typer.Option(None, "--screenshot", help="save the last frame (.png)"),
+    record: Path = typer.Option(None, "--record", help="record the walk as a camera path (JSON) when the window closes"),
+) -> None:
+    """Watch a technique live in a window (WASD + mouse, Tab switches technique), or record a camera
+    path to a video with no window (-o OUT.mp4 --path CAMERA.json)."""
+    from .. import viewer as _viewer  # noqa: F401  (fails early with a clear error if the extras are missing)
+    from ..viewer.modes import MODES
+    from ..viewer.path import CameraPath
+
+    if technique not in MODES:
+        raise InputError(f"--technique must be one of {', '.join(MODES)}, got {technique!r}")
+    w, h = parse_size(size)
+    inputs = [p for p in (source, path) if p is not None and Path(p).exists()]
+    for out in (output, screenshot, record):
+        if out is not None:
+            check_output_path(out, inputs)
+    if output is not None and output.suffix.lower() not in (".mp4", ".gif"):
+        raise InputError(f"{output.name}: the video must be an .mp4 or a .gif")
+    camera_path = CameraPath.load(path) if path is not None else None
+    if output is not None or (screenshot is not None and exit_after is not None and record is None and _headless()):
+        from ..viewer.offscreen import frame_count, record as record_offscreen
+
+        if record is not None:
+            raise InputError("--record needs the window (it records a walk); leave out -o")
+        total = frame_count(camera_path, fps, exit_after)
+        with progress(total, "recording") as advance:
+            count = record_offscreen(technique, source, variant, (w, h), camera_path, fps, output, screenshot, exit_after,
+                                     on_frame=lambda i, v: advance())
+        for out in (output, screenshot):
+            if out is not None:
+                typer.echo(f"wrote {out} ({count} frames, {w}×{h})" if out == output else f"wrote {out}")
+        return
+    from ..viewer.window import ViewerWindow
+
+    window = ViewerWindow(technique, source, variant, (w, h), camera_path, record)
+    window.run(exit_after, screenshot)
+    for out in (screenshot, record):
+        if out is not None and out.exists():
+            typer.echo(f"wrote {out}")
+
+
+def _headless() -> bool:
+    import os
+
+    return not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY")

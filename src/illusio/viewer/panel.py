@@ -1,0 +1,97 @@
+"""The imgui panel: technique, variant and camera controls, the frame-time readout, and a widget for
+every field of the mode's Params, generated from its field metadata (illusio.core.params): sliders
+with the declared ranges, check boxes for flags and for each choice of a multiple choice, combos for
+single choices, a tree node per nested Params. A change goes through ``Viewer.set_param``."""
+
+from __future__ import annotations
+
+from ..core.params import ParamInfo, describe
+from .modes import MODES
+from .viewer import Viewer
+
+__all__ = ["draw_panel", "widget_value"]
+
+
+def widget_value(info: ParamInfo, imgui):
+    """Draw the widget for one field; returns (changed, new value)."""
+    label = f"{info.title}##{info.name}"
+    if info.kind == "bool":
+        return imgui.checkbox(label, bool(info.value))
+    if info.kind == "float":
+        lo, hi = info.range or (min(0.0, info.value), max(1.0, 2 * info.value))
+        flags = imgui.SliderFlags_.logarithmic.value if info.log else 0
+        return imgui.slider_float(label, float(info.value), float(lo), float(hi), "%.3g", flags)
+    if info.kind == "int":
+        lo, hi = info.range or (0, max(10, 2 * info.value))
+        if hi - lo <= 4096:
+            return imgui.slider_int(label, int(info.value), int(lo), int(hi))
+        changed, value = imgui.input_int(label, int(info.value), int(info.step or 1))
+        return changed, int(min(max(value, lo), hi))
+    if info.kind == "choice":
+        changed, value = False, info.value
+        if imgui.begin_combo(label, str(info.value)):
+            for choice in info.choices:
+                picked, _ = imgui.selectable(str(choice), choice == info.value)
+                if picked and choice != info.value:
+                    changed, value = True, choice
+            imgui.end_combo()
+        return changed, value
+    if info.kind == "multi":
+        imgui.text(info.title)
+        chosen = list(info.value)
+        changed = False
+        for choice in info.choices:
+            on, now = imgui.checkbox(f"{choice}##{info.name}.{choice}", choice in chosen)
+            if on:
+                changed = True
+                chosen = [c for c in info.choices if (c in chosen or c == choice) and (now or c != choice)]
+        return changed, tuple(chosen)
+    imgui.text(f"{info.title}: {info.value}")
+    return False, info.value
+
+
+def _fields(viewer: Viewer, infos, imgui, prefix: str = "") -> None:
+    for info in infos:
+        name = prefix + info.name
+        if info.kind == "params":
+            if imgui.tree_node(f"{info.title}##{name}"):
+                _fields(viewer, info.children, imgui, name + ".")
+                imgui.tree_pop()
+            continue
+        changed, value = widget_value(info, imgui)
+        if changed:
+            viewer.set_param(name, value)
+        if info.help and imgui.is_item_hovered():
+            imgui.set_tooltip(info.help)
+
+
+def draw_panel(viewer: Viewer, imgui, actions: dict) -> None:
+    """The panel for the viewer's current mode. ``actions``: callbacks the window provides
+    ("screenshot")."""
+    imgui.set_next_window_pos((10, 10), imgui.Cond_.first_use_ever.value)
+    imgui.set_next_window_size((400, 0), imgui.Cond_.first_use_ever.value)
+    imgui.begin("illusio")
+    ms = viewer.frame_ms
+    imgui.text(f"{ms:.1f} ms a frame ({1000 / ms if ms > 0 else 0:.0f} fps), {viewer.size[0]}x{viewer.size[1]}")
+    mode = viewer.mode
+    if imgui.begin_combo("technique", mode.name):
+        for name in MODES:
+            if imgui.selectable(name, name == mode.name)[0] and name != mode.name:
+                viewer.set_mode(name)
+        imgui.end_combo()
+    if len(mode.variants) > 1 and imgui.begin_combo("view", mode.variant):
+        for variant in mode.variants:
+            if imgui.selectable(variant, variant == mode.variant)[0] and variant != mode.variant:
+                viewer.set_variant(variant)
+        imgui.end_combo()
+    if imgui.button("home (H)"):
+        viewer.home()
+    imgui.same_line()
+    if imgui.button("screenshot (P)"):
+        actions["screenshot"]()
+    imgui.text(f"navigation: {viewer.navigation.kind}; Tab technique, V view")
+    imgui.separator()
+    _fields(viewer, describe(viewer.mode.params), imgui)
+    if viewer.last_error:
+        imgui.text_colored((1.0, 0.4, 0.3, 1.0), viewer.last_error)
+    imgui.end()

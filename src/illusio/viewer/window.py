@@ -1,0 +1,173 @@
+"""``illusio view`` in a real window: moderngl-window's GLFW backend, the imgui panel, keyboard and
+mouse navigation. Everything the window shows comes from a :class:`~illusio.viewer.viewer.Viewer`.
+
+Keys: W A S D walk (orbit: turn), Q E down / up (orbit: zoom), mouse drag to look (orbit: turn),
+wheel to zoom, Tab next technique, 1 2 3 a technique, V next view of the technique, H home,
+P screenshot, Esc quit.
+"""
+
+from __future__ import annotations
+
+import atexit
+import os
+import time
+from pathlib import Path
+
+import moderngl
+
+from ..core.context import Context, release_current
+from ..core.errors import GLUnavailable
+from .path import CameraPath, PathRecorder
+from .viewer import Viewer
+
+__all__ = ["ViewerWindow"]
+
+_TERMINATE_AT_EXIT: list[bool] = []
+
+
+class ViewerWindow:
+    """A window driving one Viewer. :meth:`frame` draws one frame and handles the events that
+    arrived; :meth:`run` loops until the window closes (or ``exit_after`` frames)."""
+
+    def __init__(self, technique: str = "plain", source: str | None = None, variant: str | None = None,
+                 size: tuple[int, int] = (1280, 720), path: CameraPath | None = None, record: Path | None = None,
+                 screenshot_dir: Path = Path(".")):
+        if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
+            raise GLUnavailable("no display to open a window on (DISPLAY is not set); record a camera path "
+                                "offscreen instead: illusio view --path CAMERA.json -o OUT.mp4")
+        try:
+            import moderngl_window
+            from imgui_bundle import imgui
+            from moderngl_window.context.glfw import Window
+            from moderngl_window.integrations.imgui_bundle import ModernglWindowRenderer
+        except ImportError as exc:
+            raise GLUnavailable(f"the window needs the viewer extras ({exc.name} is missing): "
+                                "pip install 'illusio[viewer]' (or record offscreen with -o OUT.mp4)") from None
+
+        release_current()  # a headless context of this process must not stay current beside the window's
+        try:
+            self.window = Window(title="illusio", size=size, gl_version=(4, 3), vsync=False, resizable=True)
+        except Exception as exc:  # glfw raises plain exceptions when no GL 4.3 window can be made
+            raise GLUnavailable(f"cannot open an OpenGL 4.3 window ({' '.join(str(exc).split())}); "
+                                "on Debian/Ubuntu: apt-get install -y --no-install-recommends libgl1 libgl1-mesa-dri") from None
+        moderngl_window.activate_context(window=self.window)
+        self.imgui = imgui
+        self.imgui_context = imgui.create_context()
+        imgui.set_current_context(self.imgui_context)  # create_context makes only the first one current
+        self.gui = ModernglWindowRenderer(self.window)
+        import glfw
+
+        handle = self.window._window
+        self.ctx = Context.wrap(self.window.ctx, activate=lambda: glfw.make_context_current(handle),
+                                deactivate=lambda: glfw.make_context_current(None))
+        self.record_path = record
+        self.viewer = Viewer(self.ctx, technique, source, variant, self.window.buffer_size, path,
+                             PathRecorder() if record else None)
+        self.screenshot_dir = Path(screenshot_dir)
+        self.screenshots = 0
+        keys = self.window.keys
+        self._move = {keys.W: "w", keys.A: "a", keys.S: "s", keys.D: "d", keys.Q: "q", keys.E: "e"}
+        self._modes = {keys.NUMBER_1: "plain", keys.NUMBER_2: "sis", keys.NUMBER_3: "lines"}
+        w = self.window
+        w.key_event_func = self.on_key
+        w.mouse_drag_event_func = self.on_drag
+        w.mouse_scroll_event_func = self.on_scroll
+        w.mouse_position_event_func = self.gui.mouse_position_event
+        w.mouse_press_event_func = self.gui.mouse_press_event
+        w.mouse_release_event_func = self.gui.mouse_release_event
+        w.unicode_char_entered_func = self.gui.unicode_char_entered
+        w.resize_func = self.on_resize
+        self._last = time.perf_counter()
+
+    # -- events --------------------------------------------------------------------------------
+    def on_key(self, key, action, modifiers) -> None:
+        self.gui.key_event(key, action, modifiers)
+        keys = self.window.keys
+        if self.imgui.get_io().want_capture_keyboard:
+            return
+        if key in self._move:
+            self.viewer.key(self._move[key], action == keys.ACTION_PRESS)
+            return
+        if action != keys.ACTION_PRESS:
+            return
+        if key == keys.TAB:
+            self.viewer.next_mode()
+        elif key in self._modes:
+            self.viewer.set_mode(self._modes[key])
+        elif key == keys.V:
+            self.viewer.next_variant()
+        elif key == keys.H:
+            self.viewer.home()
+        elif key == keys.P:
+            self.screenshot()
+
+    def on_drag(self, x, y, dx, dy) -> None:
+        self.gui.mouse_drag_event(x, y, dx, dy)
+        if not self.imgui.get_io().want_capture_mouse and self.window.mouse_states.left:
+            self.viewer.drag(dx, dy)
+
+    def on_scroll(self, x_offset, y_offset) -> None:
+        self.gui.mouse_scroll_event(x_offset, y_offset)
+        if not self.imgui.get_io().want_capture_mouse:
+            self.viewer.scroll(y_offset)
+
+    def on_resize(self, width, height) -> None:
+        self.gui.resize(width, height)
+        self.viewer.resize(self.window.buffer_size)
+
+    def screenshot(self, path: Path | None = None) -> Path:
+        if path is None:
+            self.screenshots += 1
+            path = self.screenshot_dir / f"illusio-{self.viewer.mode.name}-{self.screenshots:03d}.png"
+        return self.viewer.screenshot(path)
+
+    # -- frames --------------------------------------------------------------------------------
+    def frame(self, dt: float | None = None) -> None:
+        now = time.perf_counter()
+        dt = now - self._last if dt is None else dt
+        self._last = now
+        self.ctx.make_current()
+        self.window.use()
+        frame = self.viewer.step(min(dt, 0.25))
+        screen = self.window.ctx.screen
+        self.viewer.display(screen, self.window.buffer_size, frame, encode_srgb=True)
+        imgui = self.imgui
+        imgui.new_frame()
+        from .panel import draw_panel
+
+        draw_panel(self.viewer, imgui, {"screenshot": self.screenshot})
+        imgui.render()
+        self.gui.render(imgui.get_draw_data())
+        self.window.ctx.enable_only(moderngl.NOTHING)  # imgui leaves blending on; the passes expect it off
+        self.window.title = f"illusio — {self.viewer.mode.name} ({self.viewer.mode.variant}) — {self.viewer.frame_ms:.0f} ms"
+        self.window.swap_buffers()
+
+    def run(self, exit_after: int | None = None, screenshot: Path | None = None) -> None:
+        frames = 0
+        try:
+            while not self.window.is_closing and (exit_after is None or frames < exit_after):
+                self.frame()
+                frames += 1
+                if self.viewer.path is not None and self.viewer.time >= self.viewer.path.duration and exit_after is None:
+                    break
+            if screenshot is not None:
+                self.screenshot(screenshot)
+            if self.record_path is not None and self.viewer.recorder.keyframes:
+                self.viewer.recorder.save(self.record_path)
+        finally:
+            self.close()
+
+    def close(self) -> None:
+        self.ctx.make_current()
+        self.viewer.release()
+        self.gui.shutdown()
+        self.imgui.destroy_context(self.imgui_context)
+        # only the window: GLFW itself stays initialised until the process ends, because a second
+        # glfw.init() after glfw.terminate() in one process failed to reopen the X display here
+        import glfw
+
+        release_current()
+        glfw.destroy_window(self.window._window)
+        if not _TERMINATE_AT_EXIT:
+            atexit.register(glfw.terminate)
+            _TERMINATE_AT_EXIT.append(True)

@@ -1,0 +1,133 @@
+"""Every viewer mode offscreen (no window, no X): what a person does changes the picture as it should."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from illusio.core.renderer import Frame
+from illusio.viewer import MODES, CameraPath, Viewer
+from illusio.viewer.offscreen import frame_count, record
+
+SIZE = (320, 180)
+
+
+def host_pixels(viewer: Viewer) -> int:
+    """Pixels of the multi-scene host in the last frame (screen-space depth ≥ 0)."""
+    return int((viewer.ctx.readback(viewer.mode.renderer.maps()["depth"])[..., 0] >= 0).sum())
+
+
+def dark_pixels(image: np.ndarray) -> int:
+    return int((image.max(axis=-1) < 0.5).sum())
+
+
+def test_every_mode_and_view_draws_something_different(ctx):
+    viewer = Viewer(ctx, "plain", size=SIZE)
+    images = {}
+    for name, mode in MODES.items():
+        for variant in mode.variants:
+            viewer.set_mode(name, variant)
+            viewer.step()
+            image = viewer.image()
+            assert image.shape == (SIZE[1], SIZE[0], 3) and image.std() > 0.02, (name, variant)
+            images[name, variant] = image
+    keys = list(images)
+    for i, a in enumerate(keys):
+        for b in keys[i + 1:]:
+            assert np.abs(images[a] - images[b]).mean() > 1e-3, (a, b)
+    viewer.release()
+
+
+def test_walking_toward_the_tv_grows_it_on_screen(ctx):
+    viewer = Viewer(ctx, "sis", variant="tv", size=SIZE)
+    viewer.step()
+    counts = [host_pixels(viewer)]
+    # face the TV (it stands at x = 0, z = -2.2) and walk to it
+    walk = viewer.navigation
+    eye = walk.position
+    walk.yaw = float(np.degrees(np.arctan2(-(0 - eye[0]), -(-2.2 - eye[2]))))
+    walk.pitch = -8.0
+    viewer.key("w", True)
+    for _ in range(3):
+        viewer.step(0.5)
+        counts.append(host_pixels(viewer))
+    viewer.key("w", False)
+    assert counts[1] < counts[2] < counts[3] and counts[3] > 2 * counts[0], counts
+    # the snow is on the TV: its pixels vary from frame to frame where the TV is
+    a = viewer.image()
+    viewer.step(0.0)
+    b = viewer.image()
+    changed = np.abs(a - b).max(axis=-1) > 0.05
+    assert changed.sum() > 0.3 * counts[-1]
+    viewer.release()
+
+
+def test_walking_around_the_interactive_wall_turns_the_hidden_scene(ctx):
+    """Figure 25: in the interactive view, stepping sideways turns the hidden shape the wall shows;
+    the plain wall view keeps it as it is."""
+    shifts = {}
+    for variant in ("interactive", "wall"):
+        viewer = Viewer(ctx, "sis", variant=variant, size=SIZE)
+        viewer.step()
+        renderer = viewer.mode.renderer
+        before = renderer.hidden_view(viewer.view(), viewer.mode.params, viewer.index)
+        depth_before = ctx.readback(renderer.maps()["depth"])[..., 0]
+        viewer.key("a", True)
+        viewer.step(1.0)
+        viewer.key("a", False)
+        after = renderer.hidden_view(viewer.view(), viewer.mode.params, viewer.index)
+        shifts[variant] = np.linalg.norm(np.subtract(after.pose.position, before.pose.position))
+        if variant == "interactive":
+            depth_after = ctx.readback(renderer.maps()["depth"])[..., 0]
+            on = (depth_before >= 0) & (depth_after >= 0)
+            assert np.abs(depth_after - depth_before)[on].max() > 0.05
+        viewer.release()
+    assert shifts["interactive"] > 0.1 and shifts["wall"] == 0.0, shifts
+
+
+def test_lines_panel_changes_show(ctx):
+    """Turning silhouettes off removes line pixels; another τ changes the ridge pixel count."""
+    viewer = Viewer(ctx, "lines", "torus-knot", size=(256, 256))
+    viewer.step()
+    both = dark_pixels(viewer.image())
+    assert viewer.set_param("lines", ("apparent-ridges",))
+    viewer.step()
+    ridges_only = viewer.image()
+    assert 0 < dark_pixels(ridges_only) < both
+    ridge_count = int((ctx.readback(viewer.mode.renderer.maps()["ridges"])[..., 0] > 0.5).sum())
+    assert viewer.set_param("tau", 1.0)
+    viewer.step()
+    other = int((ctx.readback(viewer.mode.renderer.maps()["ridges"])[..., 0] > 0.5).sum())
+    assert other != ridge_count and abs(other - ridge_count) > 0.05 * ridge_count
+    # a value out of its declared range is refused and leaves the params as they were
+    assert not viewer.set_param("lam", -1.0)
+    assert "out of range" in viewer.last_error and viewer.mode.params.lam == 0.5
+    viewer.release()
+
+
+def test_camera_path_to_video_offscreen(ctx, tmp_path):
+    import imageio.v3 as iio
+
+    path = CameraPath.parse('[{"t": 0, "eye": [2.5, 1.6, 2.4], "target": [0, 1.08, -2.2]},'
+                            ' {"t": 1.0, "eye": [0.3, 1.2, -0.8], "target": [0, 1.08, -2.2]}]')
+    counts = []
+    n = record("sis", None, "tv", SIZE, path, 6, tmp_path / "walk.mp4", tmp_path / "last.png", ctx=ctx,
+               on_frame=lambda i, v: counts.append(host_pixels(v)))
+    assert n == frame_count(path, 6, None) == 7
+    frames = np.stack(list(iio.imiter(tmp_path / "walk.mp4")))
+    assert frames.shape == (7, SIZE[1], SIZE[0], 3)
+    assert counts == sorted(counts) and counts[-1] > 3 * counts[0]  # the path walks up to the TV
+    assert Path(tmp_path / "last.png").stat().st_size > 1000
+
+
+def test_frames_carry_time_and_index(ctx):
+    """The mode's renderer gets the viewer's clock: frame index drives the snow."""
+    viewer = Viewer(ctx, "sis", variant="raw", size=SIZE)
+    seen = []
+    real = viewer.mode.renderer.render_texture
+    viewer.mode.renderer.render_texture = lambda frame, params=None: seen.append(frame) or real(frame, params)
+    for _ in range(3):
+        viewer.step(0.25)
+    assert [f.index for f in seen] == [0, 1, 2] and [f.time for f in seen] == pytest.approx([0.0, 0.25, 0.5])
+    assert all(isinstance(f, Frame) and f.size == (SIZE[0] // 2, SIZE[1]) for f in seen)
+    viewer.release()

@@ -1,0 +1,132 @@
+"""The real window under a virtual X server: start it, walk, look around, switch every technique and
+view, change panel values, take screenshots, and check each changed the picture as it should.
+
+Events go through the callbacks the window registered with GLFW (the functions GLFW calls when X
+delivers a key or a mouse event), so everything from there on is the code a person exercises."""
+
+import glfw
+import numpy as np
+import pytest
+
+from illusio.core.images import linear_to_srgb, read_image
+
+SIZE = (640, 360)
+
+
+@pytest.fixture
+def window(x_display, tmp_path):
+    from illusio.viewer.window import ViewerWindow
+
+    w = ViewerWindow("sis", None, "tv", SIZE, screenshot_dir=tmp_path)
+    yield w
+    w.close()
+
+
+def press(w, key):
+    w.window.glfw_key_event_callback(w.window._window, key, 0, glfw.PRESS, 0)
+
+
+def release(w, key):
+    w.window.glfw_key_event_callback(w.window._window, key, 0, glfw.RELEASE, 0)
+
+
+def tap(w, key):
+    press(w, key)
+    release(w, key)
+
+
+def host_pixels(w) -> int:
+    return int((w.ctx.readback(w.viewer.mode.renderer.maps()["depth"])[..., 0] >= 0).sum())
+
+
+def test_window_shows_the_frame_beside_its_panel(window):
+    window.frame(1 / 30)
+    window.frame(1 / 30)  # imgui sizes an auto-sized window on its first frame and shows it on the next
+    screen = np.frombuffer(window.window.ctx.screen.read(components=3), np.uint8)
+    bw, bh = window.window.buffer_size
+    screen = screen.reshape(bh, bw, 3)[::-1].astype(np.float32) / 255
+    expected = linear_to_srgb(window.viewer.image())
+    right = slice(440, bw)  # the panel is 400 pixels wide at (10, 10)
+    assert np.abs(screen[:, right] - expected[:, right]).mean() < 2 / 255
+    assert np.abs(screen[:200, :300] - expected[:200, :300]).mean() > 0.05  # the panel is drawn there
+
+
+def test_walking_looking_switching_and_screenshots(window, tmp_path):
+    w = window
+    w.frame(1 / 30)
+    start = host_pixels(w)
+    press(w, glfw.KEY_W)
+    for _ in range(4):
+        w.frame(0.25)
+    release(w, glfw.KEY_W)
+    assert host_pixels(w) > 1.3 * start  # walked towards the TV
+    assert w.viewer.keys == set()
+    # a mouse drag to the right turns the head right (yaw decreases by 0.2° a pixel)
+    yaw = w.viewer.navigation.yaw
+    glfw.set_cursor_pos(w.window._window, 500, 200)
+    w.window.glfw_mouse_event_callback(w.window._window, 500, 200)
+    w.window.glfw_mouse_button_callback(w.window._window, glfw.MOUSE_BUTTON_LEFT, glfw.PRESS, 0)
+    w.window.glfw_mouse_event_callback(w.window._window, 540, 200)
+    w.window.glfw_mouse_button_callback(w.window._window, glfw.MOUSE_BUTTON_LEFT, glfw.RELEASE, 0)
+    w.frame(1 / 30)
+    assert w.viewer.navigation.yaw == pytest.approx(yaw - 40 * 0.2)
+    # every technique and view, a screenshot of each (P), all different
+    shots = []
+    for number, technique in ((glfw.KEY_1, "plain"), (glfw.KEY_2, "sis"), (glfw.KEY_3, "lines")):
+        tap(w, number)
+        for _ in w.viewer.mode.variants:
+            w.frame(1 / 30)
+            tap(w, glfw.KEY_P)
+            shots.append((technique, w.viewer.mode.variant))
+            tap(w, glfw.KEY_V)
+        assert w.viewer.mode.name == technique
+    files = sorted(tmp_path.glob("illusio-*.png"))
+    assert len(files) == len(shots) == 1 + 4 + 4
+    images = [read_image(f) for f in files]
+    for i in range(len(images) - 1):
+        assert np.abs(images[i] - images[i + 1]).mean() > 1e-3, (shots[i], shots[i + 1])
+    tap(w, glfw.KEY_TAB)
+    assert w.viewer.mode.name == "plain"
+
+
+def test_panel_values_change_the_line_drawing(window):
+    w = window
+    tap(w, glfw.KEY_3)
+    w.frame(1 / 30)
+
+    def dark():
+        return int((w.viewer.image().max(axis=-1) < 0.5).sum())
+
+    def ridges():
+        return int((w.ctx.readback(w.viewer.mode.renderer.maps()["ridges"])[..., 0] > 0.5).sum())
+
+    both, ridge_count = dark(), ridges()
+    assert w.viewer.set_param("lines", ("apparent-ridges",))  # what the panel's check box calls
+    w.frame(1 / 30)
+    assert dark() < both
+    assert w.viewer.set_param("tau", 1.0)
+    w.frame(1 / 30)
+    assert ridges() != ridge_count
+    # orbiting with keys moves around the mesh
+    before = w.viewer.view().pose.position
+    press(w, glfw.KEY_D)
+    w.frame(0.5)
+    release(w, glfw.KEY_D)
+    assert np.linalg.norm(np.subtract(w.viewer.view().pose.position, before)) > 0.1
+
+
+def test_escape_closes_and_the_recorded_walk_is_saved(x_display, tmp_path):
+    from illusio.viewer.path import CameraPath
+    from illusio.viewer.window import ViewerWindow
+
+    w = ViewerWindow("plain", "living-room", None, SIZE, record=tmp_path / "walk.json")
+    press(w, glfw.KEY_W)
+    for _ in range(6):
+        w.frame(0.2)
+    release(w, glfw.KEY_W)
+    tap(w, glfw.KEY_ESCAPE)
+    assert w.window.is_closing
+    w.run(screenshot=tmp_path / "last.png")  # closes at once: saves the screenshot and the walk
+    path = CameraPath.load(tmp_path / "walk.json")
+    assert len(path.keyframes) >= 4 and path.duration == pytest.approx(1.0)
+    assert (tmp_path / "last.png").exists()
