@@ -64,7 +64,7 @@ class Frame:
 def fingerprint(obj: Any) -> bytes:
     """A digest of ``obj``'s value: arrays by their bytes, dataclasses and plain objects by their
     fields, containers by their items. Two subjects with equal fingerprints draw the same."""
-    h = hashlib.blake2b(digest_size=16)
+    h = hashlib.sha1(usedforsecurity=False)  # a content key, not a secret; ~3× faster than blake2b here
     _feed(h, obj, 0)
     return h.digest()
 

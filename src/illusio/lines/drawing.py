@@ -247,7 +247,4 @@ def line_drawing(mesh: Mesh, params: LineParams = LineParams(), view: View | Non
     default headless context is used; the context keeps one renderer for these calls."""
     renderer = (ctx or default_context()).kept(LineRenderer)
     renderer.prepare(mesh)
-    try:
-        return renderer.render(Frame(view, size), params)
-    finally:
-        renderer.release_subject()
+    return renderer.render(Frame(view, size), params)

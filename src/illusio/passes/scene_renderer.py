@@ -188,10 +188,9 @@ class SceneRenderer(Renderer):
 def render_scene(scene: Scene, view=None, size=(640, 480), ctx: Context | None = None,
                  settings: RenderSettings = RenderSettings()) -> np.ndarray:
     """One-shot render of ``scene`` (its ``main`` camera by default): float32 (H, W, 3), row 0 on
-    top. Without ``ctx``, the process's default headless context is used (and kept)."""
-    renderer = SceneRenderer(ctx or default_context())
-    try:
-        renderer.prepare(scene)
-        return renderer.render(Frame(view, size), settings)
-    finally:
-        renderer.release()
+    top. Without ``ctx``, the process's default headless context is used (and kept). The context
+    keeps one renderer for these calls, holding the last scene: called again with a scene equal by
+    value, nothing is uploaded again."""
+    renderer = (ctx or default_context()).kept(SceneRenderer)
+    renderer.prepare(scene)
+    return renderer.render(Frame(view, size), settings)

@@ -21,12 +21,12 @@ from .depth import check_depth, read_depth
 from .params import ALGORITHMS, PATTERNS, StereogramParams
 from .physics import (depth_from_separation, depth_range, max_separation_px, screen_width_cm, separation_cm,
                       separation_px)
-from .multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject, hidden_view_from_viewer
+from .multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject, hidden_view_from_viewer, multiscene
 from .stereogram import StereogramRenderer, draw_guides, stereogram, stereogram_cpu
 
 __all__ = [
     "StereogramParams", "ALGORITHMS", "PATTERNS", "StereogramRenderer", "stereogram", "stereogram_cpu",
-    "MultiSceneParams", "MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer",
+    "MultiSceneParams", "MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer", "multiscene",
     "draw_guides", "check_depth", "read_depth", "DecodeReport", "check", "decode_separation",
     "expected_separation", "separation_to_depth", "separation_cm", "screen_width_cm", "separation_px",
     "depth_from_separation", "max_separation_px", "depth_range",

@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 import moderngl
 import numpy as np
 
-from ..core.context import Context
+from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.params import check_ranges, param
 from ..core.renderer import Frame, Renderer
@@ -33,7 +33,7 @@ from .params import StereogramParams
 from .separation import RowStartPass
 from .stereogram import StereogramRenderer
 
-__all__ = ["MultiSceneParams", "MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer"]
+__all__ = ["MultiSceneParams", "MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer", "multiscene"]
 
 
 @dataclass(frozen=True)
@@ -234,3 +234,12 @@ class MultiSceneRenderer(Renderer):
             xs.extend(px[:, 0].tolist())
         xs = np.asarray(xs, np.float64)
         return int(np.clip(np.floor(xs.min()), 0, w)), int(np.clip(np.ceil(xs.max()), 0, w))
+
+
+def multiscene(main: Scene, hidden: Scene, frame: Frame = Frame(), params: MultiSceneParams = MultiSceneParams(),
+               ctx: Context | None = None) -> np.ndarray:
+    """One multi-scene image: float32 (H, W, 3) linear, row 0 on top. Without ``ctx`` the process's
+    default headless context is used; the context keeps one renderer for these calls."""
+    renderer = (ctx or default_context()).kept(MultiSceneRenderer)
+    renderer.prepare(MultiSceneSubject(main, hidden))
+    return renderer.render(frame, params)

@@ -231,7 +231,4 @@ def stereogram(depth: np.ndarray, params: StereogramParams = StereogramParams(),
     d = check_depth(depth)
     renderer = (ctx or default_context()).kept(StereogramRenderer)
     renderer.prepare(d)
-    try:
-        return renderer.render(Frame(None, (d.shape[1], d.shape[0]), index=frame), params)
-    finally:
-        renderer.release_subject()
+    return renderer.render(Frame(None, (d.shape[1], d.shape[0]), index=frame), params)

@@ -111,7 +111,8 @@ class Viewer:
     # -- frames --------------------------------------------------------------------------------
     def view(self):
         if self.path is not None and self.mode.home_view() is not None:
-            return self.path.view(self.time, self.mode.home_view().camera)
+            eye, _ = self.path.at(self.time)
+            return self.path.view(self.time, self.mode.camera_at(eye))
         return self.navigation.view()
 
     def resize(self, size: tuple[int, int]) -> None:

@@ -12,7 +12,7 @@ from ...core.context import Context
 from ...core.errors import InputError
 from ...core.params import with_values
 from ...core.renderer import Frame, Renderer
-from ...scene.camera import View
+from ...scene.camera import Camera, View
 from ..navigation import FixedCamera, OrbitCamera, WalkCamera
 
 __all__ = ["Mode"]
@@ -48,6 +48,10 @@ class Mode:
 
     def home_view(self) -> View | None:
         raise NotImplementedError
+
+    def camera_at(self, eye) -> "Camera":
+        """The lens for a view from ``eye`` (a camera path's): the home view's."""
+        return self.home_view().camera
 
     def image_size(self, size: tuple[int, int]) -> tuple[int, int]:
         """The size of the rendered image in a window of ``size`` (half the width with an aside)."""

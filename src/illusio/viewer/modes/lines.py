@@ -9,6 +9,7 @@ from ...core.renderer import Frame
 from ...lines.debug import DEBUG_VIEWS, debug_view
 from ...lines.drawing import LineRenderer
 from ...lines.params import LineParams
+from ...scene.camera import Camera
 from ...scene.sources import resolve_mesh
 from ..navigation import OrbitCamera
 from .base import Mode
@@ -33,6 +34,16 @@ class LinesMode(Mode):
 
     def navigation(self):
         return OrbitCamera.from_view(self.home_view())
+
+    def camera_at(self, eye):
+        """The home lens with near and far planes hugging the mesh's bounding sphere seen from
+        ``eye`` (the line visibility test needs the depth precision)."""
+        lo, hi = self.mesh.bounds
+        centre = (np.asarray(lo, np.float64) + hi) / 2
+        radius = max(float(np.linalg.norm(np.asarray(hi, np.float64) - lo)) / 2, 1e-6)
+        distance = float(np.linalg.norm(np.asarray(eye, np.float64) - centre))
+        camera = self.home_view().camera
+        return Camera(camera.fov_y, max(distance - radius * 1.5, distance * 1e-3), distance + radius * 1.5, camera.shift)
 
     def render(self, frame: Frame):
         if self.variant == "drawing":
