@@ -2,11 +2,12 @@
 
 Quick start::
 
-    from illusio.core import Context, write_image
+    from illusio.core import Context, Frame, write_image
     from illusio.scene import load_scene
     from illusio.passes import SceneRenderer
-    image = SceneRenderer(Context()).render(load_scene("living-room"), size=(960, 600))
-    write_image("living-room.png", image)
+    renderer = SceneRenderer(Context())          # every technique's renderer works the same way
+    renderer.prepare(load_scene("living-room"))
+    write_image("living-room.png", renderer.render(Frame(size=(960, 600))))
 """
 
 __version__ = "0.1.0"
