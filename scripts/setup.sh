@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set up illusio on a fresh Debian/Ubuntu machine: system GL libraries (installed when running as
 # root, otherwise the one apt-get line is printed), a virtual environment in .venv, the package.
-# Usage: scripts/setup.sh [pip extra: test (also installs xvfb and xauth), viewer]
+# Usage: scripts/setup.sh [pip extra: test (also installs xvfb, xauth and chromium), viewer]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 extra="${1:-}"
@@ -13,9 +13,11 @@ have_lib 'libEGL.so.1' || need+=(libegl1)
 have_lib 'libGL.so.1' || need+=(libgl1)
 ls /usr/lib/*/dri/swrast_dri.so /usr/lib/*/dri/*_dri.so >/dev/null 2>&1 || need+=(libgl1-mesa-dri)
 python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
-if [ "$extra" = test ]; then  # the viewer's window tests run under a virtual X server
+if [ "$extra" = test ]; then
+  # the viewer's window tests run under a virtual X server; the gallery is checked in Chromium
   command -v Xvfb >/dev/null || need+=(xvfb)
   command -v xauth >/dev/null || need+=(xauth)
+  command -v chromium >/dev/null || need+=(chromium)
 fi
 if [ ${#need[@]} -gt 0 ]; then
   if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then

@@ -13,7 +13,8 @@ __all__ = ["Item", "Section", "write_gallery"]
 
 @dataclass
 class Item:
-    """One image: its path relative to the gallery folder, a caption, and optional details."""
+    """One image or video (.mp4, .webm: shown as a looping video): its path relative to the gallery
+    folder, a caption, and optional details."""
 
     image: str
     caption: str
@@ -32,8 +33,38 @@ body { font-family: system-ui, sans-serif; margin: 2em auto; max-width: 1400px; 
 h1 { font-weight: 600; } h2 { border-bottom: 1px solid #444; padding-bottom: .3em; margin-top: 2em; }
 .grid { display: grid; grid-template-columns: repeat(auto-fill, minmax(420px, 1fr)); gap: 1.2em; }
 figure { margin: 0; background: #1b1b1b; padding: .6em; border-radius: 6px; }
-figure img { width: 100%; display: block; image-rendering: auto; }
+figure img, figure video { width: 100%; display: block; image-rendering: auto; }
+.broken { outline: 3px solid #c33; }
 figcaption { margin-top: .4em; } .details { color: #999; font-size: .85em; }
+"""
+
+
+VIDEO_SUFFIXES = (".mp4", ".webm")
+
+# After loading, every image and video is checked: one that did not load is outlined in red and
+# reported on the console, and <body> records the counts (data-media, data-media-ok) so that a
+# headless browser can tell whether the page is whole.
+_CHECK = """
+(function () {
+  const media = Array.from(document.querySelectorAll('img, video'));
+  let pending = media.length, ok = 0;
+  function done(el, good) {
+    if (el.dataset.checked) return;
+    el.dataset.checked = good ? 'ok' : 'broken';
+    if (good) ok++; else { el.classList.add('broken'); console.error('illusio gallery: cannot load ' + el.getAttribute('src')); }
+    if (--pending === 0) { document.body.dataset.mediaOk = ok; document.body.dataset.media = media.length; }
+  }
+  for (const el of media) {
+    if (el.tagName === 'IMG') {
+      if (el.complete) done(el, el.naturalWidth > 0);
+      else { el.addEventListener('load', () => done(el, el.naturalWidth > 0)); el.addEventListener('error', () => done(el, false)); }
+    } else {
+      if (el.readyState >= 1) done(el, el.videoWidth > 0);
+      else { el.addEventListener('loadedmetadata', () => done(el, el.videoWidth > 0)); el.addEventListener('error', () => done(el, false)); }
+    }
+  }
+  if (media.length === 0) { document.body.dataset.mediaOk = 0; document.body.dataset.media = 0; }
+})();
 """
 
 
@@ -49,14 +80,18 @@ def write_gallery(out_dir: str | Path, title: str, sections: list[Section], foot
         parts.append("<div class='grid'>")
         for it in s.items:
             src = html.escape(it.image, quote=True)
-            parts.append(f"<figure><a href='{src}'><img src='{src}' alt='{html.escape(it.caption, quote=True)}'></a>"
+            if Path(it.image).suffix.lower() in VIDEO_SUFFIXES:
+                media = f"<video src='{src}' controls muted loop autoplay playsinline preload='auto'></video>"
+            else:
+                media = f"<a href='{src}'><img src='{src}' alt='{html.escape(it.caption, quote=True)}'></a>"
+            parts.append(f"<figure>{media}"
                          f"<figcaption>{html.escape(it.caption)}"
                          + (f"<div class='details'>{html.escape(it.details)}</div>" if it.details else "")
                          + "</figcaption></figure>")
         parts.append("</div>")
     if footer:
         parts.append(f"<p class='details'>{html.escape(footer)}</p>")
-    parts.append("</body></html>\n")
+    parts.append(f"<script>{_CHECK}</script></body></html>\n")
     path = out / "index.html"
     with atomic_output(path) as tmp:
         tmp.write_text("\n".join(parts))

@@ -14,6 +14,7 @@ from ..scene.builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .html import Item, Section
 from .lines import lines_showcase
 from .sis import sis_showcase
+from .viewer import viewer_showcase
 
 __all__ = ["SHOWCASES", "builtin_scenes", "builtin_shapes"]
 
@@ -60,4 +61,5 @@ SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]]
     ("shapes", builtin_shapes),
     ("sis", sis_showcase),
     ("lines", lines_showcase),
+    ("viewer", viewer_showcase),
 ]
