@@ -38,7 +38,9 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     w, h = (480, 270) if quick else SIZE
     depth = depth_map(w, h)
     renderer = StereogramRenderer(ctx)
-    tex = ctx.upload(depth, filter="nearest")
+    renderer.prepare(depth)
+    frame = Frame(None, (w, h))
+    tex = renderer.depth_texture((w, h))
     timings: list[Timing] = []
     note = f"{w}x{h}, W_s = 100, beta = 50"
 
@@ -46,7 +48,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         params = StereogramParams(algorithm=algorithm)
 
         def go():
-            out = renderer.stereogram_texture(tex, params)
+            out = renderer.render_texture(frame, params)
             ctx.finish()
             ctx.release(out)
         return go
@@ -68,7 +70,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     timings.append(time_case("cpu/sequential (numba)", lambda: reference.sequential(sep_cpu, pat_cpu, 100, 150),
                              max(3, repeat // 3), notes=note))
     ctx.release(sep)
-    tex.release()
+    renderer.release()
 
     scene = builtin_scene("living-room")
     hidden = hidden_scene(shapes.torus_knot())

@@ -38,3 +38,32 @@ def test_shadow_of_a_sphere_on_a_plane_matches_the_analytic_shadow(ctx):
     dark = lit[floor] < ambient_only + 0.01
     mismatch = (dark != shadowed).mean()
     assert mismatch < 0.01, f"{mismatch:.3%} of floor pixels disagree with the analytic shadow"
+
+
+def test_shadow_maps_are_kept_until_the_scene_or_their_size_changes(ctx, monkeypatch):
+    """The atlas depends on the scene and the tile size only: a new view reuses it (the same image
+    as a renderer that draws it afresh), a moved light (prepared again) or another tile size makes
+    it again."""
+    from illusio.passes import shadows as shadows_module
+
+    calls = []
+    real = shadows_module.ShadowPass.__call__
+    monkeypatch.setattr(shadows_module.ShadowPass, "__call__", lambda self, *a, **k: calls.append(1) or real(self, *a, **k))
+    s = Scene("kept", ambient=(0.05, 0.05, 0.05), nodes=[
+        Node("floor", shapes.plane((10, 10)), material=Material((0.8, 0.8, 0.8))),
+        Node("ball", shapes.sphere(0.5, 32, 16), translate((0, 1, 0)), Material((0.8, 0.2, 0.2)))],
+        lights=[PointLight((0.5, 3.0, 0.2), intensity=8.0)])
+    views = [View(Pose((x, 5, 4), (0, 0, 0)), Camera(45.0, 0.1, 50.0)) for x in (0.0, 1.0)]
+    size, settings = (64, 48), RenderSettings(shadows=True)
+    r = prepared(SceneRenderer(ctx), s)
+    first = r.render(Frame(views[0], size), settings)
+    second = r.render(Frame(views[1], size), settings)
+    assert len(calls) == 1
+    np.testing.assert_allclose(second, prepared(SceneRenderer(ctx), s).render(Frame(views[1], size), settings), atol=1e-6)
+    calls.clear()
+    s.lights[0] = PointLight((-1.5, 3.0, 0.2), intensity=8.0)
+    r.prepare(s)
+    moved = r.render(Frame(views[0], size), settings)
+    assert len(calls) == 1 and np.abs(moved - first).max() > 0.05
+    r.render(Frame(views[0], size), RenderSettings(shadows=True, shadow_tile_size=256))
+    assert len(calls) == 2

@@ -8,7 +8,10 @@ import typer
 
 from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
+from ..core.renderer import DEFAULT_SIZE
 from ..passes.scene_renderer import RenderSettings
+
+_DEFAULT = RenderSettings()
 from .common import parse_size, resolve_scene, scene_inputs
 
 
@@ -16,9 +19,9 @@ def render(
     scene: str = typer.Argument(..., help="built-in scene (living-room, office, museum, turntable), a .yaml scene, a mesh file or a built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write: .png (8-bit sRGB; 16-bit with --bit-depth 16), .jpg, .npy or .exr (linear float)"),
     camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
-    size: str = typer.Option("1280x720", "--size", help="WIDTHxHEIGHT in pixels"),
-    shadows: bool = typer.Option(True, "--shadows/--no-shadows", help="cube shadow maps"),
-    exposure: float = typer.Option(1.0, "--exposure", help="scale on linear radiance before writing"),
+    size: str = typer.Option("x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT in pixels"),
+    shadows: bool = typer.Option(_DEFAULT.shadows, "--shadows/--no-shadows", help="cube shadow maps"),
+    exposure: float = typer.Option(_DEFAULT.exposure, "--exposure", help="scale on linear radiance before writing"),
     bit_depth: int = typer.Option(8, "--bit-depth", help="8 or 16 for PNG"),
 ) -> None:
     """Render SCENE to an image."""

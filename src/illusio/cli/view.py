@@ -8,6 +8,7 @@ import typer
 
 from ..core.errors import InputError
 from ..core.images import check_output_path
+from ..core.renderer import DEFAULT_SIZE
 from .common import parse_size, progress
 
 
@@ -16,7 +17,7 @@ def view(
                                             "default: the mode's own"),
     technique: str = typer.Option("plain", "--technique", "-t", help="plain, sis or lines"),
     variant: str = typer.Option(None, "--view", help="the technique's view: sis tv|wall|interactive|raw, lines drawing|q1|t1|curvature"),
-    size: str = typer.Option("1280x720", "--size", help="WIDTHxHEIGHT of the window or the video"),
+    size: str = typer.Option("x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT of the window or the video"),
     path: Path = typer.Option(None, "--path", help="play a camera path (JSON keyframes t, eye, target)"),
     output: Path = typer.Option(None, "-o", "--output", help="record to a video (.mp4 or .gif) offscreen, no window"),
     fps: float = typer.Option(30.0, "--fps", help="frames per second of the recorded video"),

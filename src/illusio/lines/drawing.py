@@ -17,7 +17,6 @@ import numpy as np
 
 from ..core.context import Context, default_context
 from ..core.errors import InputError
-from ..core.gl import set_uniform
 from ..core.renderer import Frame, Renderer
 from ..scene.camera import Camera, Pose, View
 from ..scene.mesh import Mesh
@@ -28,9 +27,10 @@ from .object_space import Segments, apparent_ridges, contours, ridges, suggestiv
 from .params import LINE_TYPES, CurvatureParams, LineParams
 from .reference import view_curvature
 from .ridge_filter import RidgeFilterPass
+from .segments import SegmentsPass
 from .view_curvature import ViewCurvaturePass
 
-__all__ = ["LINE_TYPES", "LineParams", "LineRenderer", "framing_view", "Drawing", "drop_short_fragments", "line_drawing"]
+__all__ = ["LINE_TYPES", "LineParams", "LineRenderer", "framing_view", "hugging_camera", "Drawing", "drop_short_fragments", "line_drawing"]
 
 
 @dataclass
@@ -48,15 +48,27 @@ class Drawing:
     ridge_mask: np.ndarray | None = None
 
 
-def framing_view(mesh: Mesh, azimuth: float = 30.0, elevation: float = 15.0, fov_y: float = 30.0, margin: float = 1.1) -> View:
-    """A camera orbiting the mesh's bounding-box centre that fits its bounding sphere in view, with
-    near and far planes hugging it (good depth precision for the line visibility test)."""
+def _bounding_sphere(mesh: Mesh) -> tuple[np.ndarray, float]:
     lo, hi = mesh.bounds
     centre = (np.asarray(lo, np.float64) + hi) / 2
-    radius = max(float(np.linalg.norm(np.asarray(hi, np.float64) - lo)) / 2, 1e-6)
+    return centre, max(float(np.linalg.norm(np.asarray(hi, np.float64) - lo)) / 2, 1e-6)
+
+
+def hugging_camera(mesh: Mesh, eye, fov_y: float = 30.0) -> Camera:
+    """A lens whose near and far planes hug the mesh's bounding sphere seen from ``eye`` (good
+    depth precision for the line visibility test)."""
+    centre, radius = _bounding_sphere(mesh)
+    distance = float(np.linalg.norm(np.asarray(eye, np.float64) - centre))
+    return Camera(fov_y, max(distance - radius * 1.5, distance * 1e-3), distance + radius * 1.5)
+
+
+def framing_view(mesh: Mesh, azimuth: float = 30.0, elevation: float = 15.0, fov_y: float = 30.0, margin: float = 1.1) -> View:
+    """A camera orbiting the mesh's bounding-box centre that fits its bounding sphere in view, with
+    near and far planes hugging it (:func:`hugging_camera`)."""
+    centre, radius = _bounding_sphere(mesh)
     distance = radius * margin / np.sin(np.radians(fov_y) / 2)
-    return View(Pose.orbit(tuple(centre), distance, azimuth, elevation),
-                Camera(fov_y, max(distance - radius * 1.5, distance * 1e-3), distance + radius * 1.5))
+    pose = Pose.orbit(tuple(centre), distance, azimuth, elevation)
+    return View(pose, hugging_camera(mesh, pose.position, fov_y))
 
 
 def drop_short_fragments(mask: np.ndarray, min_pixels: float) -> np.ndarray:
@@ -89,7 +101,7 @@ class LineRenderer(Renderer):
         self.view_curvature = ViewCurvaturePass(ctx)
         self.ridge_filter = RidgeFilterPass(ctx)
         self.compose = ComposePass(ctx)
-        self.segments_program = ctx.program("lines/shaders/segments.glsl")
+        self.draw_segments = SegmentsPass(ctx)
         self.mesh: Mesh | None = None
         self._given: Curvature | None = None
         self._gpu_mesh: CurvatureMesh | None = None
@@ -178,12 +190,8 @@ class LineRenderer(Renderer):
                      params.colour("apparent-ridges"), params.colour("silhouettes"), params.depth_jump)
         # object-space lines, hidden by the surface
         self.segments = self.object_space_segments(curv, view, params, scale)
-        ctx.gl.enable(moderngl.DEPTH_TEST)
-        ctx.gl.depth_mask = False
         for kind, segs in self.segments.items():
-            self._draw_segments(segs, view, (w, h), params.colour(kind), params.width(kind))
-        ctx.gl.depth_mask = True
-        ctx.gl.disable(moderngl.DEPTH_TEST)
+            self.draw_segments(segs, view, (w, h), params.colour(kind), params.width(kind))
         self.last_view = view
         self._keep_maps({"q_t1": q_t1, "ridges": ridges, "depth": depth})
         return colour
@@ -219,26 +227,6 @@ class LineRenderer(Renderer):
             elif kind == "valleys":
                 out[kind] = valleys(mesh, curv, params.ridge_threshold, scale)
         return out
-
-    def _draw_segments(self, segs: Segments, view: View, size, colour, width: float) -> None:
-        if len(segs) == 0:
-            return
-        ctx = self.ctx
-        prog = self.segments_program
-        w, h = size
-        set_uniform(prog, "view_matrix", view.view_matrix())
-        set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
-        set_uniform(prog, "model_matrix", np.eye(4, dtype=np.float32))
-        set_uniform(prog, "viewport", (float(w), float(h)))
-        set_uniform(prog, "width", float(width))
-        set_uniform(prog, "colour", tuple(float(c) for c in colour))
-        vbo = ctx.gl.buffer(segs.points.astype(np.float32).tobytes())
-        vao = ctx.gl.vertex_array(prog, [(vbo, "3f", "in_position")])
-        try:
-            vao.render(moderngl.LINES)
-        finally:
-            vao.release()
-            vbo.release()
 
 
 def line_drawing(mesh: Mesh, params: LineParams = LineParams(), view: View | None = None, size=(1024, 1024),

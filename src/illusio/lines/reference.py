@@ -19,7 +19,8 @@ import numpy as np
 
 from ..scene.camera import View
 
-__all__ = ["ViewCurvature", "view_curvature", "ridge_filter", "image_silhouettes", "compose", "REPORT_THRESHOLD"]
+__all__ = ["ViewCurvature", "view_curvature", "ridge_filter", "image_silhouettes", "compose", "segments",
+           "REPORT_THRESHOLD"]
 
 
 @dataclass
@@ -146,3 +147,34 @@ def compose(q_t1: np.ndarray, ridge_mask: np.ndarray | None, show_ridges: bool, 
     if show_silhouettes:
         image[image_silhouettes(q_t1[..., 3], depth_jump)] = silhouette_colour
     return image
+
+
+def segments(points: np.ndarray, view: View, size, width: float) -> np.ndarray:
+    """The pixels SegmentsPass covers (no surface to hide them): (H, W) bool. ``points``: (2N, 3)
+    object-space end points, segment i from points[2i] to points[2i+1]. Each segment, projected to
+    pixels, becomes a rectangle ``width`` wide, extended by width/2 past each end; a pixel is covered
+    when its centre lies inside one. Segments with an end behind the eye are skipped."""
+    w, h = size
+    pts = np.asarray(points, np.float64).reshape(-1, 2, 3)
+    flat = pts.reshape(-1, 3)
+    clip = np.c_[flat, np.ones(len(flat))] @ (view.projection_matrix(w / h).astype(np.float64)
+                                              @ view.view_matrix().astype(np.float64)).T
+    # pixel coordinates: x right from the left edge, y up from the bottom (GL), then flipped
+    xy = (clip[:, :2] / clip[:, 3:4] * 0.5 + 0.5) * (w, h)
+    xy = xy.reshape(-1, 2, 2)
+    behind = (clip[:, 3] <= 0).reshape(-1, 2).any(axis=1)
+    ys, xs = np.mgrid[0:h, 0:w]
+    centres = np.stack([xs + 0.5, ys + 0.5], -1)
+    covered = np.zeros((h, w), bool)
+    half = width / 2
+    for (a, b), skip in zip(xy, behind):
+        if skip:
+            continue
+        d = b - a
+        length = float(np.hypot(*d))
+        direction = d / length if length > 1e-6 else np.array([1.0, 0.0])
+        rel = centres - a
+        along = rel @ direction
+        across = rel @ np.array([-direction[1], direction[0]])
+        covered |= (along >= -half) & (along <= length + half) & (np.abs(across) <= half)
+    return covered[::-1]

@@ -63,6 +63,7 @@ class SceneRenderer(Renderer):
         self.scene: Scene | None = None
         self._static: tuple[tuple, moderngl.Texture, moderngl.Texture] | None = None  # see render_forward
         self._last_key: tuple | None = None  # the static key of the last reuse_static frame
+        self._shadows: tuple[tuple, moderngl.Texture, np.ndarray] | None = None  # see _lights
 
     def _load(self, scene: Scene) -> None:
         if not isinstance(scene, Scene):
@@ -73,6 +74,7 @@ class SceneRenderer(Renderer):
     def _unload(self) -> None:
         super()._unload()
         self._drop_static()
+        self._drop_shadows()
         self._last_key = None
         if self._gpu_scene is not None:
             self._gpu_scene.release()
@@ -116,8 +118,6 @@ class SceneRenderer(Renderer):
         params = ShadingParams(self.scene.ambient, self.scene.background, s.exposure)
         out = self.shading_pass(gbuf, emitters, view.pose.position, params, atlas, matrices, s.shadow_tile_size)
         self._keep_maps(dict(gbuf.textures))  # the G-buffer stays readable until the next frame
-        if atlas is not None:
-            self.ctx.release(atlas)
         return out
 
     def render_forward(self, frame: Frame, settings: RenderSettings | None = None,
@@ -137,29 +137,25 @@ class SceneRenderer(Renderer):
         size = frame.size
         emitters, atlas, matrices = self._lights(gpu, s)
         params = ShadingParams(self.scene.ambient, self.scene.background, s.exposure)
-        try:
-            if reuse_static and screen_material is not None and not object_ids:
-                key = (self._subject_key, view, size, s, screen_material.nodes)
-                kept = self._static is not None and self._static[0] == key
-                if not kept and key == self._last_key:  # the view stood still: keep the rest from now on
-                    self._drop_static()
-                    base, depth = self.forward_pass.static_layer(gpu, view, size, emitters, params, atlas, matrices,
-                                                                 s.shadow_tile_size, screen_material.nodes)
-                    self._static = (key, base, depth)
-                    kept = True
-                self._last_key = key
-                if kept:
-                    _, base, depth = self._static
-                    out = self.forward_pass.dynamic_layer(base, depth, gpu, view, emitters, params, atlas, matrices,
-                                                          s.shadow_tile_size, screen_material)
-                    return out, None
-                # a moving view: one whole pass is cheaper than building a layer used once
+        if reuse_static and screen_material is not None and not object_ids:
+            key = (self._subject_key, view, size, s, screen_material.nodes)
+            kept = self._static is not None and self._static[0] == key
+            if not kept and key == self._last_key:  # the view stood still: keep the rest from now on
                 self._drop_static()
-            return self.forward_pass(gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size,
-                                     screen_material, object_ids)
-        finally:
-            if atlas is not None:
-                self.ctx.release(atlas)
+                base, depth = self.forward_pass.static_layer(gpu, view, size, emitters, params, atlas, matrices,
+                                                             s.shadow_tile_size, screen_material.nodes)
+                self._static = (key, base, depth)
+                kept = True
+            self._last_key = key
+            if kept:
+                _, base, depth = self._static
+                out = self.forward_pass.dynamic_layer(base, depth, gpu, view, emitters, params, atlas, matrices,
+                                                      s.shadow_tile_size, screen_material)
+                return out, None
+            # a moving view: one whole pass is cheaper than building a layer used once
+            self._drop_static()
+        return self.forward_pass(gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size,
+                                 screen_material, object_ids)
 
     @property
     def static_layer_kept(self) -> bool:
@@ -173,16 +169,27 @@ class SceneRenderer(Renderer):
             self._static = None
 
     def _lights(self, gpu: GpuScene, s: RenderSettings) -> tuple[Emitters, moderngl.Texture | None, np.ndarray | None]:
-        """The scene's emitters and, with shadows on, their shadow atlas (pooled) and face matrices."""
+        """The scene's emitters and, with shadows on, their shadow atlas and face matrices. The atlas
+        depends only on the scene (lights and geometry) and the tile size, so it is kept from frame
+        to frame until either changes (the renderer owns it: callers do not release it)."""
         scene = self.scene
         emitters = emitters_from_lights(scene.lights, s.shadows, MAX_EMITTERS)
         if not (s.shadows and (emitters.shadow_row >= 0).any()):
             return emitters, None, None
-        lo, hi = scene.bounds()
-        far = float(np.linalg.norm(hi - lo)) * 2 + 1.0
-        shadow = self._shadow_passes.setdefault(s.shadow_tile_size, ShadowPass(self.ctx, s.shadow_tile_size))
-        atlas, matrices = shadow(gpu, emitters.shadow_positions, 0.02, far)
-        return emitters, atlas, matrices
+        key = (self._subject_key, s.shadow_tile_size)
+        if self._shadows is None or self._shadows[0] != key:
+            self._drop_shadows()
+            lo, hi = scene.bounds()
+            far = float(np.linalg.norm(hi - lo)) * 2 + 1.0
+            shadow = self._shadow_passes.setdefault(s.shadow_tile_size, ShadowPass(self.ctx, s.shadow_tile_size))
+            atlas, matrices = shadow(gpu, emitters.shadow_positions, 0.02, far)
+            self._shadows = (key, atlas, matrices)
+        return emitters, self._shadows[1], self._shadows[2]
+
+    def _drop_shadows(self) -> None:
+        if self._shadows is not None:
+            self.ctx.release(self._shadows[1])
+            self._shadows = None
 
 
 def render_scene(scene: Scene, view=None, size=(640, 480), ctx: Context | None = None,

@@ -7,9 +7,8 @@ import numpy as np
 
 from ...core.renderer import Frame
 from ...lines.debug import DEBUG_VIEWS, debug_view
-from ...lines.drawing import LineRenderer
+from ...lines.drawing import LineRenderer, hugging_camera
 from ...lines.params import LineParams
-from ...scene.camera import Camera
 from ...scene.sources import resolve_mesh
 from ..navigation import OrbitCamera
 from .base import Mode
@@ -36,14 +35,8 @@ class LinesMode(Mode):
         return OrbitCamera.from_view(self.home_view())
 
     def camera_at(self, eye):
-        """The home lens with near and far planes hugging the mesh's bounding sphere seen from
-        ``eye`` (the line visibility test needs the depth precision)."""
-        lo, hi = self.mesh.bounds
-        centre = (np.asarray(lo, np.float64) + hi) / 2
-        radius = max(float(np.linalg.norm(np.asarray(hi, np.float64) - lo)) / 2, 1e-6)
-        distance = float(np.linalg.norm(np.asarray(eye, np.float64) - centre))
-        camera = self.home_view().camera
-        return Camera(camera.fov_y, max(distance - radius * 1.5, distance * 1e-3), distance + radius * 1.5, camera.shift)
+        """The home lens with near and far planes hugging the mesh seen from ``eye``."""
+        return hugging_camera(self.mesh, eye, self.home_view().camera.fov_y)
 
     def render(self, frame: Frame):
         if self.variant == "drawing":
