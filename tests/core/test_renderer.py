@@ -60,6 +60,12 @@ def test_prepare_loads_only_a_subject_that_differs_by_value(ctx, rng):
     assert renderer.prepare(depth) is True
     with pytest.raises(InputError, match="prepare"):
         StereogramRenderer(ctx).render(Frame(size=(30, 20)))
+    # a bad subject is refused and leaves nothing held; the good one loads again after it
+    with pytest.raises(InputError):
+        renderer.prepare(np.full((20, 30), np.nan, np.float32))
+    with pytest.raises(InputError, match="prepare"):
+        renderer.render(Frame(size=(30, 20)))
+    assert renderer.prepare(depth) is True
     renderer.release()
 
 

@@ -129,6 +129,7 @@ class Renderer:
         if key == self._subject_key:
             return False
         self._unload()
+        self._subject_key = None  # a subject that fails to load leaves none held
         self._load(subject)
         self._subject_key = key
         return True

@@ -82,6 +82,12 @@ class StereogramRenderer(Renderer):
             self.ctx.release(self._depth_texture)
             self._depth_texture = None
 
+    @property
+    def depth_size(self) -> tuple[int, int]:
+        """(width, height) of the prepared depth map."""
+        self._require_subject()
+        return self._depth.shape[1], self._depth.shape[0]
+
     def depth_texture(self, size: tuple[int, int]) -> moderngl.Texture:
         """D on the GPU at ``size`` (uploaded once per subject and size; pooled)."""
         self._require_subject()
@@ -228,7 +234,6 @@ def stereogram(depth: np.ndarray, params: StereogramParams = StereogramParams(),
     script calling this in a loop pays for the GL set-up and the pattern once."""
     if cpu:
         return stereogram_cpu(depth, params, frame)
-    d = check_depth(depth)
     renderer = (ctx or default_context()).kept(StereogramRenderer)
-    renderer.prepare(d)
-    return renderer.render(Frame(None, (d.shape[1], d.shape[0]), index=frame), params)
+    renderer.prepare(depth)  # checks D once, when it is new
+    return renderer.render(Frame(None, renderer.depth_size, index=frame), params)
