@@ -130,3 +130,40 @@ def test_escape_closes_and_the_recorded_walk_is_saved(x_display, tmp_path):
     path = CameraPath.load(tmp_path / "walk.json")
     assert len(path.keyframes) >= 4 and path.duration == pytest.approx(1.0)
     assert (tmp_path / "last.png").exists()
+
+
+def test_switching_the_scene_and_a_bad_file_in_the_panel(window, tmp_path):
+    w = window
+    tap(w, glfw.KEY_1)
+    w.frame(1 / 30)
+    room = w.viewer.image()
+    assert w.viewer.set_source("office")  # the panel's scene combo
+    w.frame(1 / 30)
+    assert w.viewer.mode.source == "office" and np.abs(w.viewer.image() - room).mean() > 0.02
+    broken = tmp_path / "broken.obj"
+    broken.write_text("v 0 0 0\nf 1 2 3\n")
+    assert not w.viewer.set_source(str(broken))  # the panel's file field
+    assert "broken.obj" in w.viewer.last_error and w.viewer.mode.source == "office"
+    w.frame(1 / 30)
+
+
+def test_the_command_opens_the_window_and_saves_the_last_frame(x_display, tmp_path):
+    import subprocess
+    import sys
+
+    shot = tmp_path / "shot.png"
+    r = subprocess.run([sys.executable, "-m", "illusio", "view", "--technique", "lines", "--size", "320x240",
+                        "--exit-after", "3", "--screenshot", str(shot)], capture_output=True, text=True, timeout=300,
+                       env={**__import__("os").environ, "DISPLAY": x_display})
+    assert r.returncode == 0, r.stderr
+    image = read_image(shot)
+    assert image.shape[:2] == (240, 320) and (image.max(axis=-1) < 0.5).sum() > 200  # a line drawing
+
+
+def test_no_display_and_no_video_is_one_clear_line(tmp_path, monkeypatch):
+    import subprocess
+    import sys
+
+    env = {k: v for k, v in __import__("os").environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    r = subprocess.run([sys.executable, "-m", "illusio", "view"], capture_output=True, text=True, timeout=300, env=env)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1 and "no display" in r.stderr and "-o OUT.mp4" in r.stderr

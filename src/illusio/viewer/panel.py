@@ -65,9 +65,10 @@ def _fields(viewer: Viewer, infos, imgui, prefix: str = "") -> None:
             imgui.set_tooltip(info.help)
 
 
-def draw_panel(viewer: Viewer, imgui, actions: dict) -> None:
+def draw_panel(viewer: Viewer, imgui, actions: dict, state: dict | None = None) -> None:
     """The panel for the viewer's current mode. ``actions``: callbacks the window provides
-    ("screenshot")."""
+    ("screenshot"); ``state``: what the panel keeps between frames (the file field's text)."""
+    state = {} if state is None else state
     imgui.set_next_window_pos((10, 10), imgui.Cond_.first_use_ever.value)
     imgui.set_next_window_size((400, 0), imgui.Cond_.first_use_ever.value)
     imgui.begin("illusio")
@@ -84,6 +85,15 @@ def draw_panel(viewer: Viewer, imgui, actions: dict) -> None:
             if imgui.selectable(variant, variant == mode.variant)[0] and variant != mode.variant:
                 viewer.set_variant(variant)
         imgui.end_combo()
+    if imgui.begin_combo(mode.source_label, str(mode.source)):
+        for name in mode.source_choices:
+            if imgui.selectable(name, name == mode.source)[0] and name != mode.source:
+                viewer.set_source(name)
+        imgui.end_combo()
+    _, state["path"] = imgui.input_text("file##source", state.get("path", ""))
+    imgui.same_line()
+    if imgui.button("open") and state["path"].strip():
+        viewer.set_source(state["path"].strip())
     if imgui.button("home (H)"):
         viewer.home()
     imgui.same_line()

@@ -81,6 +81,19 @@ class Viewer:
         variants = self.mode.variants
         self.set_variant(variants[(variants.index(self.mode.variant) + 1) % len(variants)])
 
+    def set_source(self, source: str) -> bool:
+        """Show another scene / mesh / hidden shape in the current mode (what the panel's scene combo
+        and file field call); one that cannot be loaded leaves the mode as it was, the reason in
+        ``last_error``."""
+        previous = self.sources[self.mode.name]
+        try:
+            self.set_mode(self.mode.name, self.mode.variant, source)
+        except InputError as exc:
+            self.sources[self.mode.name] = previous
+            self.last_error = str(exc)
+            return False
+        return True
+
     def home(self) -> None:
         self.navigation = self.mode.navigation()
 

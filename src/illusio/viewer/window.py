@@ -65,6 +65,7 @@ class ViewerWindow:
                              PathRecorder() if record else None)
         self.screenshot_dir = Path(screenshot_dir)
         self.screenshots = 0
+        self.panel_state: dict = {}
         keys = self.window.keys
         self._move = {keys.W: "w", keys.A: "a", keys.S: "s", keys.D: "d", keys.Q: "q", keys.E: "e"}
         self._modes = {keys.NUMBER_1: "plain", keys.NUMBER_2: "sis", keys.NUMBER_3: "lines"}
@@ -135,7 +136,7 @@ class ViewerWindow:
         imgui.new_frame()
         from .panel import draw_panel
 
-        draw_panel(self.viewer, imgui, {"screenshot": self.screenshot})
+        draw_panel(self.viewer, imgui, {"screenshot": self.screenshot}, self.panel_state)
         imgui.render()
         self.gui.render(imgui.get_draw_data())
         self.window.ctx.enable_only(moderngl.NOTHING)  # imgui leaves blending on; the passes expect it off

@@ -28,8 +28,11 @@ class Mode:
 
     name: ClassVar[str] = ""
     variants: ClassVar[tuple[str, ...]] = ("default",)
-    #: what the CLI's SOURCE means in this mode
+    #: what the CLI's SOURCE means in this mode, and what the panel calls it
     source_help: ClassVar[str] = ""
+    source_label: ClassVar[str] = "source"
+    #: built-in sources the panel offers (any file path works too)
+    source_choices: ClassVar[tuple[str, ...]] = ()
 
     def __init__(self, ctx: Context, source: str | None = None, variant: str | None = None):
         self.ctx = ctx

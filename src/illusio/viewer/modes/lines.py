@@ -9,6 +9,7 @@ from ...core.renderer import Frame
 from ...lines.debug import DEBUG_VIEWS, debug_view
 from ...lines.drawing import LineRenderer, hugging_camera
 from ...lines.params import LineParams
+from ...scene.builtin import SHAPES
 from ...scene.sources import resolve_mesh
 from ..navigation import OrbitCamera
 from .base import Mode
@@ -20,6 +21,8 @@ class LinesMode(Mode):
     name = "lines"
     variants = ("drawing",) + DEBUG_VIEWS
     source_help = "a mesh file or a built-in shape (default torus-knot)"
+    source_label = "mesh"
+    source_choices = tuple(SHAPES)
 
     def __init__(self, ctx, source=None, variant=None):
         super().__init__(ctx, source or "torus-knot", variant)

@@ -4,6 +4,7 @@ lighting settings in the panel."""
 from __future__ import annotations
 
 from ...passes.scene_renderer import RenderSettings, SceneRenderer
+from ...scene.builtin import SCENES, SHAPES
 from ...scene.sources import is_mesh_source, resolve_scene
 from ..navigation import OrbitCamera
 from .base import Mode
@@ -14,6 +15,8 @@ __all__ = ["PlainMode"]
 class PlainMode(Mode):
     name = "plain"
     source_help = "a built-in scene, a .yaml scene, a mesh file or a built-in shape (default living-room)"
+    source_label = "scene"
+    source_choices = tuple(SCENES) + tuple(SHAPES)
 
     def __init__(self, ctx, source=None, variant=None):
         super().__init__(ctx, source or "living-room", variant)

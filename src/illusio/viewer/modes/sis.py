@@ -5,6 +5,7 @@ the hidden scene), or the raw stereogram full screen with its depth map beside i
 from __future__ import annotations
 
 from ...core.renderer import Frame
+from ...scene.builtin import SHAPES
 from ...scene.sources import resolve_mesh, resolve_scene
 from ...sis.depth import depth_from_scene, hidden_scene
 from ...sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
@@ -23,6 +24,8 @@ class SisMode(Mode):
     name = "sis"
     variants = ("tv", "wall", "interactive", "raw")
     source_help = "the hidden shape: a built-in shape or a mesh file (default torus-knot)"
+    source_label = "hidden shape"
+    source_choices = tuple(SHAPES)
 
     def __init__(self, ctx, source=None, variant=None, scene: str = "living-room"):
         super().__init__(ctx, source or "torus-knot", variant)

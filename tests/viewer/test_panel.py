@@ -1,0 +1,89 @@
+"""The panel is generated from the Params' field metadata: each field gets the widget its kind asks
+for, with the declared range, and an edit goes through Viewer.set_param (tested with a stand-in for
+imgui that records the widgets and answers scripted edits)."""
+
+from illusio.core.params import describe
+from illusio.lines.params import LineParams
+from illusio.sis.multiscene import MultiSceneParams
+from illusio.viewer.panel import widget_value
+
+
+class FakeImgui:
+    """Records widget calls; answers the edits in ``edits`` (label prefix -> new value)."""
+
+    class SliderFlags_:
+        class logarithmic:
+            value = 32
+
+    def __init__(self, edits=None):
+        self.calls = []
+        self.edits = edits or {}
+
+    def _answer(self, label, value):
+        for prefix, new in self.edits.items():
+            if label.startswith(prefix):
+                return True, new
+        return False, value
+
+    def checkbox(self, label, value):
+        self.calls.append(("checkbox", label))
+        return self._answer(label, value)
+
+    def slider_float(self, label, value, lo, hi, fmt="%.3f", flags=0):
+        self.calls.append(("slider_float", label, lo, hi, flags))
+        return self._answer(label, value)
+
+    def slider_int(self, label, value, lo, hi):
+        self.calls.append(("slider_int", label, lo, hi))
+        return self._answer(label, value)
+
+    def input_int(self, label, value, step):
+        self.calls.append(("input_int", label, step))
+        return self._answer(label, value)
+
+    def begin_combo(self, label, preview):
+        self.calls.append(("combo", label))
+        self._combo = label
+        return True
+
+    def selectable(self, label, selected):
+        picked = self.edits.get(self._combo.split("##")[0]) == label
+        return picked, selected
+
+    def end_combo(self):
+        pass
+
+    def text(self, text):
+        self.calls.append(("text", text))
+
+
+def test_widgets_follow_the_metadata():
+    infos = {i.name: i for i in describe(LineParams())}
+    imgui = FakeImgui()
+    widget_value(infos["tau"], imgui)
+    widget_value(infos["relative"], imgui)
+    widget_value(infos["min_ridge_pixels"], imgui)
+    assert imgui.calls[0] == ("slider_float", "τ##tau", -12.0, 12.0, 0)
+    assert imgui.calls[1][0] == "checkbox"
+    assert imgui.calls[2] == ("input_int", "min ridge pixels (px)##min_ridge_pixels", 1)  # a range too wide for a slider
+    settings = next(i for i in describe(MultiSceneParams()) if i.name == "settings")
+    exposure = next(i for i in settings.children if i.name == "exposure")  # a log slider
+    imgui = FakeImgui()
+    widget_value(exposure, imgui)
+    assert imgui.calls[0][-1] == 32
+
+
+def test_multiple_choice_check_boxes_add_and_remove_in_declared_order():
+    info = next(i for i in describe(LineParams()) if i.name == "lines")
+    changed, value = widget_value(info, FakeImgui({"ridges##": True}))
+    assert changed and value == ("apparent-ridges", "silhouettes", "ridges")
+    changed, value = widget_value(info, FakeImgui({"silhouettes##": False}))
+    assert changed and value == ("apparent-ridges",)
+    changed, value = widget_value(info, FakeImgui())
+    assert not changed and value == info.value
+
+
+def test_choice_combo_picks_a_declared_choice():
+    info = next(i for i in describe(LineParams()) if i.name == "method")
+    changed, value = widget_value(info, FakeImgui({"method": "object-space"}))
+    assert changed and value == "object-space"
