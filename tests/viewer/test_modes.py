@@ -131,3 +131,15 @@ def test_frames_carry_time_and_index(ctx):
     assert [f.index for f in seen] == [0, 1, 2] and [f.time for f in seen] == pytest.approx([0.0, 0.25, 0.5])
     assert all(isinstance(f, Frame) and f.size == (SIZE[0] // 2, SIZE[1]) for f in seen)
     viewer.release()
+
+
+def test_the_lines_mode_keeps_its_settings_across_debug_views(ctx):
+    viewer = Viewer(ctx, "lines", size=(64, 64))
+    assert viewer.set_param("tau", 0.5)
+    viewer.set_variant("q1")
+    assert viewer.mode.variant == "q1" and viewer.mode.params.tau == 0.5
+    viewer.set_mode("sis", "tv")
+    viewer.set_param("emission", 0.2)
+    viewer.set_variant("wall")  # another setup: the wall's own params
+    assert viewer.mode.params.host == "back-wall"
+    viewer.release()

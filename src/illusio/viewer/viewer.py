@@ -68,10 +68,10 @@ class Viewer:
         self.last_error = ""
 
     def set_variant(self, variant: str) -> None:
-        params = self.mode.params if variant != "raw" and self.mode.variant != "raw" and self.mode.name != "sis" else None
+        params = self.mode.params
         self.set_mode(self.mode.name, variant)
-        if params is not None and type(params) is type(self.mode.params):
-            self.mode.params = params  # the lines mode keeps its settings across debug views
+        if self.mode.shares_params and type(params) is type(self.mode.params):
+            self.mode.params = params  # e.g. the lines mode keeps τ, λ... across its debug views
 
     def next_mode(self) -> None:
         names = list(MODES)

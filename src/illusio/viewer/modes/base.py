@@ -33,6 +33,8 @@ class Mode:
     source_label: ClassVar[str] = "source"
     #: built-in sources the panel offers (any file path works too)
     source_choices: ClassVar[tuple[str, ...]] = ()
+    #: whether the params carry over from one variant to another (the same params class and meaning)
+    shares_params: ClassVar[bool] = False
 
     def __init__(self, ctx: Context, source: str | None = None, variant: str | None = None):
         self.ctx = ctx

@@ -23,6 +23,7 @@ class LinesMode(Mode):
     source_help = "a mesh file or a built-in shape (default torus-knot)"
     source_label = "mesh"
     source_choices = tuple(SHAPES)
+    shares_params = True
 
     def __init__(self, ctx, source=None, variant=None):
         super().__init__(ctx, source or "torus-knot", variant)
