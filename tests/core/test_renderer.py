@@ -137,3 +137,25 @@ def test_texture_write_and_one_pass_readback_match_the_plain_path(ctx, rng):
     ctx.release(tex)
     with pytest.raises(InputError, match="cannot write"):
         ctx.upload_into(ctx.acquire((4, 4), 1, "f4"), np.zeros((4, 5), np.float32))
+
+
+def test_frames_at_new_sizes_keep_the_pool_consistent(ctx, rng):
+    """A renderer whose kept subject texture is replaced (a new frame size) neither leaks pooled
+    textures nor releases one twice; the map shows the new size."""
+    renderer = StereogramRenderer(ctx)
+    renderer.prepare(rng.random((30, 40)).astype(np.float32))
+    sizes = [(40, 30), (64, 48), (40, 30), (64, 48)]
+    counts = []
+    for size in sizes:
+        image = renderer.render(Frame(size=size), StereogramParams(strip_width=10, depth_factor=5))
+        assert image.shape[:2] == (size[1], size[0])
+        assert renderer.maps()["depth"].size == size
+        counts.append(ctx.textures.in_use)
+    assert counts[2] == counts[0] and counts[3] == counts[1]
+    renderer.release()
+    lines = LineRenderer(ctx)
+    lines.prepare(shape("blob"))
+    for size in ((48, 32), (32, 48), (48, 32)):
+        lines.render(Frame(size=size))
+        assert lines.maps()["depth"].size == size
+    lines.release()

@@ -27,7 +27,6 @@ def view(
 ) -> None:
     """Watch a technique live in a window (WASD + mouse, Tab switches technique), or record a camera
     path to a video with no window (-o OUT.mp4 --path CAMERA.json)."""
-    from .. import viewer as _viewer  # noqa: F401  (fails early with a clear error if the extras are missing)
     from ..viewer.modes import MODES
     from ..viewer.path import CameraPath
 

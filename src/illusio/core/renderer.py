@@ -175,6 +175,11 @@ class Renderer:
         self.ctx.release(*old)
         self._maps = {k: v for k, v in maps.items() if v is not None}
 
+    def _forget_map(self, texture: moderngl.Texture | None) -> None:
+        """Drop ``texture`` from the kept maps without releasing it: for a texture the renderer frees
+        itself (a replaced subject upload), which must not be released again at the next frame."""
+        self._maps = {k: v for k, v in self._maps.items() if v is not texture}
+
     def _require_subject(self) -> None:
         if self._subject_key is None:
             raise InputError(f"{type(self).__name__}: call prepare() with {self.subject_name} first")

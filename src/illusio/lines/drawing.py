@@ -126,6 +126,7 @@ class LineRenderer(Renderer):
             self._gpu_mesh.release()
             self._gpu_mesh = None
         if self._depth is not None:
+            self._forget_map(self._depth)
             self._depth.release()
             self._depth = None
         self.mesh = self._given = self._curvature_params = None
@@ -156,6 +157,7 @@ class LineRenderer(Renderer):
         """The depth texture of the last frame (kept, remade when the size changes)."""
         if self._depth is None or self._depth.size != tuple(size):
             if self._depth is not None:
+                self._forget_map(self._depth)
                 self._depth.release()
             self.ctx.make_current()
             self._depth = self.ctx.gl.depth_texture(tuple(size))

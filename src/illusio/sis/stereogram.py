@@ -79,6 +79,7 @@ class StereogramRenderer(Renderer):
 
     def _drop_depth_texture(self) -> None:
         if self._depth_texture is not None:
+            self._forget_map(self._depth_texture)
             self.ctx.release(self._depth_texture)
             self._depth_texture = None
 
