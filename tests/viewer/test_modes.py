@@ -143,3 +143,12 @@ def test_the_lines_mode_keeps_its_settings_across_debug_views(ctx):
     viewer.set_variant("wall")  # another setup: the wall's own params
     assert viewer.mode.params.host == "back-wall"
     viewer.release()
+
+
+def test_params_that_cannot_be_drawn_give_way_to_the_last_that_could(ctx):
+    viewer = Viewer(ctx, "sis", variant="tv", size=SIZE)
+    viewer.step()
+    assert viewer.set_param("host", "aquarium")  # passes its checks, but the room has no aquarium
+    viewer.step()
+    assert viewer.mode.params.host == "tv-screen" and "aquarium" in viewer.last_error
+    viewer.release()

@@ -10,8 +10,7 @@ import typer
 from ..core.errors import InputError
 from ..core.images import check_output_path, read_image, write_image, write_video
 from ..scene.camera import Screen
-from ..sis.multiscene import MultiSceneParams
-from ..sis.params import ALGORITHMS, StereogramParams
+from ..sis.params import ALGORITHMS, MultiSceneParams, StereogramParams
 from .common import parse_size, progress, scene_inputs
 
 _DEFAULT = StereogramParams()

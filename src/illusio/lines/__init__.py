@@ -11,11 +11,21 @@ Kept, frame after frame (the Renderer protocol of illusio.core.renderer)::
 One-shot: ``line_drawing(mesh, LineParams())``.
 """
 
-from .curvature import Curvature, estimate_curvature
-from .debug import DEBUG_VIEWS, debug_view
-from .drawing import Drawing, LineRenderer, framing_view, line_drawing
-from .params import LINE_TYPES, METHODS, CurvatureParams, LineParams
-from .svg import write_drawing_svg
+import importlib
 
-__all__ = ["LineRenderer", "LineParams", "CurvatureParams", "Drawing", "LINE_TYPES", "METHODS", "framing_view",
-           "line_drawing", "Curvature", "estimate_curvature", "DEBUG_VIEWS", "debug_view", "write_drawing_svg"]
+# names -> the module that defines them; imported on first use, so that `illusio --help` and the
+# CLI's defaults (lines.params) do not pay for numba and the passes
+_EXPORTS = {
+    "LineRenderer": "drawing", "Drawing": "drawing", "framing_view": "drawing", "line_drawing": "drawing",
+    "LineParams": "params", "CurvatureParams": "params", "LINE_TYPES": "params", "METHODS": "params",
+    "Curvature": "curvature", "estimate_curvature": "curvature", "DEBUG_VIEWS": "debug", "debug_view": "debug",
+    "write_drawing_svg": "svg",
+}
+
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

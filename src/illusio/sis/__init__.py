@@ -16,18 +16,24 @@ One-shot::
 for a stereogram inside a 3D scene) and calls it every frame.
 """
 
-from .decode import DecodeReport, check, decode_separation, expected_separation, separation_to_depth
-from .depth import check_depth, read_depth
-from .params import ALGORITHMS, PATTERNS, StereogramParams
-from .physics import (depth_from_separation, depth_range, max_separation_px, screen_width_cm, separation_cm,
-                      separation_px)
-from .multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject, hidden_view_from_viewer, multiscene
-from .stereogram import StereogramRenderer, draw_guides, stereogram, stereogram_cpu
+import importlib
 
-__all__ = [
-    "StereogramParams", "ALGORITHMS", "PATTERNS", "StereogramRenderer", "stereogram", "stereogram_cpu",
-    "MultiSceneParams", "MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer", "multiscene",
-    "draw_guides", "check_depth", "read_depth", "DecodeReport", "check", "decode_separation",
-    "expected_separation", "separation_to_depth", "separation_cm", "screen_width_cm", "separation_px",
-    "depth_from_separation", "max_separation_px", "depth_range",
-]
+# names -> the module that defines them; imported on first use (numba and the passes load only when
+# a stereogram is made, not for `illusio --help` or for reading the Params' defaults)
+_EXPORTS = {
+    **dict.fromkeys(("DecodeReport", "check", "decode_separation", "expected_separation", "separation_to_depth"), "decode"),
+    **dict.fromkeys(("check_depth", "read_depth"), "depth"),
+    **dict.fromkeys(("ALGORITHMS", "PATTERNS", "StereogramParams", "MultiSceneParams"), "params"),
+    **dict.fromkeys(("depth_from_separation", "depth_range", "max_separation_px", "screen_width_cm", "separation_cm",
+                     "separation_px"), "physics"),
+    **dict.fromkeys(("MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer", "multiscene"), "multiscene"),
+    **dict.fromkeys(("StereogramRenderer", "draw_guides", "stereogram", "stereogram_cpu"), "stereogram"),
+}
+
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -5,14 +5,15 @@ The CLI, the gallery and the viewer read their defaults from here.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from ..core.errors import InputError
 from ..core.params import check_ranges, param
+from ..passes.scene_renderer import RenderSettings
 from ..scene.camera import Screen
 from .physics import depth_range, max_separation_px
 
-__all__ = ["StereogramParams", "ALGORITHMS", "PATTERNS"]
+__all__ = ["StereogramParams", "MultiSceneParams", "ALGORITHMS", "PATTERNS"]
 
 #: sequential: S[x] ← S[x − s(x)] row by row (section 3.3); strip: Algorithm 1, one render pass per
 #: strip of W_s columns; fast: every pixel follows its chain of links back to the first strip in one
@@ -83,3 +84,38 @@ class StereogramParams:
     def depth_range_cm(self) -> tuple[float, float]:
         """[f'_min, f'_max]: the depths behind the screen these separations simulate (equation 4)."""
         return depth_range(self.strip_width, self.depth_factor, self.screen)
+
+
+@dataclass(frozen=True)
+class MultiSceneParams:
+    """host: name or tag of the surface that shows the stereogram. stereogram: its parameters, with
+    W_s and β given for a frame ``reference_width`` pixels wide (scaled to the frame actually drawn,
+    so the physical separations hold at any size).
+    hidden_size: pixels of the hidden depth image's longer side (its aspect is the host's).
+    emission: how bright the host glows with its stereogram (a TV: > 0; a painted wall: 0).
+    pattern_repeat: pattern tiles across the host (u, v). interactive: orient the hidden scene by
+    where the viewer stands relative to the host (Figure 25). spin: degrees per frame the hidden
+    scene turns (animated hidden scene). settings: lighting of the main scene (shadows off by
+    default: hard shadows on a stereogram disturb it, section 6). reuse_static: while the main scene,
+    the view and the settings stay the same from one frame to the next (a still camera on an animated
+    TV), only the host is shaded again; the image is the same either way."""
+
+    host: str = param("tv-screen", panel=False, help="name or tag of the host surface")
+    stereogram: StereogramParams = param(default_factory=lambda: StereogramParams(pattern="snow", strip_width=100, depth_factor=40))
+    reference_width: int = param(1920, range=(16, 8192), unit="px", panel=False)
+    hidden_size: int = param(512, range=(16, 4096), unit="px", step=16, label="hidden depth size")
+    emission: float = param(0.9, range=(0.0, 4.0), help="host glow (a TV); 0 for a lit wall")
+    pattern_repeat: tuple[float, float] = param((1.0, 1.0), panel=False)
+    interactive: bool = param(False, help="orient the hidden scene by where the viewer stands (Figure 25)")
+    spin: float = param(0.0, range=(-30.0, 30.0), unit="°/frame", help="the hidden scene turns")
+    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+    reuse_static: bool = param(True, help="a still camera shades only the host again")
+
+    __post_init__ = check_ranges
+
+    def scaled_stereogram(self, width: int) -> StereogramParams:
+        """The stereogram parameters for a frame ``width`` pixels wide."""
+        k = width / self.reference_width
+        return replace(self.stereogram, strip_width=self.stereogram.strip_width * k,
+                       depth_factor=self.stereogram.depth_factor * k,
+                       screen=replace(self.stereogram.screen, width_px=int(round(self.stereogram.screen.width_px * k)), height_px=None))

@@ -12,7 +12,7 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
-from ..core.errors import InputError
+from ..core.errors import IllusioError, InputError
 from ..core.gl import check_size
 from ..core.images import write_image
 from ..core.renderer import Frame
@@ -66,6 +66,7 @@ class Viewer:
         self.mode = mode
         self.navigation = mode.navigation()
         self.last_error = ""
+        self._good_params = None  # the mode's last params that drew a frame
 
     def set_variant(self, variant: str) -> None:
         params = self.mode.params
@@ -141,7 +142,18 @@ class Viewer:
         view = self.view()
         if self.recorder is not None and view is not None:
             self.recorder.add(self.time, view)
-        image = self.mode.render(Frame(view, self.mode.image_size(self.size), self.time, self.index))
+        frame = Frame(view, self.mode.image_size(self.size), self.time, self.index)
+        try:
+            image = self.mode.render(frame)
+        except IllusioError as exc:
+            # params that passed their checks but cannot be drawn (a host the scene lacks): the
+            # last values that drew come back, and the panel says why
+            if self._good_params is None or self._good_params == self.mode.params:
+                raise
+            self.mode.params = self._good_params
+            image = self.mode.render(frame)
+            self.last_error = f"{exc.one_line()} (the last values that worked are back)"
+        self._good_params = self.mode.params
         if self.frame_texture is None or self.frame_texture.size != self.size:
             self.ctx.release(self.frame_texture)
             self.frame_texture = self.ctx.acquire(self.size, 4, "f1")

@@ -114,7 +114,8 @@ class ViewerWindow:
 
     def on_resize(self, width, height) -> None:
         self.gui.resize(width, height)
-        self.viewer.resize(self.window.buffer_size)
+        if min(self.window.buffer_size) >= 1:  # a minimised window has no pixels: keep the last size
+            self.viewer.resize(self.window.buffer_size)
 
     def screenshot(self, path: Path | None = None) -> Path:
         if path is None:
