@@ -17,3 +17,17 @@ def test_quick_core_benchmark_writes_json_with_ratios(tmp_path):
     assert all(t["min_ms"] <= t["median_ms"] <= t["max_ms"] for t in data["timings"])
     assert "1,000,002 triangles" in next(t["notes"] for t in data["timings"] if t["name"] == "mesh-1M/gbuffer")
     assert data["ratios"] and data["machine"]["renderer"]
+
+
+def test_quick_protocol_and_viewer_benchmarks_write_their_goals(tmp_path):
+    r = subprocess.run([sys.executable, "-m", "benchmarks", "protocol", "viewer", "--quick", "--repeat", "1",
+                        "--out", str(tmp_path)], capture_output=True, text=True, cwd=REPO, timeout=600)
+    assert r.returncode == 0, r.stderr
+    protocol = json.loads((tmp_path / "protocol.json").read_text())
+    for renderer in ("plain", "sis", "multiscene", "lines"):
+        assert f"{renderer}: array / texture (goal <= 1.3)" in protocol["ratios"]
+        assert f"{renderer}: one-shot / kept (goal <= 1.5)" in protocol["ratios"]
+    viewer = json.loads((tmp_path / "viewer.json").read_text())
+    names = {t["name"] for t in viewer["timings"]}
+    assert {"plain/default", "sis/tv", "sis/raw", "lines/drawing"} <= names
+    assert all(v > 0 for v in viewer["ratios"].values())
