@@ -12,7 +12,7 @@ import warnings
 import typer
 
 from ..core.errors import IllusioError
-from . import demo, info, lines, render, sis, view
+from . import demo, dof, info, lines, render, sis, view
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="illusio: perception-driven rendering on a headless OpenGL core.")
@@ -25,6 +25,7 @@ app.command("sis-decode")(sis.sis_decode)
 app.command("lines")(lines.lines)
 app.command("curvature")(lines.curvature)
 app.command("view")(view.view)
+app.command("dof")(dof.dof)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

@@ -7,6 +7,8 @@ from .lights import Emitters, emitters_from_lights
 from .scene_renderer import RenderSettings, SceneRenderer, render_scene
 from .shading import ShadingParams, ShadingPass
 from .shadows import ShadowPass
+from .stereo import COMPOSITES, StereoCompositePass
 
 __all__ = ["ForwardPass", "ScreenMaterial", "GBuffer", "GBufferImages", "GBufferPass", "GpuScene", "Emitters", "emitters_from_lights",
-           "RenderSettings", "SceneRenderer", "render_scene", "ShadingParams", "ShadingPass", "ShadowPass"]
+           "RenderSettings", "SceneRenderer", "render_scene", "ShadingParams", "ShadingPass", "ShadowPass",
+           "StereoCompositePass", "COMPOSITES"]

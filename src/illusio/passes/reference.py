@@ -3,6 +3,7 @@
 - :func:`gbuffer`: ray casting (Möller–Trumbore) through every pixel centre against every
   triangle; nearest hit wins. Textures are not sampled (colour = material colour).
 - :func:`shading`: the Lambert + normalised Phong sum of ``shaders/shading.glsl`` without shadows.
+- :func:`stereo_composite`: the layouts and anaglyphs of ``shaders/stereo.glsl``.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from .gbuffer import GBufferImages
 from .lights import Emitters
 from .shading import ShadingParams
 
-__all__ = ["gbuffer", "shading"]
+__all__ = ["gbuffer", "shading", "stereo_composite"]
 
 
 def gbuffer(scene: Scene, view: View, size: tuple[int, int]) -> GBufferImages:
@@ -110,3 +111,22 @@ def shading(g: GBufferImages, emitters: Emitters, camera_position, params: Shadi
     total *= params.exposure
     out = np.where(g.mask[..., None], total, np.asarray(params.background))
     return out.astype(np.float32)
+
+
+def stereo_composite(left: np.ndarray, right: np.ndarray, mode: str) -> np.ndarray:
+    """Two (H, W, 3) linear images → the composite (rows from the top): side by side (left image on
+    the left; cross-eyed: on the right), top-bottom (left on top), or an anaglyph: out = clamp(L·left +
+    R·right) with the scheme's matrices (``passes.stereo.ANAGLYPH_MATRICES``)."""
+    from .stereo import ANAGLYPH_MATRICES, composite_size
+
+    left = np.asarray(left, np.float64)[..., :3]
+    right = np.asarray(right, np.float64)[..., :3]
+    composite_size(mode, (left.shape[1], left.shape[0]))  # refuses an unknown mode
+    if mode == "side-by-side":
+        return np.concatenate([left, right], axis=1).astype(np.float32)
+    if mode == "cross-eyed":
+        return np.concatenate([right, left], axis=1).astype(np.float32)
+    if mode == "top-bottom":
+        return np.concatenate([left, right], axis=0).astype(np.float32)
+    lm, rm = ANAGLYPH_MATRICES[mode]
+    return np.clip(left @ np.asarray(lm).T + right @ np.asarray(rm).T, 0.0, 1.0).astype(np.float32)

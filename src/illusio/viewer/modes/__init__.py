@@ -1,11 +1,12 @@
 """One class per technique shown by the viewer. A technique that lands adds its mode here."""
 
 from .base import Mode
+from .dof import DofMode
 from .lines import LinesMode
 from .plain import PlainMode
 from .sis import SisMode
 
 #: technique name -> mode class, in the order the viewer cycles through them
-MODES: dict[str, type[Mode]] = {m.name: m for m in (PlainMode, SisMode, LinesMode)}
+MODES: dict[str, type[Mode]] = {m.name: m for m in (PlainMode, SisMode, LinesMode, DofMode)}
 
-__all__ = ["Mode", "MODES", "PlainMode", "SisMode", "LinesMode"]
+__all__ = ["Mode", "MODES", "PlainMode", "SisMode", "LinesMode", "DofMode"]

@@ -1,0 +1,64 @@
+"""``illusio dof``: a scene with depth of field, mono or as a stereo pair."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import typer
+
+from ..core.errors import InputError
+from ..core.images import check_output_path, write_image
+from ..dof.params import METHODS, STEREO_OUTPUTS, DofParams
+from .common import parse_size, resolve_scene, scene_inputs
+
+_DEFAULT = DofParams()
+
+
+def dof(
+    scene: str = typer.Argument("living-room", help="built-in scene, .yaml scene, mesh file or built-in shape"),
+    output: Path = typer.Option(..., "-o", "--output", help="image to write (.png, .exr, .npy)"),
+    method: str = typer.Option(_DEFAULT.method, "--method", help=f"one of {', '.join(METHODS)}"),
+    focus_distance: float = typer.Option(_DEFAULT.focus_distance, "--focus-distance", help="d_f, metres along the view axis"),
+    focus_object: str = typer.Option(None, "--focus-object", help="focus on this object of the scene (by name or tag)"),
+    aperture: float = typer.Option(_DEFAULT.aperture_mm, "--aperture", help="A, lens diameter in mm"),
+    focal_length: float = typer.Option(_DEFAULT.focal_length_mm, "--focal-length", help="mm on a 24 mm frame (0: the camera's field of view)"),
+    samples: int = typer.Option(_DEFAULT.samples, "--samples", help="lens positions (accumulation)"),
+    max_coc: float = typer.Option(_DEFAULT.max_coc, "--max-coc", help="largest circle of confusion, pixels"),
+    stereo: str = typer.Option(_DEFAULT.stereo, "--stereo", help=f"one of {', '.join(STEREO_OUTPUTS)}"),
+    eye_separation: float = typer.Option(_DEFAULT.eye_separation * 100, "--eye-separation", help="cm between the eyes"),
+    camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
+    size: str = typer.Option("1024x768", "--size", help="WIDTHxHEIGHT of each eye's image"),
+    debug: str = typer.Option(None, "--debug", help="write a map instead: coc (pixels / max, white = most blur) or depth"),
+) -> None:
+    """Render SCENE with depth of field from a thin-lens eye (one focus for both eyes in stereo)."""
+    from ..core.context import Context
+    from ..core.renderer import Frame
+    from ..dof.focus import object_distance
+    from ..dof.renderer import DofRenderer
+
+    out = check_output_path(output, scene_inputs(scene))
+    if debug not in (None, "coc", "depth"):
+        raise InputError(f"--debug must be coc or depth, got {debug!r}")
+    w, h = parse_size(size)
+    sc = resolve_scene(scene)
+    view = sc.camera(camera)
+    params = DofParams(method=method, focus_distance=focus_distance, aperture_mm=aperture, focal_length_mm=focal_length,
+                       samples=samples, max_coc=max_coc, stereo=stereo, eye_separation=eye_separation / 100)
+    if focus_object:
+        params = replace(params, focus_distance=object_distance(sc, focus_object, view))
+    if debug and params.method != "gather":
+        params = replace(params, method="gather")  # the maps come from the gather's depth
+    renderer = DofRenderer(Context())
+    renderer.prepare(sc)
+    image = renderer.render(Frame(view, (w, h)), params)
+    if debug:
+        m = renderer.ctx.readback(renderer.maps()[debug])[..., 0]
+        image = m / params.max_coc if debug == "coc" else np.where(m > 0, 1 - m / max(float(m.max()), 1e-9), 0.0)
+        write_image(out, image.astype(np.float32), srgb=False)
+        typer.echo(f"wrote {out} ({debug} map)")
+        return
+    write_image(out, image)
+    typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.method}, focus {params.focus_distance:.2f} m, "
+               f"aperture {params.aperture_mm:g} mm)")

@@ -1,0 +1,48 @@
+"""Every knob of stereoscopic depth of field (Piranda & de Sorbier), with units and ranges. The CLI,
+the gallery and the viewer read their defaults from here."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..core.params import check_ranges, param
+from ..passes.scene_renderer import RenderSettings
+from ..passes.stereo import COMPOSITES
+
+__all__ = ["DofParams", "METHODS", "STEREO_OUTPUTS"]
+
+#: accumulation: the reference (the eye moved over the lens, renders averaged); gather: per-pixel
+#: convolution with CoC-sized disks, depth aware (the paper's "convolution" method, section 2.2.2)
+METHODS = ("accumulation", "gather")
+#: none: one (cyclopean) view; left / right: one eye; or a composite of the pair
+STEREO_OUTPUTS = ("none", "left", "right") + COMPOSITES
+
+
+@dataclass(frozen=True)
+class DofParams:
+    """method: one of METHODS. focus_distance: d_f, metres along the view axis to the plane in focus.
+    aperture_mm: A, the lens (pupil) diameter; the blur of a point at depth d is
+    A·|1/d − 1/d_f|·H / (2 tan(fov/2)) pixels (dof.lens). focal_length_mm: 0 keeps the camera's field
+    of view; else the field of view of that lens on a 24 mm high frame. samples: lens positions the
+    accumulation method averages. max_coc: the largest circle of confusion drawn, pixels (the gather
+    kernel's diameter). stereo: the output (STEREO_OUTPUTS). eye_separation: metres between the eyes.
+    screen_distance: metres to the zero-parallax plane; 0 puts it at the focus distance. seed: the
+    rotation of the lens sampling pattern. settings: how each view is lit."""
+
+    method: str = param("gather", choices=METHODS)
+    focus_distance: float = param(2.0, range=(0.05, 1000.0), unit="m", log=True, label="focus distance d_f")
+    aperture_mm: float = param(50.0, range=(0.0, 500.0), unit="mm", label="aperture A")
+    focal_length_mm: float = param(0.0, range=(0.0, 2000.0), unit="mm", label="focal length (0: the camera's)")
+    samples: int = param(32, range=(1, 1024), step=1, help="lens positions of the accumulation method")
+    max_coc: float = param(24.0, range=(1.0, 64.0), unit="px", label="largest circle of confusion")
+    stereo: str = param("none", choices=STEREO_OUTPUTS)
+    eye_separation: float = param(0.065, range=(0.0, 1.0), unit="m")
+    screen_distance: float = param(0.0, range=(0.0, 1000.0), unit="m", help="zero parallax; 0: at the focus")
+    seed: int = param(0, range=(0, 2**31 - 1), step=1)
+    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+
+    __post_init__ = check_ranges
+
+    @property
+    def aperture_m(self) -> float:
+        return self.aperture_mm / 1000.0

@@ -1,0 +1,115 @@
+"""Stereoscopic depth of field frame after frame: the DofRenderer (Renderer protocol) and the one-shot
+``depth_of_field``. Both eyes share one focus (the paper's constraint); the pair is composed by the
+shared stereo pass."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import moderngl
+
+from ..core.context import Context, default_context
+from ..core.errors import InputError
+from ..core.renderer import Frame, Renderer
+from ..passes.scene_renderer import SceneRenderer
+from ..passes.stereo import StereoCompositePass
+from ..scene.camera import StereoRig, View
+from ..scene.scene import Scene
+from .accumulation import AccumulatePass, lens_offsets, lens_view
+from .coc import CocPass
+from .gather import GatherPass
+from .lens import fov_for_focal_length
+from .params import DofParams
+from .reference import lens_samples
+
+__all__ = ["DofRenderer", "depth_of_field"]
+
+
+class DofRenderer(Renderer):
+    """Subject: a Scene. Params: :class:`DofParams`. ``frame.view``: the cyclopean view (None: the
+    scene's main camera). ``render_texture``: the image or stereo composite, linear RGBA. ``maps()``:
+    "coc" (pixels, of the left eye in stereo) and "depth" (metres) of the last frame's gather, and
+    "left", "right" (the two eyes) in stereo."""
+
+    Params = DofParams
+    subject_name = "a scene"
+
+    def __init__(self, ctx: Context):
+        super().__init__(ctx)
+        self.scene_renderer = SceneRenderer(ctx)
+        self.coc = CocPass(ctx)
+        self.gather = GatherPass(ctx)
+        self.accumulate = AccumulatePass(ctx)
+        self.composite = StereoCompositePass(ctx)
+        self.scene: Scene | None = None
+
+    def _load(self, scene: Scene) -> None:
+        if not isinstance(scene, Scene):
+            raise InputError(f"DofRenderer draws a Scene, got {type(scene).__name__}")
+        self.scene = scene
+        self.scene_renderer.prepare(scene)
+
+    def _unload(self) -> None:
+        super()._unload()
+        self.scene_renderer.release()
+        self.scene = None
+
+    def views(self, frame: Frame, params: DofParams) -> list[View]:
+        """The views drawn: the cyclopean one, or the left and right eyes (zero parallax at
+        ``screen_distance``, or at the focus distance when that is 0)."""
+        self._require_subject()
+        view = frame.view or self.scene.camera()
+        if params.focal_length_mm > 0:
+            view = View(view.pose, replace(view.camera, fov_y=fov_for_focal_length(params.focal_length_mm)))
+        if params.stereo == "none":
+            return [view]
+        rig = StereoRig(view, params.eye_separation, params.screen_distance or params.focus_distance)
+        return {"left": [rig.left], "right": [rig.right]}.get(params.stereo, [rig.left, rig.right])
+
+    def render_texture(self, frame: Frame, params: DofParams | None = None) -> moderngl.Texture:
+        params = self._params(params)
+        maps: dict[str, moderngl.Texture] = {}
+        eyes = [self._eye(Frame(view, frame.size, frame.time, frame.index), params, maps, first=i == 0)
+                for i, view in enumerate(self.views(frame, params))]
+        if len(eyes) == 1:
+            self._keep_maps(maps)
+            return eyes[0]
+        out = self.composite(eyes[0], eyes[1], params.stereo)
+        maps.update(left=eyes[0], right=eyes[1])
+        self._keep_maps(maps)
+        return out
+
+    def _eye(self, frame: Frame, params: DofParams, maps: dict, first: bool) -> moderngl.Texture:
+        settings = params.settings
+        if params.method == "accumulation":
+            target = self.accumulate.begin(frame.size)
+            samples = lens_offsets(lens_samples(params.samples, params.seed), params.aperture_m)
+            for offset in samples:
+                view = lens_view(frame.view, tuple(offset), params.focus_distance)
+                image = self.scene_renderer.render_texture(Frame(view, frame.size, frame.time, frame.index), settings)
+                self.accumulate.add(target, image, 1.0 / len(samples))
+                self.ctx.release(image)
+            return target
+        # gather: the sharp image and its G-buffer depth, then the circle of confusion and the blur
+        sharp = self.scene_renderer.render_texture(frame, replace(settings, forward=False))
+        depth = self.scene_renderer.maps()["depth"]
+        coc = self.coc(depth, params.focus_distance, params.aperture_m, frame.view.camera.fov_y, params.max_coc)
+        out = self.gather(sharp, coc, depth, params.max_coc)
+        self.ctx.release(sharp)
+        if first:
+            depth_copy = self.ctx.acquire(depth.size, 1, "f4")
+            self.ctx.gl.copy_framebuffer(self.ctx.framebuffer([depth_copy]), self.ctx.framebuffer([depth]))
+            maps.update(coc=coc, depth=depth_copy)
+        else:
+            self.ctx.release(coc)
+        return out
+
+
+def depth_of_field(scene: Scene, params: DofParams = DofParams(), frame: Frame = Frame(),
+                   ctx: Context | None = None):
+    """One image (or stereo composite) with depth of field: float32 (H, W, 3) linear, row 0 on top.
+    Without ``ctx`` the process's default headless context is used; it keeps one renderer for these
+    calls, holding the last scene."""
+    renderer = (ctx or default_context()).kept(DofRenderer)
+    renderer.prepare(scene)
+    return renderer.render(frame, params)

@@ -1,0 +1,43 @@
+#version 430
+// Depth-aware gather (the "convolution" method of section 2.2.2, scattering written as gathering;
+// NumPy reference dof.reference.gather). Every pixel q within `radius` of p whose own circle of
+// confusion covers p (|q − p| ≤ r_q, r_q = max(c_q / 2, 1/2)) adds its colour with weight 1 / (π r_q²),
+// unless it lies behind p (z_q > z_p (1 + depth_slack)) outside p's own circle (|q − p| > r_p):
+// a sharp foreground does not bleed over the blurred background behind it, and a blurred
+// background does not bleed over a sharp foreground in front of it.
+#include "common/fullscreen.glsl"
+
+#if defined(FRAGMENT_SHADER)
+uniform sampler2D image;       // linear colour
+uniform sampler2D coc;         // .r: circle of confusion, pixels
+uniform sampler2D depth;       // .r: metres, 0 = nothing (infinitely far)
+uniform int radius;            // pixels: ceil(max_coc / 2)
+uniform float depth_slack;
+out vec4 colour;
+
+float far_depth(float d) { return d > 0.0 ? d : 1e30; }
+
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    ivec2 size = textureSize(image, 0);
+    float zp = far_depth(texelFetch(depth, p, 0).r);
+    float rp = max(texelFetch(coc, p, 0).r * 0.5, 0.5);
+    vec3 sum = vec3(0.0);
+    float total = 0.0;
+    for (int dy = -radius; dy <= radius; ++dy) {
+        for (int dx = -radius; dx <= radius; ++dx) {
+            ivec2 q = p + ivec2(dx, dy);
+            if (q.x < 0 || q.y < 0 || q.x >= size.x || q.y >= size.y) continue;
+            float dist = length(vec2(dx, dy));
+            float rq = max(texelFetch(coc, q, 0).r * 0.5, 0.5);
+            if (dist > rq) continue;
+            float zq = far_depth(texelFetch(depth, q, 0).r);
+            if (zq > zp * (1.0 + depth_slack) && dist > rp) continue;
+            float w = 1.0 / (3.14159265 * rq * rq);
+            sum += w * texelFetch(image, q, 0).rgb;
+            total += w;
+        }
+    }
+    colour = vec4(sum / total, 1.0);
+}
+#endif
