@@ -12,6 +12,7 @@ from ..core.renderer import Frame
 from ..passes.scene_renderer import SceneRenderer
 from ..scene.builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .html import Item, Section
+from .dof import dof_showcase
 from .lines import lines_showcase
 from .sis import sis_showcase
 from .viewer import viewer_showcase
@@ -61,5 +62,6 @@ SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]]
     ("shapes", builtin_shapes),
     ("sis", sis_showcase),
     ("lines", lines_showcase),
+    ("dof", dof_showcase),
     ("viewer", viewer_showcase),
 ]

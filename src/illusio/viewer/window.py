@@ -2,7 +2,7 @@
 mouse navigation. Everything the window shows comes from a :class:`~illusio.viewer.viewer.Viewer`.
 
 Keys: W A S D walk (orbit: turn), Q E down / up (orbit: zoom), mouse drag to look (orbit: turn),
-wheel to zoom, Tab next technique, 1 2 3 a technique, V next view of the technique, H home,
+wheel to zoom, Tab next technique, 1 2 3 4 a technique (plain, sis, lines, dof), V next view of the technique, H home,
 P screenshot, Esc quit.
 """
 
@@ -17,6 +17,7 @@ import moderngl
 
 from ..core.context import Context, release_current
 from ..core.errors import GLUnavailable
+from .modes import MODES
 from .path import CameraPath, PathRecorder
 from .viewer import Viewer
 
@@ -68,7 +69,7 @@ class ViewerWindow:
         self.panel_state: dict = {}
         keys = self.window.keys
         self._move = {keys.W: "w", keys.A: "a", keys.S: "s", keys.D: "d", keys.Q: "q", keys.E: "e"}
-        self._modes = {keys.NUMBER_1: "plain", keys.NUMBER_2: "sis", keys.NUMBER_3: "lines"}
+        self._modes = {getattr(keys, f"NUMBER_{i}"): name for i, name in enumerate(MODES, 1) if i <= 9}
         w = self.window
         w.key_event_func = self.on_key
         w.mouse_drag_event_func = self.on_drag
