@@ -78,3 +78,66 @@ def test_lens_samples_cover_the_disk_evenly():
     assert r.max() <= 1.0 and abs(np.mean(s, axis=0)).max() < 0.02
     assert abs((r < np.sqrt(0.5)).mean() - 0.5) < 0.01  # half the samples inside half the area
     np.testing.assert_array_equal(s, reference.lens_samples(256, seed=3))  # seeded
+
+
+def test_mipmap_pass_matches_reference(ctx, rng):
+    """Trilinear mipmap lookups against reference.mipmap (box pyramid, GL's bilinear and level
+    blending) at a power-of-two size; llvmpipe's filter weights have 8 bits of fraction."""
+    from illusio.dof.mipmap import MipmapPass, mipmapped
+
+    image = rng.random((64, 64, 3)).astype(np.float32)
+    coc = (rng.random((64, 64)) * 24).astype(np.float32)
+    sharp = ctx.upload(np.dstack([image, np.ones((64, 64), np.float32)]), filter="nearest")
+    coc_t = ctx.upload(coc, filter="nearest")
+    mip = mipmapped(ctx, sharp)
+    out = MipmapPass(ctx)(mip, coc_t)
+    got = ctx.readback(out, 3)
+    ctx.release(out, mip)
+    sharp.release(), coc_t.release()
+    want = reference.mipmap(image, coc)
+    assert np.abs(got - want).max() < 0.02 and np.abs(got - want).mean() < 2e-3
+
+
+def test_planes_pass_matches_reference(ctx, rng):
+    """The planes drawn far to near with the depth test GREATER against the scene's depth pick, at
+    every pixel, the nearest plane behind the surface (reference.planes), and show its mipmap level."""
+    from illusio.dof.mipmap import mipmapped
+    from illusio.dof.planes import PlanesPass, plane_distances
+    from illusio.scene.camera import Camera
+
+    camera = Camera(50.0, 0.1, 20.0)
+    image = rng.random((64, 64, 3)).astype(np.float32)
+    depth = rng.uniform(0.2, 19.5, (64, 64)).astype(np.float32)
+    depth[rng.random((64, 64)) < 0.05] = 0.0
+    distances = plane_distances(rng.uniform(1, 5), 5, 3, camera.near, camera.far)
+    lods = rng.uniform(0, 5, distances.size)
+    sharp = ctx.upload(np.dstack([image, np.ones((64, 64), np.float32)]), filter="nearest")
+    depth_t = ctx.upload(depth, filter="nearest")
+    mip = mipmapped(ctx, sharp)
+    out = PlanesPass(ctx)(mip, depth_t, camera, distances, lods)
+    got = ctx.readback(out, 3)
+    ctx.release(out, mip)
+    sharp.release(), depth_t.release()
+    want = reference.planes(image, depth, distances, lods)
+    close = np.abs(got - want).max(axis=-1) < 0.02
+    assert close.mean() > 0.995  # a surface within float precision of a plane may fall either side
+    assert np.abs(got - want)[close].mean() < 2e-3
+
+
+def test_planes_are_spread_exponentially_around_the_focal_plane():
+    """The paper's distribution: the focal plane in the middle, the farthest at the far plane, the
+    nearest at the near plane; behind, the gaps grow away from the focal plane; in front, the planes
+    close in geometrically towards the camera, so their circles of confusion (linear in 1/z) grow by
+    increasing steps away from the focal plane."""
+    from illusio.dof.planes import plane_distances
+
+    z = plane_distances(3.0, 6, 4, 0.1, 50.0)
+    assert z.size == 6 + 4 + 1 and (np.diff(z) < 0).all()
+    assert z[0] == pytest.approx(50.0) and z[6] == pytest.approx(3.0) and z[-1] == pytest.approx(0.1)
+    behind_gaps = -np.diff(z[:7])[::-1]  # from the focal plane outwards
+    front_gaps = -np.diff(z[6:])
+    assert (np.diff(behind_gaps) > 0).all() and (np.diff(front_gaps) < 0).all()
+    blur_steps = np.diff(1 / z[6:] - 1 / 3.0)
+    assert (np.diff(blur_steps) > 0).all()
+    linear = plane_distances(3.0, 6, 4, 0.1, 50.0, "linear")
+    assert np.allclose(np.diff(linear[:7]), np.diff(linear[:7])[0])

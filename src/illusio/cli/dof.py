@@ -25,12 +25,16 @@ def dof(
     aperture: float = typer.Option(_DEFAULT.aperture_mm, "--aperture", help="A, lens diameter in mm"),
     focal_length: float = typer.Option(_DEFAULT.focal_length_mm, "--focal-length", help="mm on a 24 mm frame (0: the camera's field of view)"),
     samples: int = typer.Option(_DEFAULT.samples, "--samples", help="lens positions (accumulation)"),
+    planes_behind: int = typer.Option(_DEFAULT.planes_behind, "--planes-behind", help="m: planes behind the focal plane"),
+    planes_front: int = typer.Option(_DEFAULT.planes_front, "--planes-front", help="n: planes in front of it"),
+    distribution: str = typer.Option(_DEFAULT.distribution, "--distribution", help="exponential or linear spreading of the planes"),
     max_coc: float = typer.Option(_DEFAULT.max_coc, "--max-coc", help="largest circle of confusion, pixels"),
     stereo: str = typer.Option(_DEFAULT.stereo, "--stereo", help=f"one of {', '.join(STEREO_OUTPUTS)}"),
     eye_separation: float = typer.Option(_DEFAULT.eye_separation * 100, "--eye-separation", help="cm between the eyes"),
     camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
     size: str = typer.Option("1024x768", "--size", help="WIDTHxHEIGHT of each eye's image"),
-    debug: str = typer.Option(None, "--debug", help="write a map instead: coc (pixels / max, white = most blur) or depth"),
+    debug: str = typer.Option(None, "--debug", help="write a map instead: coc (pixels / max, white = most blur), depth, "
+                                                    "or planes (each pixel's plane in grey levels, Figure 8)"),
 ) -> None:
     """Render SCENE with depth of field from a thin-lens eye (one focus for both eyes in stereo)."""
     from ..core.context import Context
@@ -39,23 +43,32 @@ def dof(
     from ..dof.renderer import DofRenderer
 
     out = check_output_path(output, scene_inputs(scene))
-    if debug not in (None, "coc", "depth"):
-        raise InputError(f"--debug must be coc or depth, got {debug!r}")
+    if debug not in (None, "coc", "depth", "planes"):
+        raise InputError(f"--debug must be coc, depth or planes, got {debug!r}")
     w, h = parse_size(size)
     sc = resolve_scene(scene)
     view = sc.camera(camera)
     params = DofParams(method=method, focus_distance=focus_distance, aperture_mm=aperture, focal_length_mm=focal_length,
-                       samples=samples, max_coc=max_coc, stereo=stereo, eye_separation=eye_separation / 100)
+                       samples=samples, max_coc=max_coc, stereo=stereo, eye_separation=eye_separation / 100,
+                       planes_behind=planes_behind, planes_front=planes_front, distribution=distribution)
     if focus_object:
         params = replace(params, focus_distance=object_distance(sc, focus_object, view))
-    if debug and params.method != "gather":
-        params = replace(params, method="gather")  # the maps come from the gather's depth
+    if debug:  # the maps of the first eye; planes need the planes method, the others any blur method
+        params = replace(params, method="planes" if debug == "planes" else
+                         (params.method if params.method != "accumulation" else "gather"), stereo="none")
     renderer = DofRenderer(Context())
     renderer.prepare(sc)
     image = renderer.render(Frame(view, (w, h)), params)
     if debug:
-        m = renderer.ctx.readback(renderer.maps()[debug])[..., 0]
-        image = m / params.max_coc if debug == "coc" else np.where(m > 0, 1 - m / max(float(m.max()), 1e-9), 0.0)
+        from ..dof.reference import plane_index
+
+        m = renderer.ctx.readback(renderer.maps()["coc" if debug == "coc" else "depth"])[..., 0]
+        if debug == "coc":
+            image = m / params.max_coc
+        elif debug == "depth":
+            image = np.where(m > 0, 1 - m / max(float(m.max()), 1e-9), 0.0)
+        else:
+            image = plane_index(m, renderer.last_planes) / max(len(renderer.last_planes) - 1, 1)
         write_image(out, image.astype(np.float32), srgb=False)
         typer.echo(f"wrote {out} ({debug} map)")
         return

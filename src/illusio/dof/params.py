@@ -12,8 +12,9 @@ from ..passes.stereo import COMPOSITES
 __all__ = ["DofParams", "METHODS", "STEREO_OUTPUTS"]
 
 #: accumulation: the reference (the eye moved over the lens, renders averaged); gather: per-pixel
-#: convolution with CoC-sized disks, depth aware (the paper's "convolution" method, section 2.2.2)
-METHODS = ("accumulation", "gather")
+#: convolution with CoC-sized disks, depth aware (the paper's "convolution" method, section 2.2.2);
+#: mipmap: each pixel at the mipmap level of its circle (2.2.3); planes: the paper's method (3.1–3.2)
+METHODS = ("accumulation", "gather", "mipmap", "planes")
 #: none: one (cyclopean) view; left / right: one eye; or a composite of the pair
 STEREO_OUTPUTS = ("none", "left", "right") + COMPOSITES
 
@@ -24,7 +25,8 @@ class DofParams:
     aperture_mm: A, the lens (pupil) diameter; the blur of a point at depth d is
     A·|1/d − 1/d_f|·H / (2 tan(fov/2)) pixels (dof.lens). focal_length_mm: 0 keeps the camera's field
     of view; else the field of view of that lens on a 24 mm high frame. samples: lens positions the
-    accumulation method averages. max_coc: the largest circle of confusion drawn, pixels (the gather
+    accumulation method averages. planes_behind, planes_front: m and n of the planes method, spread by
+    ``distribution`` between the focal plane and the camera's far and near planes. max_coc: the largest circle of confusion drawn, pixels (the gather
     kernel's diameter). stereo: the output (STEREO_OUTPUTS). eye_separation: metres between the eyes.
     screen_distance: metres to the zero-parallax plane; 0 puts it at the focus distance. seed: the
     rotation of the lens sampling pattern. settings: how each view is lit."""
@@ -34,6 +36,9 @@ class DofParams:
     aperture_mm: float = param(50.0, range=(0.0, 500.0), unit="mm", label="aperture A")
     focal_length_mm: float = param(0.0, range=(0.0, 2000.0), unit="mm", label="focal length (0: the camera's)")
     samples: int = param(32, range=(1, 1024), step=1, help="lens positions of the accumulation method")
+    planes_behind: int = param(6, range=(1, 64), step=1, label="planes behind (m)")
+    planes_front: int = param(4, range=(0, 64), step=1, label="planes in front (n)")
+    distribution: str = param("exponential", choices=("exponential", "linear"), help="how the planes are spread")
     max_coc: float = param(24.0, range=(1.0, 64.0), unit="px", label="largest circle of confusion")
     stereo: str = param("none", choices=STEREO_OUTPUTS)
     eye_separation: float = param(0.065, range=(0.0, 1.0), unit="m")

@@ -8,7 +8,8 @@ import numpy as np
 
 from .lens import coc_pixels
 
-__all__ = ["coc", "gather", "accumulate", "lens_samples", "DEPTH_SLACK"]
+__all__ = ["coc", "gather", "accumulate", "lens_samples", "mip_pyramid", "sample_lod", "mipmap", "planes", "plane_index",
+           "DEPTH_SLACK"]
 
 #: relative depth within which a neighbour counts as level with a pixel (not behind it)
 DEPTH_SLACK = 0.02
@@ -64,3 +65,74 @@ def lens_samples(count: int, seed: int = 0) -> np.ndarray:
     turn = np.random.default_rng(seed).uniform(0, 2 * np.pi)
     angle = i * np.pi * (3 - np.sqrt(5)) + turn
     return np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=1)
+
+
+def mip_pyramid(image: np.ndarray) -> list[np.ndarray]:
+    """The mipmap levels of an (H, W, C) image, row 0 at the top: each level the 2×2 mean of the one
+    before, down to 1×1 (the box filter GL uses for power-of-two sizes; other sizes are refused here,
+    their filter being the driver's choice)."""
+    level = np.asarray(image, np.float64)
+    h, w = level.shape[:2]
+    if h & (h - 1) or w & (w - 1):
+        raise ValueError(f"the reference pyramid needs power-of-two sizes, got {w}×{h}")
+    levels = [level]
+    while level.shape[0] > 1 or level.shape[1] > 1:
+        h, w = level.shape[:2]
+        level = level.reshape(max(h // 2, 1), h // max(h // 2, 1), max(w // 2, 1), w // max(w // 2, 1), -1).mean(axis=(1, 3))
+        levels.append(level)
+    return levels
+
+
+def _bilinear(level: np.ndarray, u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """GL's bilinear lookup (clamp to edge) at texture coordinates u, v ((0, 0) bottom left)."""
+    gl = level[::-1]  # GL rows from the bottom
+    h, w = gl.shape[:2]
+    x = np.clip(u * w - 0.5, 0, w - 1)
+    y = np.clip(v * h - 0.5, 0, h - 1)
+    x0, y0 = np.floor(x).astype(int), np.floor(y).astype(int)
+    x1, y1 = np.minimum(x0 + 1, w - 1), np.minimum(y0 + 1, h - 1)
+    tx, ty = (x - x0)[..., None], (y - y0)[..., None]
+    return (gl[y0, x0] * (1 - tx) + gl[y0, x1] * tx) * (1 - ty) + (gl[y1, x0] * (1 - tx) + gl[y1, x1] * tx) * ty
+
+
+def sample_lod(levels: list[np.ndarray], lod: np.ndarray) -> np.ndarray:
+    """textureLod with trilinear filtering at every pixel centre of level 0: bilinear on the levels
+    floor(lod) and floor(lod) + 1, mixed by the fraction; lod clamped to the pyramid. Rows from the top."""
+    h, w = levels[0].shape[:2]
+    lod = np.clip(np.broadcast_to(np.asarray(lod, np.float64), (h, w)), 0, len(levels) - 1)
+    ys, xs = np.mgrid[0:h, 0:w]
+    u = (xs + 0.5) / w
+    v = 1 - (ys + 0.5) / h
+    base = np.floor(lod).astype(int)
+    out = np.zeros((h, w, levels[0].shape[2]))
+    for k in np.unique(base):
+        at = base == k
+        f = (lod - k)[at][:, None]
+        lower = _bilinear(levels[k], u[at], v[at])
+        upper = _bilinear(levels[min(k + 1, len(levels) - 1)], u[at], v[at])
+        out[at] = lower * (1 - f) + upper * f
+    return out
+
+
+def mipmap(image: np.ndarray, coc_px: np.ndarray) -> np.ndarray:
+    """MipmapPass: each pixel at the mipmap level of its circle, lod = log2(max(c, 1))."""
+    levels = mip_pyramid(np.asarray(image, np.float64)[..., :3])
+    return sample_lod(levels, np.log2(np.maximum(np.asarray(coc_px, np.float64), 1.0))).astype(np.float32)
+
+
+def planes(image: np.ndarray, depth: np.ndarray, distances: np.ndarray, lods: np.ndarray) -> np.ndarray:
+    """PlanesPass: each pixel takes the nearest plane behind its surface (the planes' depth test
+    GREATER, drawn far to near); with nothing there (depth ≤ 0), the farthest plane. The plane's
+    colour is the image's mipmap at the plane's level. ``distances`` far to near, as drawn."""
+    levels = mip_pyramid(np.asarray(image, np.float64)[..., :3])
+    index = plane_index(depth, distances)
+    return sample_lod(levels, np.asarray(lods, np.float64)[index]).astype(np.float32)
+
+
+def plane_index(depth: np.ndarray, distances: np.ndarray) -> np.ndarray:
+    """(H, W) int: the plane each pixel takes (0 = the farthest, ``distances`` far to near): the
+    nearest plane behind its surface, the farthest where nothing is there (depth ≤ 0)."""
+    z = np.asarray(depth, np.float64)
+    order = np.asarray(distances, np.float64)
+    behind = order[None, None, :] > np.where(z > 0, z, np.inf)[..., None]
+    return np.where(behind.any(axis=-1), order.size - 1 - np.argmax(behind[..., ::-1], axis=-1), 0)

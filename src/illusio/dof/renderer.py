@@ -19,6 +19,8 @@ from .accumulation import AccumulatePass, lens_offsets, lens_view
 from .coc import CocPass
 from .gather import GatherPass
 from .lens import fov_for_focal_length
+from .mipmap import MipmapPass, mipmapped
+from .planes import PlanesPass, plane_distances, plane_lods
 from .params import DofParams
 from .reference import lens_samples
 
@@ -39,9 +41,12 @@ class DofRenderer(Renderer):
         self.scene_renderer = SceneRenderer(ctx)
         self.coc = CocPass(ctx)
         self.gather = GatherPass(ctx)
+        self.mipmap = MipmapPass(ctx)
+        self.planes = PlanesPass(ctx)
         self.accumulate = AccumulatePass(ctx)
         self.composite = StereoCompositePass(ctx)
         self.scene: Scene | None = None
+        self.last_planes = None  # the plane distances of the last planes frame (far to near), for the debug view
 
     def _load(self, scene: Scene) -> None:
         if not isinstance(scene, Scene):
@@ -90,11 +95,25 @@ class DofRenderer(Renderer):
                 self.accumulate.add(target, image, 1.0 / len(samples))
                 self.ctx.release(image)
             return target
-        # gather: the sharp image and its G-buffer depth, then the circle of confusion and the blur
+        # the others blur the sharp image by its G-buffer depth and the circle of confusion
         sharp = self.scene_renderer.render_texture(frame, replace(settings, forward=False))
         depth = self.scene_renderer.maps()["depth"]
-        coc = self.coc(depth, params.focus_distance, params.aperture_m, frame.view.camera.fov_y, params.max_coc)
-        out = self.gather(sharp, coc, depth, params.max_coc)
+        camera = frame.view.camera
+        coc = self.coc(depth, params.focus_distance, params.aperture_m, camera.fov_y, params.max_coc)
+        if params.method == "gather":
+            out = self.gather(sharp, coc, depth, params.max_coc)
+        else:
+            mip = mipmapped(self.ctx, sharp)
+            if params.method == "mipmap":
+                out = self.mipmap(mip, coc)
+            else:
+                distances = plane_distances(params.focus_distance, params.planes_behind, params.planes_front,
+                                            camera.near, camera.far, params.distribution)
+                lods = plane_lods(distances, params.focus_distance, params.aperture_m, camera.fov_y, frame.size[1],
+                                  params.max_coc)
+                out = self.planes(mip, depth, camera, distances, lods)
+                self.last_planes = distances
+            self.ctx.release(mip)
         self.ctx.release(sharp)
         if first:
             depth_copy = self.ctx.acquire(depth.size, 1, "f4")

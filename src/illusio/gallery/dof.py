@@ -15,6 +15,7 @@ from ..core.images import write_image
 from ..core.renderer import Frame
 from ..dof.focus import object_distance
 from ..dof.params import DofParams
+from ..dof.reference import plane_index
 from ..dof.renderer import DofRenderer
 from ..scene.builtin import builtin_scene
 from .html import Item, Section
@@ -33,7 +34,8 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     frame = Frame(view, size)
     base = DofParams(focus_distance=object_distance(scene, "exhibit-superquadric", view), aperture_mm=120.0, max_coc=16.0)
     reference = None
-    for method, params in (("accumulation", replace(base, method="accumulation", samples=48)), ("gather", base)):
+    for method, params in (("accumulation", replace(base, method="accumulation", samples=48)), ("gather", base),
+                           ("mipmap", replace(base, method="mipmap")), ("planes", replace(base, method="planes"))):
         t0 = time.perf_counter()
         image = renderer.render(frame, params)
         ms = (time.perf_counter() - t0) * 1000
@@ -42,13 +44,18 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
             note = f"{params.samples} lens positions averaged: the reference; {ms:.0f} ms"
         else:
             note = f"mean error against the reference {np.abs(image - reference).mean():.4f}; {ms:.0f} ms"
-            coc = ctx.readback(renderer.maps()["coc"])[..., 0]
+            maps = {k: ctx.readback(renderer.maps()[k])[..., 0] for k in ("coc", "depth")}
         write_image(out_dir / f"dof/museum-{method}.png", image)
         section.items.append(Item(f"dof/museum-{method}.png", f"{method}, focus on the blue superquadric at {base.focus_distance:.2f} m, "
                                   f"aperture {base.aperture_mm:g} mm", note))
-    write_image(out_dir / "dof/museum-coc.png", np.clip(coc / base.max_coc, 0, 1), srgb=False)
+    write_image(out_dir / "dof/museum-coc.png", np.clip(maps["coc"] / base.max_coc, 0, 1), srgb=False)
     section.items.append(Item("dof/museum-coc.png", "circle of confusion (white = the largest drawn, "
                               f"{base.max_coc:g} px)", "dof.lens: A·|1/d − 1/d_f|·H / (2 tan(fov/2))"))
+    distances = renderer.last_planes
+    write_image(out_dir / "dof/museum-planes.png", plane_index(maps["depth"], distances) / (len(distances) - 1), srgb=False)
+    section.items.append(Item("dof/museum-planes.png", "the planes each pixel takes, in grey levels (Figure 8)",
+                              f"{base.planes_behind} behind, {base.planes_front} in front of the focal plane, "
+                              f"{base.distribution} spreading"))
     anaglyph = renderer.render(frame, replace(base, stereo="anaglyph"))
     write_image(out_dir / "dof/museum-anaglyph.png", anaglyph)
     section.items.append(Item("dof/museum-anaglyph.png", "the stereo pair as a red-cyan anaglyph (Dubois)",
