@@ -85,3 +85,22 @@ def test_dof_command(tmp_path, capsys):
     assert code == 2 and cap.err.count("\n") == 1 and "bokeh" in cap.err
     code, cap = call_cli(["dof", "museum", "-o", str(tmp_path / "x.png"), "--aperture", "-3"], capsys)
     assert code == 2 and "aperture" in cap.err
+
+
+def test_a_scenario_plays_as_a_stereo_video_and_a_bad_one_says_where(tmp_path, capsys):
+    import imageio.v3 as iio
+
+    video = tmp_path / "fut.gif"
+    code, cap = call_cli(["dof", "futuristic", "--scenario", "futuristic", "--video", str(video), "--fps", "2",
+                          "--duration", "3", "--size", "64x48", "--stereo", "side-by-side", "--method", "planes"], capsys)
+    assert code == 0, cap.err
+    frames = iio.imread(video, index=None)
+    assert frames.shape[:3] == (6, 48, 128)
+    bad = tmp_path / "bad.txt"
+    bad.write_text("temps 0\naffiche objet 1\nnettete objet 99\n")
+    code, cap = call_cli(["dof", "futuristic", "--scenario", str(bad), "--video", str(tmp_path / "x.mp4")], capsys)
+    assert code == 2 and f"{bad}:3:1: no object 99" in cap.err and cap.err.count("\n") == 1
+    bad.write_text("temps 0\naffiche objet 1 vecteur\n")
+    code, cap = call_cli(["dof", "futuristic", "--scenario", str(bad), "--video", str(tmp_path / "x.mp4")], capsys)
+    assert code == 2 and f"{bad}:2:17:" in cap.err
+    assert not (tmp_path / "x.mp4").exists()

@@ -18,7 +18,7 @@ _DEFAULT = DofParams()
 
 def dof(
     scene: str = typer.Argument("living-room", help="built-in scene, .yaml scene, mesh file or built-in shape"),
-    output: Path = typer.Option(..., "-o", "--output", help="image to write (.png, .exr, .npy)"),
+    output: Path = typer.Option(None, "-o", "--output", help="image to write (.png, .exr, .npy); with --scenario, the first frame"),
     method: str = typer.Option(_DEFAULT.method, "--method", help=f"one of {', '.join(METHODS)}"),
     focus_distance: float = typer.Option(_DEFAULT.focus_distance, "--focus-distance", help="d_f, metres along the view axis"),
     focus_object: str = typer.Option(None, "--focus-object", help="focus on this object of the scene (by name or tag)"),
@@ -33,6 +33,10 @@ def dof(
     eye_separation: float = typer.Option(_DEFAULT.eye_separation * 100, "--eye-separation", help="cm between the eyes"),
     camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
     size: str = typer.Option("1024x768", "--size", help="WIDTHxHEIGHT of each eye's image"),
+    scenario: str = typer.Option(None, "--scenario", help="a scenario file (or a shipped one: futuristic) driving objects and focus"),
+    video: Path = typer.Option(None, "--video", help="with --scenario: the video to write (.mp4 or .gif)"),
+    fps: float = typer.Option(12.0, "--fps", help="frames per second of the video"),
+    duration: float = typer.Option(None, "--duration", help="seconds of video (default: the scenario's length)"),
     debug: str = typer.Option(None, "--debug", help="write a map instead: coc (pixels / max, white = most blur), depth, "
                                                     "or planes (each pixel's plane in grey levels, Figure 8)"),
 ) -> None:
@@ -42,7 +46,16 @@ def dof(
     from ..dof.focus import object_distance
     from ..dof.renderer import DofRenderer
 
-    out = check_output_path(output, scene_inputs(scene))
+    if output is None and video is None:
+        raise InputError("give -o OUT.png, or --scenario FILE with --video OUT.mp4")
+    if video is not None and scenario is None:
+        raise InputError("--video needs --scenario")
+    inputs = scene_inputs(scene) + (scene_inputs(scenario) if scenario else [])
+    out = check_output_path(output, inputs) if output is not None else None
+    if video is not None:
+        check_output_path(video, inputs)
+        if video.suffix.lower() not in (".mp4", ".gif"):
+            raise InputError(f"{video.name}: the video must be an .mp4 or a .gif")
     if debug not in (None, "coc", "depth", "planes"):
         raise InputError(f"--debug must be coc, depth or planes, got {debug!r}")
     w, h = parse_size(size)
@@ -57,6 +70,9 @@ def dof(
         params = replace(params, method="planes" if debug == "planes" else
                          (params.method if params.method != "accumulation" else "gather"), stereo="none")
     renderer = DofRenderer(Context())
+    if scenario is not None:
+        _play(renderer, sc, view, (w, h), params, scenario, out, video, fps, duration)
+        return
     renderer.prepare(sc)
     image = renderer.render(Frame(view, (w, h)), params)
     if debug:
@@ -75,3 +91,47 @@ def dof(
     write_image(out, image)
     typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.method}, focus {params.focus_distance:.2f} m, "
                f"aperture {params.aperture_mm:g} mm)")
+
+
+def _play(renderer, scene, view, size, params, scenario: str, first: Path | None, video: Path | None, fps: float,
+          duration: float | None) -> None:
+    """The scenario frame after frame: objects moved and shown as scripted, the focus on the
+    scripted object (smoothly), written as a video (and the first frame as an image)."""
+    from ..core.images import VideoWriter
+    from ..core.renderer import Frame
+    from ..dof.scenario import load_scenario, shipped_scenario
+    from ..dof.timeline import ScenarioPlayer
+    from .common import progress
+
+    script = shipped_scenario(scenario) if not Path(scenario).exists() and shipped_scenario(scenario) else scenario
+    player = ScenarioPlayer(load_scenario(script), scene)
+    if not fps > 0:
+        raise InputError(f"--fps must be positive, got {fps}")
+    seconds = duration if duration is not None else (player.loop or player.scenario.duration_ms / 1000.0 or 1.0)
+    if not seconds > 0:
+        raise InputError(f"--duration must be positive, got {seconds}")
+    count = int(round(seconds * fps)) or 1
+    with (VideoWriter(video, fps) if video is not None else _Nothing()) as writer, progress(count, "frames") as advance:
+        for i in range(count):
+            t = i / fps
+            player.apply(scene, t)
+            renderer.prepare(scene)  # by value: the moved nodes are seen
+            focus = player.focus_distance(view, t)
+            frame_params = replace(params, focus_distance=focus) if focus is not None else params
+            image = renderer.render(Frame(view, size, t, i), frame_params)
+            if i == 0 and first is not None:
+                write_image(first, image)
+            if writer is not None:
+                writer.append(image)
+            advance()
+    for path in (first, video):
+        if path is not None:
+            typer.echo(f"wrote {path}" + (f" ({count} frames at {fps:g} fps)" if path == video else ""))
+
+
+class _Nothing:
+    def __enter__(self):
+        return None
+
+    def __exit__(self, *exc):
+        return False

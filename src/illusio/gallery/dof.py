@@ -1,6 +1,6 @@
 """The depth-of-field showcase: the museum focused on one exhibit by each method, the circle of
-confusion map beside them, each method's error against the accumulation reference, and an anaglyph
-of the stereo pair (one focus for both eyes)."""
+confusion map and the planes beside them, each method's error against the accumulation reference, an
+anaglyph of the stereo pair (one focus for both eyes), and Figure 11's scenario as a stereo video."""
 
 from __future__ import annotations
 
@@ -60,5 +60,32 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     write_image(out_dir / "dof/museum-anaglyph.png", anaglyph)
     section.items.append(Item("dof/museum-anaglyph.png", "the stereo pair as a red-cyan anaglyph (Dubois)",
                               "one focus for both eyes; zero parallax at the focus distance"))
+    section.items.append(_scenario_video(ctx, out_dir, size))
     renderer.release()
     return section
+
+
+def _scenario_video(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float = 8.0) -> Item:
+    """Figure 11: the shipped scenario on the futuristic scene, as an anaglyph video whose focus
+    follows the script (the ship, the robot when it fires, the projectile, the ship again)."""
+    from ..core.images import VideoWriter
+    from ..dof.scenario import load_scenario, shipped_scenario
+    from ..dof.timeline import ScenarioPlayer
+
+    scene = builtin_scene("futuristic")
+    player = ScenarioPlayer(load_scenario(shipped_scenario("futuristic")), scene)
+    view = scene.camera()
+    renderer = DofRenderer(ctx)
+    params = DofParams(method="planes", aperture_mm=300.0, stereo="anaglyph", max_coc=16.0)
+    small = (max(64, size[0] // 2), max(36, size[1] // 2))
+    count = int(player.loop * fps)
+    with VideoWriter(out_dir / "dof/futuristic-scenario.mp4", fps) as video:
+        for i in range(count):
+            t = i / fps
+            player.apply(scene, t)
+            renderer.prepare(scene)
+            focus = player.focus_distance(view, t)
+            video.append(renderer.render(Frame(view, small, t, i), replace(params, focus_distance=focus or params.focus_distance)))
+    renderer.release()
+    return Item("dof/futuristic-scenario.mp4", "Figure 11 — the scenario (dof/scenarios/futuristic.txt) as a red-cyan anaglyph",
+                f"planes method; the focus follows the script: ship, robot when it fires, projectile, ship; {count} frames at {fps:g} fps")

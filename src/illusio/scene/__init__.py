@@ -4,8 +4,8 @@ from .builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .camera import Camera, Pose, Screen, StereoRig, View
 from .loader import load_scene
 from .mesh import Mesh, MeshWarning, load_mesh
-from .scene import AreaLight, Curve, Material, Node, PointLight, Scene
+from .scene import Action, AreaLight, Curve, Material, Node, PointLight, Scene
 
-__all__ = ["Mesh", "MeshWarning", "load_mesh", "Camera", "Pose", "View", "Screen", "StereoRig", "Scene", "Node",
+__all__ = ["Mesh", "MeshWarning", "load_mesh", "Camera", "Pose", "View", "Screen", "StereoRig", "Scene", "Action", "Node",
            "Material", "PointLight", "AreaLight", "Curve", "load_scene", "builtin_scene", "shape", "turntable",
            "SCENES", "SHAPES"]

@@ -25,6 +25,8 @@ Schema (every key optional unless marked; units metres and degrees; colours line
       - {type: area, centre: [0, 2.9, 0], edge_u: [1, 0, 0], edge_v: [0, 0, 0.5], radiance: 8, samples: 2}
     curves:
       - {name: path, kind: bezier, points: [[0, 1, 3], [1, 1, 3], [2, 1, 2], [2, 1, 0]]}
+    actions:                             # for scenarios (dof): the node sent along the curve from the actor
+      - {name: fire, object: projectile, curve: path}
 
 Every mistake raises InputError naming the file, the line and what was wrong.
 """
@@ -43,7 +45,7 @@ from .builtin import textures as builtin_textures
 from .builtin.scenes import SCENES, builtin_scene
 from .camera import Camera, Pose, View
 from .mesh import load_mesh
-from .scene import AreaLight, Curve, Material, Node, PointLight, Scene
+from .scene import Action, AreaLight, Curve, Material, Node, PointLight, Scene
 from .transforms import compose, rotate_euler, scale, translate
 
 __all__ = ["load_scene", "scene_from_dict", "SHAPE_BUILDERS"]
@@ -95,7 +97,7 @@ def _check_keys(d: dict, allowed: set[str], where: str) -> None:
 
 def scene_from_dict(data: dict[str, Any], base: Path = Path("."), origin: str = "scene") -> Scene:
     """Build a Scene from the YAML schema above (already parsed)."""
-    _check_keys(data, {"name", "ambient", "background", "cameras", "nodes", "lights", "curves"}, origin)
+    _check_keys(data, {"name", "ambient", "background", "cameras", "nodes", "lights", "curves", "actions"}, origin)
     try:
         scene = Scene(str(data.get("name", Path(origin).stem)))
         if "ambient" in data:
@@ -112,6 +114,15 @@ def scene_from_dict(data: dict[str, Any], base: Path = Path("."), origin: str = 
             _check_keys(cd, {"name", "kind", "points"}, f"{origin}: curves[{i}]")
             curve = Curve(str(cd.get("name", f"curve-{i}")), cd.get("points", []), cd.get("kind", "polyline"))
             scene.curves[curve.name] = curve
+        for i, ad in enumerate(data.get("actions") or []):
+            where = f"{origin}: actions[{i}]"
+            _check_keys(ad, {"name", "object", "curve"}, where)
+            action = Action(str(ad.get("name", f"action-{i}")), str(ad["object"]), str(ad["curve"]))
+            if action.object not in {n.name for n in scene.nodes}:
+                raise InputError(f"{where}: no node named {action.object!r}")
+            if action.curve not in scene.curves:
+                raise InputError(f"{where}: no curve named {action.curve!r}")
+            scene.actions[action.name] = action
     except IllusioError:
         raise
     except (TypeError, ValueError, KeyError) as exc:

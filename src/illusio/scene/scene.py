@@ -18,7 +18,7 @@ from .camera import View
 from .mesh import Mesh
 from .transforms import identity
 
-__all__ = ["Material", "Node", "PointLight", "AreaLight", "Curve", "Scene"]
+__all__ = ["Material", "Node", "PointLight", "AreaLight", "Curve", "Action", "Scene"]
 
 
 def _vec(value, n: int, name: str) -> tuple[float, ...]:
@@ -173,6 +173,17 @@ class Curve:
         return (1 - u) ** 3 * p0 + 3 * (1 - u) ** 2 * u * p1 + 3 * (1 - u) * u**2 * p2 + u**3 * p3
 
 
+@dataclass(frozen=True)
+class Action:
+    """A scripted action (the scenario language's ``demarre action A objet N``): the node ``object``
+    is placed where the actor N stands and sent along ``curve``, translated so that the curve's
+    first point is at the actor (a projectile fired from N)."""
+
+    name: str
+    object: str
+    curve: str
+
+
 @dataclass
 class Scene:
     """Everything that is drawn and from where. ``ambient``: constant irradiance-like term (linear
@@ -183,6 +194,7 @@ class Scene:
     lights: list[PointLight | AreaLight] = field(default_factory=list)
     cameras: dict[str, View] = field(default_factory=dict)
     curves: dict[str, Curve] = field(default_factory=dict)
+    actions: dict[str, Action] = field(default_factory=dict)
     ambient: tuple[float, float, float] = (0.08, 0.08, 0.09)
     background: tuple[float, float, float] = (0.02, 0.02, 0.025)
 

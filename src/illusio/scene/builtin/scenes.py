@@ -14,7 +14,7 @@ import numpy as np
 from ...core.errors import InputError
 from ..camera import Camera, Pose, View
 from ..mesh import Mesh
-from ..scene import AreaLight, Material, Node, PointLight, Scene
+from ..scene import Action, AreaLight, Curve, Material, Node, PointLight, Scene
 from ..transforms import compose, rotate_euler, scale, translate
 from . import shapes, textures
 
@@ -160,6 +160,40 @@ def museum() -> Scene:
     return s
 
 
+def futuristic() -> Scene:
+    """Figure 11's scene: a ship (object 0) flying a loop over a city of towers, a robot (object 1)
+    standing guard and a projectile (object 2) the robot fires at the ship (action "fire" along the
+    curve "shot", from wherever the robot stands)."""
+    s = Scene("futuristic", ambient=(0.05, 0.055, 0.07), background=(0.02, 0.02, 0.05))
+    _place(s, "ship", shapes.superquadric((0.3, 0.6), (2.2, 0.5, 0.9)), (0, 6, 0),
+           material=Material(colour=(0.75, 0.78, 0.82), specular=0.6, shininess=80), tags=("actor",))
+    _place(s, "robot", shapes.superquadric((0.5, 0.8), (0.7, 1.6, 0.7)), (6.0, 1.6, -6.0),
+           material=Material(colour=(0.7, 0.35, 0.1), specular=0.4, shininess=50), tags=("actor",))
+    _place(s, "projectile", shapes.sphere(0.18, 24, 12), (6.0, 3.4, -6.0),
+           material=Material(colour=(1.0, 0.3, 0.1), emission=(2.0, 0.5, 0.1)), tags=("actor",))
+    _place(s, "ground", shapes.plane((60.0, 60.0), uv_scale=6.0),
+           material=Material(texture=textures.tiles(), colour=(0.6, 0.65, 0.75), specular=0.2, shininess=40))
+    rng = np.random.default_rng(11)
+    k = 0
+    while k < 14:  # towers around the square, none between the camera and the robot
+        angle, radius = rng.uniform(0, 2 * np.pi), rng.uniform(10, 24)
+        x, z = radius * np.cos(angle), radius * np.sin(angle)
+        if abs(x) < 10 and z > -14:
+            continue
+        height = rng.uniform(3, 12)
+        _place(s, f"tower-{k}", shapes.box((2.0, height, 2.0)), (x, height / 2, z),
+               material=Material(colour=tuple(rng.uniform(0.3, 0.6, 3)), specular=0.3, shininess=30))
+        k += 1
+    s.curves["flight"] = Curve("flight", [[-12, 6, 4], [-12, 8, -12], [12, 8, -12], [12, 6, 4],
+                                          [12, 4, 16], [-12, 5, 16], [-12, 6, 4]], "bezier")
+    s.curves["shot"] = Curve("shot", [[0, 1.8, 0], [-4, 5, 6], [-9, 7, 12]], "polyline")
+    s.actions["fire"] = Action("fire", "projectile", "shot")
+    s.lights.append(PointLight((8, 18, 10), (1.0, 0.95, 0.9), 900.0, name="sun"))
+    s.lights.append(PointLight((-10, 8, -6), (0.5, 0.6, 1.0), 120.0, shadows=False, name="sky"))
+    s.cameras["main"] = View(Pose((-2.0, 4.0, 20.0), (2.0, 4.0, -4.0)), Camera(55.0, 0.1, 200.0))
+    return s
+
+
 def turntable(mesh: Mesh | None = None, colour=(0.75, 0.72, 0.68), azimuth: float = 30.0, elevation: float = 22.0) -> Scene:
     """One shape (default: the torus knot) normalised to 1 m, resting on a checkered floor."""
     mesh = (mesh or shapes.torus_knot()).normalised(1.0)
@@ -179,6 +213,7 @@ SCENES: dict[str, Callable[[], Scene]] = {
     "living-room": living_room,
     "office": office,
     "museum": museum,
+    "futuristic": futuristic,
     "turntable": turntable,
 }
 
