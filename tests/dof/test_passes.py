@@ -141,3 +141,51 @@ def test_planes_are_spread_exponentially_around_the_focal_plane():
     assert (np.diff(blur_steps) > 0).all()
     linear = plane_distances(3.0, 6, 4, 0.1, 50.0, "linear")
     assert np.allclose(np.diff(linear[:7]), np.diff(linear[:7])[0])
+
+
+def test_improved_planes_pass_matches_reference(ctx, rng):
+    """The layered variant against reference.planes_improved: slabs as premultiplied layers (half
+    floats on the GPU), each pixel's own layer at its own circle, the others at their spill level,
+    normalised by coverage up the levels, laid front to back (the same sum as far to near)."""
+    from illusio.dof.planes import plane_distances
+    from illusio.dof.planes_improved import ImprovedPlanesPass, slab_lods
+
+    image = rng.random((64, 64, 3)).astype(np.float32)
+    depth = np.repeat(np.repeat(rng.uniform(0.3, 19.0, (8, 8)), 8, 0), 8, 1).astype(np.float32)  # blocks: edges
+    depth[:8, :8] = 0.0
+    coc = (rng.random((64, 64)) * 12).astype(np.float32)
+    distances = plane_distances(rng.uniform(1, 5), 5, 3, 0.1, 20.0)
+    lods = slab_lods(distances, 0.1, 3.0, 0.05, 50.0, 64, 12.0)
+    textures = [ctx.upload(a, filter="nearest") for a in (np.dstack([image, np.ones((64, 64), np.float32)]), depth, coc)]
+    out = ImprovedPlanesPass(ctx)(textures[0], textures[1], textures[2], distances, lods)
+    got = ctx.readback(out, 3)
+    ctx.release(out)
+    for t in textures:
+        t.release()
+    want = reference.planes_improved(image, depth, coc, distances, lods)
+    close = np.abs(got - want).max(axis=-1) < 0.03
+    assert close.mean() > 0.99  # the half-coverage test may fall either side in half floats
+    assert np.abs(got - want)[close].mean() < 3e-3
+
+
+def test_improved_planes_keep_a_sharp_foreground_out_of_the_blurred_background():
+    """A sharp white square before a blurred black background: the paper's planes leak white into
+    the background around it (its mipmap levels hold the square), the improved layers do not."""
+    from illusio.dof.planes import plane_distances, plane_lods
+    from illusio.dof.planes_improved import slab_lods
+
+    image = np.zeros((64, 64, 3), np.float32)
+    image[24:40, 24:40] = 1.0
+    depth = np.full((64, 64), 15.0, np.float32)
+    depth[24:40, 24:40] = 2.0
+    distances = plane_distances(2.0, 4, 2, 0.1, 20.0)
+    lods = plane_lods(distances, 2.0, 0.2, 50.0, 64, 16.0)
+    coc = reference.coc(depth, 2.0, 0.2, 50.0, 16.0)
+    ring = np.zeros((64, 64), bool)
+    ring[18:46, 18:46] = True
+    ring[24:40, 24:40] = False  # the background just around the square
+    paper = reference.planes(image, depth, distances, lods)
+    improved = reference.planes_improved(image, depth, coc, distances, slab_lods(distances, 0.1, 2.0, 0.2, 50.0, 64, 16.0))
+    assert paper[ring].mean() > 0.05  # leaking
+    assert improved[ring].max() < 1e-6
+    assert improved[24:40, 24:40].min() > 0.99  # the square itself stays sharp and white

@@ -81,7 +81,7 @@ def test_walking_looking_switching_and_screenshots(window, tmp_path):
             tap(w, glfw.KEY_V)
         assert w.viewer.mode.name == technique
     files = sorted(tmp_path.glob("illusio-*.png"))
-    assert len(files) == len(shots) == 1 + 4 + 4 + 1
+    assert len(files) == len(shots) == 1 + 4 + 4 + 2
     images = [read_image(f) for f in files]
     for i in range(len(images) - 1):
         assert np.abs(images[i] - images[i + 1]).mean() > 1e-3, (shots[i], shots[i + 1])

@@ -22,6 +22,7 @@ def dof(
     method: str = typer.Option(_DEFAULT.method, "--method", help=f"one of {', '.join(METHODS)}"),
     focus_distance: float = typer.Option(_DEFAULT.focus_distance, "--focus-distance", help="d_f, metres along the view axis"),
     focus_object: str = typer.Option(None, "--focus-object", help="focus on this object of the scene (by name or tag)"),
+    policy: str = typer.Option(_DEFAULT.policy, "--policy", help="focus chosen each frame: none, gaze, largest, speed or nearest-exhibit"),
     aperture: float = typer.Option(_DEFAULT.aperture_mm, "--aperture", help="A, lens diameter in mm"),
     focal_length: float = typer.Option(_DEFAULT.focal_length_mm, "--focal-length", help="mm on a 24 mm frame (0: the camera's field of view)"),
     samples: int = typer.Option(_DEFAULT.samples, "--samples", help="lens positions (accumulation)"),
@@ -63,7 +64,8 @@ def dof(
     view = sc.camera(camera)
     params = DofParams(method=method, focus_distance=focus_distance, aperture_mm=aperture, focal_length_mm=focal_length,
                        samples=samples, max_coc=max_coc, stereo=stereo, eye_separation=eye_separation / 100,
-                       planes_behind=planes_behind, planes_front=planes_front, distribution=distribution)
+                       planes_behind=planes_behind, planes_front=planes_front, distribution=distribution,
+                       policy=policy)
     if focus_object:
         params = replace(params, focus_distance=object_distance(sc, focus_object, view))
     if debug:  # the maps of the first eye; planes need the planes method, the others any blur method
@@ -75,6 +77,7 @@ def dof(
         return
     renderer.prepare(sc)
     image = renderer.render(Frame(view, (w, h)), params)
+    params = replace(params, focus_distance=renderer.last_focus_distance)
     if debug:
         from ..dof.reference import plane_index
 

@@ -1,5 +1,6 @@
-"""Where the focus goes: a fixed distance, or a named object of the scene (the distance along the
-view axis to its bounding box's centre)."""
+"""Where the focus goes: a fixed distance, a named object of the scene (the distance along the view
+axis to its bounding box's centre), or an interactive policy of section 4.2 computed from what the
+frame shows (object ids and depths of the G-buffer) or from the viewer (speed, position)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ from ..scene.camera import View
 from ..scene.scene import Scene
 from ..scene.transforms import transform_points
 
-__all__ = ["object_distance"]
+__all__ = ["object_distance", "POLICIES", "gaze_focus", "largest_focus", "speed_focus", "nearest_exhibit_focus"]
 
 
 def object_distance(scene: Scene, name: str, view: View) -> float:
@@ -24,3 +25,61 @@ def object_distance(scene: Scene, name: str, view: View) -> float:
     centre = transform_points(nodes[0].transform, ((np.asarray(lo, np.float64) + hi) / 2)[None])[0]
     eye_space = view.view_matrix().astype(np.float64) @ np.append(centre, 1.0)
     return max(float(-eye_space[2]), view.camera.near)
+
+
+#: how the focus is chosen each frame (section 4.2): "none" keeps DofParams.focus_distance; "gaze":
+#: the object in the view direction (the most seen in a small window at the screen's centre);
+#: "largest": the object covering the most of the screen; "speed": a distance ahead that grows with
+#: the viewer's speed; "nearest-exhibit": the exhibit nearest the viewer (the museum of Figure 12)
+POLICIES = ("none", "gaze", "largest", "speed", "nearest-exhibit")
+
+
+def _object_depth(object_id: np.ndarray, depth: np.ndarray, chosen: int) -> float:
+    """The median view depth of the pixels of object ``chosen`` (ids are node index + 1)."""
+    return float(np.median(depth[(object_id == chosen) & (depth > 0)]))
+
+
+def gaze_focus(object_id: np.ndarray, depth: np.ndarray, window: float = 0.06) -> float | None:
+    """The object seen most in a square window ``window`` × the image height at the centre, and the
+    median depth of its pixels there (a small window, not one texel: a thin gap does not throw the
+    focus to the far wall). None where nothing is there."""
+    h, w = depth.shape
+    r = max(1, int(round(window * h / 2)))
+    ys, xs = slice(h // 2 - r, h // 2 + r), slice(w // 2 - r, w // 2 + r)
+    ids, d = object_id[ys, xs], depth[ys, xs]
+    seen = ids[(ids > 0) & (d > 0)]
+    if seen.size == 0:
+        return None
+    return _object_depth(ids, d, int(np.bincount(seen).argmax()))
+
+
+def largest_focus(object_id: np.ndarray, depth: np.ndarray, candidates=None) -> float | None:
+    """The object covering the most pixels (among ``candidates``, node index + 1; all by default)
+    and the median depth of its pixels."""
+    ids = object_id[(object_id > 0) & (depth > 0)]
+    if candidates is not None:
+        ids = ids[np.isin(ids, np.asarray(sorted(candidates)))]
+    if ids.size == 0:
+        return None
+    return _object_depth(object_id, depth, int(np.bincount(ids).argmax()))
+
+
+def speed_focus(speed: float, base: float = 2.0, lookahead: float = 1.5) -> float:
+    """Metres ahead: ``base`` standing still, plus ``lookahead`` seconds of walking at ``speed``
+    (m/s): a moving viewer looks farther ahead (section 4)."""
+    return base + lookahead * max(float(speed), 0.0)
+
+
+def nearest_exhibit_focus(scene: Scene, view: View, tag: str = "exhibit") -> float | None:
+    """The distance along the view axis to the exhibit (nodes tagged ``tag``) nearest the viewer."""
+    exhibits = [n for n in scene.nodes if tag in n.tags and n.visible]
+    if not exhibits:
+        return None
+    eye = np.asarray(view.pose.position, np.float64)
+
+    def centre(node):
+        lo, hi = node.mesh.bounds
+        return transform_points(node.transform, ((np.asarray(lo, np.float64) + hi) / 2)[None])[0]
+
+    nearest = min(exhibits, key=lambda n: float(np.linalg.norm(centre(n) - eye)))
+    return object_distance(scene, nearest.name, view)

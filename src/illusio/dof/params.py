@@ -13,8 +13,10 @@ __all__ = ["DofParams", "METHODS", "STEREO_OUTPUTS"]
 
 #: accumulation: the reference (the eye moved over the lens, renders averaged); gather: per-pixel
 #: convolution with CoC-sized disks, depth aware (the paper's "convolution" method, section 2.2.2);
-#: mipmap: each pixel at the mipmap level of its circle (2.2.3); planes: the paper's method (3.1–3.2)
-METHODS = ("accumulation", "gather", "mipmap", "planes")
+#: mipmap: each pixel at the mipmap level of its circle (2.2.3); planes: the paper's method (3.1–3.2);
+#: planes-improved: the planes' slabs as layers, each blurred by its middle's circle and laid over the
+#: ones behind by its own coverage (no banding from the far plane's circle, no foreground leaking)
+METHODS = ("accumulation", "gather", "mipmap", "planes", "planes-improved")
 #: none: one (cyclopean) view; left / right: one eye; or a composite of the pair
 STEREO_OUTPUTS = ("none", "left", "right") + COMPOSITES
 
@@ -29,7 +31,9 @@ class DofParams:
     ``distribution`` between the focal plane and the camera's far and near planes. max_coc: the largest circle of confusion drawn, pixels (the gather
     kernel's diameter). stereo: the output (STEREO_OUTPUTS). eye_separation: metres between the eyes.
     screen_distance: metres to the zero-parallax plane; 0 puts it at the focus distance. seed: the
-    rotation of the lens sampling pattern. settings: how each view is lit."""
+    rotation of the lens sampling pattern. policy: how the focus is chosen each frame (dof.focus.POLICIES);
+    accommodation: seconds the focus takes to follow a policy's choice (exponential, in dioptres).
+    settings: how each view is lit."""
 
     method: str = param("gather", choices=METHODS)
     focus_distance: float = param(2.0, range=(0.05, 1000.0), unit="m", log=True, label="focus distance d_f")
@@ -44,6 +48,9 @@ class DofParams:
     eye_separation: float = param(0.065, range=(0.0, 1.0), unit="m")
     screen_distance: float = param(0.0, range=(0.0, 1000.0), unit="m", help="zero parallax; 0: at the focus")
     seed: int = param(0, range=(0, 2**31 - 1), step=1)
+    policy: str = param("none", choices=("none", "gaze", "largest", "speed", "nearest-exhibit"),
+                        help="how each frame's focus is chosen (section 4.2); none: focus distance")
+    accommodation: float = param(0.3, range=(0.0, 5.0), unit="s", help="time constant of the focus following a policy")
     settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
 
     __post_init__ = check_ranges

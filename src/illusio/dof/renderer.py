@@ -7,6 +7,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 import moderngl
+import numpy as np
 
 from ..core.context import Context, default_context
 from ..core.errors import InputError
@@ -17,10 +18,12 @@ from ..scene.camera import StereoRig, View
 from ..scene.scene import Scene
 from .accumulation import AccumulatePass, lens_offsets, lens_view
 from .coc import CocPass
+from .focus import gaze_focus, largest_focus, nearest_exhibit_focus, speed_focus
 from .gather import GatherPass
 from .lens import fov_for_focal_length
 from .mipmap import MipmapPass, mipmapped
 from .planes import PlanesPass, plane_distances, plane_lods
+from .planes_improved import ImprovedPlanesPass, slab_lods
 from .params import DofParams
 from .reference import lens_samples
 
@@ -43,10 +46,13 @@ class DofRenderer(Renderer):
         self.gather = GatherPass(ctx)
         self.mipmap = MipmapPass(ctx)
         self.planes = PlanesPass(ctx)
+        self.planes_improved = ImprovedPlanesPass(ctx)
         self.accumulate = AccumulatePass(ctx)
         self.composite = StereoCompositePass(ctx)
         self.scene: Scene | None = None
         self.last_planes = None  # the plane distances of the last planes frame (far to near), for the debug view
+        self.last_focus_distance: float | None = None  # the focus the last frame used
+        self._last_focus: tuple[float, float, np.ndarray] | None = None  # (time, focus, eye) for the policies
 
     def _load(self, scene: Scene) -> None:
         if not isinstance(scene, Scene):
@@ -56,7 +62,9 @@ class DofRenderer(Renderer):
 
     def _unload(self) -> None:
         super()._unload()
+        self._last_focus = None
         self.scene_renderer.release()
+        self.planes_improved.release()
         self.scene = None
 
     def views(self, frame: Frame, params: DofParams) -> list[View]:
@@ -71,8 +79,45 @@ class DofRenderer(Renderer):
         rig = StereoRig(view, params.eye_separation, params.screen_distance or params.focus_distance)
         return {"left": [rig.left], "right": [rig.right]}.get(params.stereo, [rig.left, rig.right])
 
+    def focus(self, frame: Frame, params: DofParams) -> float:
+        """The focus distance of this frame: DofParams.focus_distance, or the policy's choice followed
+        with the accommodation time constant (in dioptres, from the last frame's focus)."""
+        if params.policy == "none":
+            return params.focus_distance
+        view = frame.view or self.scene.camera()
+        position = np.asarray(view.pose.position, np.float64)
+        target = None
+        if params.policy in ("gaze", "largest"):
+            gbuffer = self.scene_renderer.gbuffer(Frame(view, frame.size))
+            ids = np.rint(self.ctx.readback(gbuffer["object_id"])[..., 0]).astype(np.int64)
+            depth = self.ctx.readback(gbuffer["depth"])[..., 0]
+            gbuffer.release()
+            if params.policy == "gaze":
+                target = gaze_focus(ids, depth)
+            else:
+                exhibits = {i + 1 for i, n in enumerate(self.scene.nodes) if "exhibit" in n.tags}
+                target = largest_focus(ids, depth, exhibits or None)
+        elif params.policy == "speed":
+            speed = 0.0
+            if self._last_focus is not None and frame.time > self._last_focus[0]:
+                speed = float(np.linalg.norm(position - self._last_focus[2])) / (frame.time - self._last_focus[0])
+            target = speed_focus(speed)
+        else:
+            target = nearest_exhibit_focus(self.scene, view)
+        target = target if target is not None else (self._last_focus[1] if self._last_focus else params.focus_distance)
+        focus = target
+        if self._last_focus is not None and params.accommodation > 0 and frame.time >= self._last_focus[0]:
+            last_time, last_focus, _ = self._last_focus
+            k = 1.0 - np.exp(-(frame.time - last_time) / params.accommodation)
+            focus = 1.0 / (1.0 / last_focus + k * (1.0 / target - 1.0 / last_focus))
+        self._last_focus = (frame.time, focus, position)
+        return focus
+
     def render_texture(self, frame: Frame, params: DofParams | None = None) -> moderngl.Texture:
         params = self._params(params)
+        if params.policy != "none":
+            params = replace(params, focus_distance=self.focus(frame, params))
+        self.last_focus_distance = params.focus_distance
         maps: dict[str, moderngl.Texture] = {}
         eyes = [self._eye(Frame(view, frame.size, frame.time, frame.index), params, maps, first=i == 0)
                 for i, view in enumerate(self.views(frame, params))]
@@ -103,17 +148,22 @@ class DofRenderer(Renderer):
         if params.method == "gather":
             out = self.gather(sharp, coc, depth, params.max_coc)
         else:
-            mip = mipmapped(self.ctx, sharp)
-            if params.method == "mipmap":
-                out = self.mipmap(mip, coc)
+            distances = plane_distances(params.focus_distance, params.planes_behind, params.planes_front,
+                                        camera.near, camera.far, params.distribution)
+            self.last_planes = distances
+            if params.method == "planes-improved":
+                lods = slab_lods(distances, camera.near, params.focus_distance, params.aperture_m, camera.fov_y,
+                                 frame.size[1], params.max_coc)
+                out = self.planes_improved(sharp, depth, coc, distances, lods)
             else:
-                distances = plane_distances(params.focus_distance, params.planes_behind, params.planes_front,
-                                            camera.near, camera.far, params.distribution)
-                lods = plane_lods(distances, params.focus_distance, params.aperture_m, camera.fov_y, frame.size[1],
-                                  params.max_coc)
-                out = self.planes(mip, depth, camera, distances, lods)
-                self.last_planes = distances
-            self.ctx.release(mip)
+                mip = mipmapped(self.ctx, sharp)
+                if params.method == "mipmap":
+                    out = self.mipmap(mip, coc)
+                else:
+                    lods = plane_lods(distances, params.focus_distance, params.aperture_m, camera.fov_y, frame.size[1],
+                                      params.max_coc)
+                    out = self.planes(mip, depth, camera, distances, lods)
+                self.ctx.release(mip)
         self.ctx.release(sharp)
         if first:
             depth_copy = self.ctx.acquire(depth.size, 1, "f4")

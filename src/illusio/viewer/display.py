@@ -17,18 +17,20 @@ class DisplayPass:
         self.program = ctx.program("viewer/shaders/display.glsl")
 
     def __call__(self, target: moderngl.Framebuffer, size: tuple[int, int], image: moderngl.Texture,
-                 aside: tuple[moderngl.Texture, str] | None = None, encode_srgb: bool = False) -> None:
-        """Draw ``image`` over the whole of ``size`` (the left half with an ``aside``) into ``target``."""
+                 aside: tuple | None = None, encode_srgb: bool = False) -> None:
+        """Draw ``image`` over the whole of ``size`` (the left half with an ``aside``) into ``target``.
+        ``aside``: (texture, "colour" | "depth") or (texture, "grey", scale)."""
         w, h = size
         target.use()
         self.ctx.gl.disable(moderngl.DEPTH_TEST)
         panes = [(image, "colour")] + ([aside] if aside is not None else [])
         pane_w = w // len(panes)
-        for i, (texture, kind) in enumerate(panes):
+        for i, (texture, kind, *scale) in enumerate(panes):
             target.viewport = (i * pane_w, 0, pane_w, h)
             texture.use(0)
             set_uniform(self.program, "image", 0)
             set_uniform(self.program, "as_depth", kind == "depth")
+            set_uniform(self.program, "grey_scale", float(scale[0]) if kind == "grey" else 0.0)
             set_uniform(self.program, "encode_srgb", bool(encode_srgb))
             self.ctx.fullscreen.draw(self.program)
         target.viewport = (0, 0, w, h)

@@ -101,6 +101,7 @@ def draw_panel(viewer: Viewer, imgui, actions: dict, state: dict | None = None) 
         actions["screenshot"]()
     imgui.text(f"navigation: {viewer.navigation.kind}; Tab technique, V view")
     imgui.separator()
+    viewer.mode.panel(imgui, viewer)
     _fields(viewer, describe(viewer.mode.params), imgui)
     if viewer.last_error:
         imgui.text_colored((1.0, 0.4, 0.3, 1.0), viewer.last_error)

@@ -65,9 +65,12 @@ class Mode:
     def render(self, frame: Frame) -> moderngl.Texture:
         return self.renderer.render_texture(frame, self.params)
 
-    def aside(self) -> tuple[moderngl.Texture, str] | None:
-        """(texture, "colour" | "depth") to show beside the image, or None."""
+    def aside(self) -> tuple | None:
+        """(texture, "colour" | "depth") or (texture, "grey", scale) to show beside the image, or None."""
         return None
+
+    def panel(self, imgui, viewer) -> None:
+        """Widgets of the mode's own beyond its Params (a timeline scrubber...); none by default."""
 
     def set_param(self, name: str, value) -> None:
         """Change one field of ``params`` (dotted for nested Params); raises InputError if refused."""

@@ -7,6 +7,7 @@
 #if defined(FRAGMENT_SHADER)
 uniform sampler2D image;
 uniform bool as_depth;
+uniform float grey_scale;       // > 0: show .r × grey_scale in grey (a circle-of-confusion map)
 uniform bool encode_srgb;
 in vec2 uv;
 out vec4 colour;
@@ -19,6 +20,7 @@ vec3 linear_to_srgb(vec3 c) {
 void main() {
     vec4 texel = texture(image, uv);
     vec3 c = as_depth ? vec3(texel.r < 0.0 ? 0.0 : 1.0 - clamp(texel.r, 0.0, 1.0)) : texel.rgb;
+    if (grey_scale > 0.0) c = vec3(clamp(texel.r * grey_scale, 0.0, 1.0));
     colour = vec4(encode_srgb ? linear_to_srgb(c) : clamp(c, 0.0, 1.0), 1.0);
 }
 #endif
