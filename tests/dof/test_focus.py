@@ -46,6 +46,8 @@ def test_policies_in_the_museum(ctx):
     centre = node.transform[:3, :3] @ ((np.asarray(lo) + hi) / 2) + node.transform[:3, 3]
     view = View(Pose(tuple(centre + (0.0, 0.4, 3.0)), tuple(centre)), museum.camera().camera)
     assert nearest_exhibit_focus(museum, view) == pytest.approx(object_distance(museum, "exhibit-superquadric", view))
+    behind = View(Pose(view.pose.position, tuple(2 * np.asarray(view.pose.position) - view.pose.target)), view.camera)
+    assert nearest_exhibit_focus(museum, behind) is None  # the exhibits are behind the visitor: none in sight
     renderer = DofRenderer(ctx)
     renderer.prepare(museum)
     gaze = DofParams(policy="gaze", accommodation=0.0)

@@ -71,15 +71,23 @@ def speed_focus(speed: float, base: float = 2.0, lookahead: float = 1.5) -> floa
 
 
 def nearest_exhibit_focus(scene: Scene, view: View, tag: str = "exhibit") -> float | None:
-    """The distance along the view axis to the exhibit (nodes tagged ``tag``) nearest the viewer."""
-    exhibits = [n for n in scene.nodes if tag in n.tags and n.visible]
-    if not exhibits:
-        return None
+    """The distance along the view axis to the exhibit (nodes tagged ``tag``) nearest the viewer
+    among those in sight — in front of the eye, within a cone of the vertical field of view around
+    the view direction (an exhibit behind the visitor would blur all that is seen). None if none."""
     eye = np.asarray(view.pose.position, np.float64)
-
-    def centre(node):
+    forward = np.asarray(view.pose.target, np.float64) - eye
+    forward /= np.linalg.norm(forward)
+    cos_limit = np.cos(np.radians(view.camera.fov_y))
+    best = None
+    for node in scene.nodes:
+        if tag not in node.tags or not node.visible:
+            continue
         lo, hi = node.mesh.bounds
-        return transform_points(node.transform, ((np.asarray(lo, np.float64) + hi) / 2)[None])[0]
-
-    nearest = min(exhibits, key=lambda n: float(np.linalg.norm(centre(n) - eye)))
-    return object_distance(scene, nearest.name, view)
+        centre = transform_points(node.transform, ((np.asarray(lo, np.float64) + hi) / 2)[None])[0]
+        offset = centre - eye
+        distance = float(np.linalg.norm(offset))
+        if distance <= 0 or offset @ forward / distance < cos_limit:
+            continue  # out of sight
+        if best is None or distance < best[0]:
+            best = (distance, node.name)
+    return None if best is None else object_distance(scene, best[1], view)
