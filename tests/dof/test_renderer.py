@@ -81,6 +81,10 @@ def test_dof_command(tmp_path, capsys):
     from illusio.core import read_image
 
     assert read_image(out).shape[:2] == (72, 192)
+    code, cap = call_cli(["dof", "museum", "-o", str(tmp_path / "pair.png"), "--size", "64x48", "--stereo", "left-right"], capsys)
+    assert code == 0, cap.err
+    left, right = read_image(tmp_path / "pair-left.png"), read_image(tmp_path / "pair-right.png")
+    assert left.shape[:2] == right.shape[:2] == (48, 64) and np.abs(left - right).mean() > 1e-3
     code, cap = call_cli(["dof", "museum", "-o", str(tmp_path / "x.png"), "--method", "bokeh"], capsys)
     assert code == 2 and cap.err.count("\n") == 1 and "bokeh" in cap.err
     code, cap = call_cli(["dof", "museum", "-o", str(tmp_path / "x.png"), "--aperture", "-3"], capsys)

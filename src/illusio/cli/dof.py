@@ -91,6 +91,14 @@ def dof(
         write_image(out, image.astype(np.float32), srgb=False)
         typer.echo(f"wrote {out} ({debug} map)")
         return
+    if params.stereo == "left-right":  # the two eyes as two files
+        half = image.shape[1] // 2
+        for eye, part in (("left", image[:, :half]), ("right", image[:, half:])):
+            path = out.with_name(f"{out.stem}-{eye}{out.suffix}")
+            check_output_path(path, inputs)
+            write_image(path, part)
+            typer.echo(f"wrote {path}")
+        return
     write_image(out, image)
     typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.method}, focus {params.focus_distance:.2f} m, "
                f"aperture {params.aperture_mm:g} mm)")

@@ -17,8 +17,9 @@ __all__ = ["DofParams", "METHODS", "STEREO_OUTPUTS"]
 #: planes-improved: the planes' slabs as layers, each blurred by its middle's circle and laid over the
 #: ones behind by its own coverage (no banding from the far plane's circle, no foreground leaking)
 METHODS = ("accumulation", "gather", "mipmap", "planes", "planes-improved")
-#: none: one (cyclopean) view; left / right: one eye; or a composite of the pair
-STEREO_OUTPUTS = ("none", "left", "right") + COMPOSITES
+#: none: one (cyclopean) view; left / right: one eye; left-right: both, side by side in the texture
+#: (the CLI writes them as two files); or a composite of the pair
+STEREO_OUTPUTS = ("none", "left", "right", "left-right") + COMPOSITES
 
 
 @dataclass(frozen=True)

@@ -124,7 +124,7 @@ class DofRenderer(Renderer):
         if len(eyes) == 1:
             self._keep_maps(maps)
             return eyes[0]
-        out = self.composite(eyes[0], eyes[1], params.stereo)
+        out = self.composite(eyes[0], eyes[1], "side-by-side" if params.stereo == "left-right" else params.stereo)
         maps.update(left=eyes[0], right=eyes[1])
         self._keep_maps(maps)
         return out
