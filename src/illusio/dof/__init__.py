@@ -11,7 +11,7 @@ One-shot: ``depth_of_field(scene, DofParams(...))``. Methods so far: "accumulati
 and "gather" (the depth-aware convolution).
 """
 
-import importlib
+from ..core.lazy import lazy_exports
 
 _EXPORTS = {
     **dict.fromkeys(("DofRenderer", "depth_of_field"), "renderer"),
@@ -22,8 +22,4 @@ _EXPORTS = {
 
 __all__ = list(_EXPORTS)
 
-
-def __getattr__(name: str):
-    if name in _EXPORTS:
-        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _EXPORTS)

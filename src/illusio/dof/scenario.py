@@ -25,6 +25,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from ..core.errors import InputError
+from ..core.files import read_text
 
 __all__ = ["Command", "Scenario", "ScenarioError", "parse_scenario", "load_scenario", "shipped_scenario", "KINDS"]
 
@@ -150,11 +151,4 @@ def shipped_scenario(name: str) -> Path | None:
 
 
 def load_scenario(path: str | os.PathLike) -> Scenario:
-    p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise ScenarioError(f"{p}: no such scenario file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ScenarioError(f"{p}: cannot read the scenario ({exc})") from None
-    return parse_scenario(text, str(p))
+    return parse_scenario(read_text(path, "scenario", ScenarioError), str(path))

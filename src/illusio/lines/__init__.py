@@ -11,7 +11,7 @@ Kept, frame after frame (the Renderer protocol of illusio.core.renderer)::
 One-shot: ``line_drawing(mesh, LineParams())``.
 """
 
-import importlib
+from ..core.lazy import lazy_exports
 
 # names -> the module that defines them; imported on first use, so that `illusio --help` and the
 # CLI's defaults (lines.params) do not pay for numba and the passes
@@ -24,8 +24,4 @@ _EXPORTS = {
 
 __all__ = list(_EXPORTS)
 
-
-def __getattr__(name: str):
-    if name in _EXPORTS:
-        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _EXPORTS)

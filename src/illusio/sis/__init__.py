@@ -16,7 +16,7 @@ One-shot::
 for a stereogram inside a 3D scene) and calls it every frame.
 """
 
-import importlib
+from ..core.lazy import lazy_exports
 
 # names -> the module that defines them; imported on first use (numba and the passes load only when
 # a stereogram is made, not for `illusio --help` or for reading the Params' defaults)
@@ -32,8 +32,4 @@ _EXPORTS = {
 
 __all__ = list(_EXPORTS)
 
-
-def __getattr__(name: str):
-    if name in _EXPORTS:
-        return getattr(importlib.import_module(f".{_EXPORTS[name]}", __name__), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__ = lazy_exports(__name__, _EXPORTS)

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.files import read_text
 from ..core.images import atomic_output
 from ..scene.camera import Camera, Pose, View
 
@@ -81,14 +82,7 @@ class CameraPath:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "CameraPath":
-        p = Path(path)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except FileNotFoundError:
-            raise InputError(f"{p}: no such camera path file") from None
-        except (OSError, UnicodeDecodeError) as exc:
-            raise InputError(f"{p}: cannot read the camera path ({exc})") from None
-        return cls.parse(text, str(p))
+        return cls.parse(read_text(path, "camera path"), str(path))
 
     def to_json(self) -> str:
         rows = [{"t": round(k.t, 6), "eye": [round(v, 6) for v in k.eye], "target": [round(v, 6) for v in k.target]}

@@ -13,6 +13,7 @@ from ...core.errors import InputError
 from ...core.params import with_values
 from ...core.renderer import Frame, Renderer
 from ...scene.camera import Camera, View
+from ...scene.sources import is_mesh_source
 from ..navigation import FixedCamera, OrbitCamera, WalkCamera
 
 __all__ = ["Mode"]
@@ -48,7 +49,9 @@ class Mode:
 
     # -- for the viewer -------------------------------------------------------------------------
     def navigation(self) -> WalkCamera | OrbitCamera | FixedCamera:
-        """A fresh camera controller at the mode's home view."""
+        """A fresh camera controller at the mode's home view: orbiting a single mesh, walking a scene."""
+        if self.source is not None and is_mesh_source(self.source):
+            return OrbitCamera.from_view(self.home_view())
         return WalkCamera.from_view(self.home_view())
 
     def home_view(self) -> View | None:

@@ -12,8 +12,7 @@ from ...dof.renderer import DofRenderer
 from ...dof.scenario import load_scenario, shipped_scenario
 from ...dof.timeline import ScenarioPlayer
 from ...scene.builtin import SCENES, SHAPES
-from ...scene.sources import is_mesh_source, resolve_scene
-from ..navigation import OrbitCamera
+from ...scene.sources import resolve_scene
 from .base import Mode
 
 __all__ = ["DofMode"]
@@ -45,10 +44,6 @@ class DofMode(Mode):
     def home_view(self):
         return self.scene.camera()
 
-    def navigation(self):
-        if is_mesh_source(self.source):
-            return OrbitCamera.from_view(self.home_view())
-        return super().navigation()
 
     def image_size(self, size):
         return (max(1, size[0] // 2), size[1]) if self.show_coc else size

@@ -5,8 +5,7 @@ from __future__ import annotations
 
 from ...passes.scene_renderer import RenderSettings, SceneRenderer
 from ...scene.builtin import SCENES, SHAPES
-from ...scene.sources import is_mesh_source, resolve_scene
-from ..navigation import OrbitCamera
+from ...scene.sources import resolve_scene
 from .base import Mode
 
 __all__ = ["PlainMode"]
@@ -28,7 +27,3 @@ class PlainMode(Mode):
     def home_view(self):
         return self.scene.camera()
 
-    def navigation(self):
-        if is_mesh_source(self.source):
-            return OrbitCamera.from_view(self.home_view())
-        return super().navigation()

@@ -11,7 +11,7 @@ from ...sis.depth import depth_from_scene, hidden_scene
 from ...sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
 from ...sis.params import StereogramParams
 from ...sis.stereogram import StereogramRenderer
-from ..navigation import FixedCamera
+from ..navigation import FixedCamera, WalkCamera
 from .base import Mode
 
 __all__ = ["SisMode"]
@@ -46,7 +46,8 @@ class SisMode(Mode):
         return None if self.variant == "raw" else self.scene.camera("main")
 
     def navigation(self):
-        return FixedCamera() if self.variant == "raw" else super().navigation()
+        # the source is the hidden shape: the viewer walks the room whatever it is
+        return FixedCamera() if self.variant == "raw" else WalkCamera.from_view(self.home_view())
 
     def image_size(self, size):
         return (max(1, size[0] // 2), size[1]) if self.variant == "raw" else size
