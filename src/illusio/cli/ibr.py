@@ -1,0 +1,107 @@
+"""``illusio ibr capture`` and ``illusio ibr render``: reference views of a scene, and new views made
+from them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import typer
+
+from ..core.errors import InputError
+from ..core.images import check_output_path, write_image
+from ..ibr.params import IbrParams
+from .common import parse_size, resolve_scene, scene_inputs
+
+app = typer.Typer(add_completion=False, no_args_is_help=True, help="Image-based rendering from reference views.")
+_DEFAULT = IbrParams()
+
+
+@app.command("capture")
+def capture_command(
+    scene: str = typer.Argument(..., help="built-in scene, .yaml scene, mesh file or built-in shape"),
+    output: Path = typer.Option(..., "-o", "--output", help="folder to write the references to"),
+    views: int = typer.Option(3, "--views", help="reference cameras along the main camera's right"),
+    baseline: float = typer.Option(1.2, "--baseline", help="metres the reference eyes span"),
+    size: str = typer.Option("512x384", "--size", help="WIDTHxHEIGHT of each reference"),
+) -> None:
+    """Capture reference views of SCENE (G-buffer: albedo, normal, emission, depth, camera)."""
+    from ..core.context import Context
+    from ..ibr.references import capture, orbit_views, save_references
+
+    if not 1 <= views <= 64:
+        raise InputError(f"--views must be in 1..64, got {views}")
+    sc = resolve_scene(scene)
+    refs = capture(sc, orbit_views(sc, views, baseline), parse_size(size), Context())
+    save_references(refs, output)
+    typer.echo(f"wrote {output} ({views} reference views)")
+
+
+def parse_camera(text: str, refs):
+    """``ref:K``, ``between:I,J[,T]`` or ``x,y,z:x,y,z`` → a View (the lens of the first reference)."""
+    from ..scene.camera import Pose, View
+
+    lens = refs.views[0].view.camera
+    try:
+        kind, _, rest = text.partition(":")
+        if kind == "ref":
+            return refs.views[int(rest)].view
+        if kind == "between":
+            parts = [float(v) for v in rest.split(",")]
+            i, j, t = int(parts[0]), int(parts[1]), (parts[2] if len(parts) > 2 else 0.5)
+            a, b = refs.views[i].view.pose, refs.views[j].view.pose
+            mix = lambda p, q: tuple((1 - t) * np.asarray(p) + t * np.asarray(q))  # noqa: E731
+            return View(Pose(mix(a.position, b.position), mix(a.target, b.target), a.up), refs.views[i].view.camera)
+        eye = [float(v) for v in kind.split(",")]
+        target = [float(v) for v in rest.split(",")]
+        if len(eye) != 3 or len(target) != 3:
+            raise ValueError
+        return View(Pose(tuple(eye), tuple(target)), lens)
+    except (ValueError, IndexError):
+        raise InputError(f"--camera must be ref:K, between:I,J[,T] or x,y,z:x,y,z (with {len(refs.views)} "
+                         f"references), got {text!r}") from None
+
+
+@app.command("render")
+def render_command(
+    references: Path = typer.Argument(..., help="a references folder (illusio ibr capture, or your own)"),
+    output: Path = typer.Option(..., "-o", "--output", help="image to write (.png, .exr, .npy)"),
+    camera: str = typer.Option("between:0,1", "--camera", help="ref:K, between:I,J[,T] or x,y,z:x,y,z"),
+    size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT (default: the references')"),
+    show_sources: bool = typer.Option(_DEFAULT.show_sources, "--show-sources", help="colour by source view, holes magenta"),
+    distance: str = typer.Option(_DEFAULT.distance, "--distance", help="2d (pixels on the new image) or 3d (metres)"),
+    nearest_depth: bool = typer.Option(not _DEFAULT.bilinear_depth, "--nearest-depth", help="nearest reference depth instead of bilinear"),
+    light: str = typer.Option(None, "--light", help="move every light by DX,DY,DZ metres"),
+    ground_truth: str = typer.Option(None, "--ground-truth", help="render this scene from the same camera instead"),
+) -> None:
+    """Render a new view from REFERENCES."""
+    from dataclasses import replace
+
+    from ..core.context import Context
+    from ..core.renderer import Frame
+    from ..ibr.references import load_references
+    from ..ibr.renderer import IbrRenderer
+    from ..passes.scene_renderer import RenderSettings, render_scene
+
+    out = check_output_path(output, [references] + scene_inputs(ground_truth or ""))
+    refs = load_references(references)
+    view = parse_camera(camera, refs)
+    w, h = parse_size(size) if size else refs.views[0].size
+    ctx = Context()
+    if ground_truth:
+        image = render_scene(resolve_scene(ground_truth), view, (w, h), ctx, RenderSettings(shadows=False))
+    else:
+        offset = (0.0, 0.0, 0.0)
+        if light:
+            try:
+                offset = tuple(float(v) for v in light.split(","))
+                assert len(offset) == 3 and np.isfinite(offset).all()
+            except (ValueError, AssertionError):
+                raise InputError(f"--light must be DX,DY,DZ in metres, got {light!r}") from None
+        params = replace(_DEFAULT, show_sources=show_sources, distance=distance, bilinear_depth=not nearest_depth,
+                         light_offset=offset)
+        renderer = IbrRenderer(ctx)
+        renderer.prepare(refs)
+        image = renderer.render(Frame(view, (w, h)), params)
+    write_image(out, image)
+    typer.echo(f"wrote {out} ({w}×{h})")

@@ -1,0 +1,41 @@
+"""Every knob of image-based rendering from reference views (Porquet 2005, section 4.2)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..core.params import check_ranges, param
+from ..passes.scene_renderer import RenderSettings
+
+__all__ = ["IbrParams", "DISTANCES"]
+
+#: how the point a reference sees is compared with the point to draw: "2d", in pixels on the new
+#: camera's image plane (the text's choice, for the depth buffer's precision); "3d", in metres
+DISTANCES = ("2d", "3d")
+
+
+@dataclass(frozen=True)
+class IbrParams:
+    """distance: DISTANCES. bilinear_depth: read a reference's depth by bilinear interpolation of the
+    four texels around the back-projected point (the text's fix for border artefacts, Figure 4.4)
+    rather than the nearest texel. max_distance: a point whose best reference misses it by more is
+    a hole (pixels for "2d", metres for "3d"). mesh_step: reference pixels between the vertices of the
+    depth-reconstruction mesh. grazing: a mesh triangle seen from its reference at more than this
+    angle from its normal is left out (it would bridge an occlusion edge). fill_radius: holes of the
+    reconstructed depth up to this many pixels wide take the farthest depth around them (where a cut
+    triangle let the surface behind show). show_sources: colour each pixel by the
+    reference it came from (Figure 4.5), holes in magenta. light_offset: every light of the set moved
+    by this many metres (the new view is lit again from the stored normals). settings: exposure."""
+
+    distance: str = param("2d", choices=DISTANCES)
+    bilinear_depth: bool = param(True, label="bilinear depth")
+    max_distance: float = param(3.0, range=(0.01, 1000.0), log=True, help="beyond it a pixel is a hole")
+    mesh_step: int = param(2, range=(1, 16), step=1, unit="px", label="reconstruction mesh step")
+    grazing: float = param(85.0, range=(1.0, 90.0), unit="°", help="mesh triangles seen more obliquely are cut")
+    fill_radius: int = param(4, range=(0, 64), step=1, unit="px", help="holes of the reconstructed depth this wide are filled")
+    show_sources: bool = param(False, label="show source views")
+    light_offset: tuple[float, float, float] = param((0.0, 0.0, 0.0), panel=False, unit="m",
+                                                     help="every light moved by this (re-lighting)")
+    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+
+    __post_init__ = check_ranges

@@ -1,0 +1,76 @@
+"""Image-based rendering stated plainly in NumPy: the specification the GPU passes are tested
+against. ``select`` for SelectPass (the per-pixel choice of the reference view); the first pass's
+reference is passes.reference.gbuffer ray-casting the reconstruction mesh."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .reconstruction import unproject
+
+__all__ = ["select"]
+
+
+def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bilinear: bool = True,
+           max_distance: float = 3.0) -> dict[str, np.ndarray]:
+    """Per pixel of the new view (row 0 at the top): back-project the pixel centre at its
+    reconstructed depth into each reference, read the reference's depth there (bilinear over the
+    four texels around the point when all four see something and ``bilinear``, else the nearest),
+    unproject it to the point the reference saw, and measure its distance to ours (pixels on the new
+    image plane, or metres with ``use_3d``); keep the reference with the smallest distance (the first
+    on ties), none beyond ``max_distance``. Returns source (H, W) int (reference index + 1, 0 =
+    hole; a reference whose stored normal faces away from the new eye saw the other side of a thin
+    surface and is skipped), depth (the seen point's view depth in the new view), position (H, W, 3), albedo (H, W, 4),
+    normal (H, W, 4), emission (H, W, 3) from the chosen reference's nearest texel."""
+    z = np.asarray(reconstructed, np.float64)
+    h, w = z.shape
+    ys, xs = np.mgrid[0:h, 0:w]
+    point = unproject(view, (w, h), xs + 0.5, ys + 0.5, z)
+    best = np.full((h, w), np.inf)
+    out = {"source": np.zeros((h, w), np.int64), "depth": np.zeros((h, w)), "position": np.zeros((h, w, 3)),
+           "albedo": np.zeros((h, w, 4)), "normal": np.zeros((h, w, 4)), "emission": np.zeros((h, w, 3))}
+    new_vp = view.view_projection((w, h)).astype(np.float64)
+    new_view = view.view_matrix().astype(np.float64)
+    homogeneous = np.concatenate([point, np.ones((h, w, 1))], axis=-1)
+    for index, ref in enumerate(references):
+        rw, rh = ref.size
+        clip = homogeneous @ ref.view.view_projection((rw, rh)).astype(np.float64).T
+        ok = (z > 0) & (clip[..., 3] > 0)
+        uv = np.where(ok[..., None], clip[..., :2] / np.where(ok, clip[..., 3], 1.0)[..., None] * 0.5 + 0.5, -1.0)
+        ok &= (uv >= 0).all(-1) & (uv < 1).all(-1)
+        t = uv * (rw, rh) - 0.5
+        gl_depth = np.asarray(ref.depth, np.float64)[::-1]  # GL rows from the bottom
+        nearest = np.clip(np.floor(t + 0.5).astype(int), 0, (rw - 1, rh - 1))
+        d = gl_depth[nearest[..., 1], nearest[..., 0]]
+        if bilinear:
+            t0 = np.clip(np.floor(t).astype(int), 0, (rw - 1, rh - 1))
+            t1 = np.minimum(t0 + 1, (rw - 1, rh - 1))
+            f = np.clip(t - t0, 0, 1)
+            d00, d10 = gl_depth[t0[..., 1], t0[..., 0]], gl_depth[t0[..., 1], t1[..., 0]]
+            d01, d11 = gl_depth[t1[..., 1], t0[..., 0]], gl_depth[t1[..., 1], t1[..., 0]]
+            bil = (d00 * (1 - f[..., 0]) + d10 * f[..., 0]) * (1 - f[..., 1]) + (d01 * (1 - f[..., 0]) + d11 * f[..., 0]) * f[..., 1]
+            d = np.where(np.minimum(np.minimum(d00, d10), np.minimum(d01, d11)) > 0, bil, d)
+        ok &= d > 0
+        ref_x, ref_y = uv[..., 0] * rw, (1 - uv[..., 1]) * rh
+        seen = unproject(ref.view, (rw, rh), ref_x, ref_y, np.where(ok, d, 1.0))
+        gl_rows = lambda a: np.asarray(a, np.float64)[::-1][nearest[..., 1], nearest[..., 0]]  # noqa: E731
+        normal = gl_rows(ref.normal)
+        ok &= ((normal[..., :3] * (np.asarray(view.pose.position, np.float64) - seen)).sum(-1) > 0)  # not the other side
+        if use_3d:
+            distance = np.linalg.norm(seen - point, axis=-1)
+        else:
+            c = np.concatenate([seen, np.ones((h, w, 1))], axis=-1) @ new_vp.T
+            ok &= c[..., 3] > 0
+            cw = np.where(ok, c[..., 3], 1.0)
+            px = (c[..., 0] / cw * 0.5 + 0.5) * w
+            py = (0.5 - c[..., 1] / cw * 0.5) * h
+            distance = np.hypot(px - (xs + 0.5), py - (ys + 0.5))
+        take = ok & (distance <= max_distance) & (distance < best)
+        best = np.where(take, distance, best)
+        out["source"][take] = index + 1
+        seen_view = np.concatenate([seen, np.ones((h, w, 1))], axis=-1) @ new_view.T
+        out["depth"][take] = -seen_view[..., 2][take]
+        out["position"][take] = seen[take]
+        for name in ("albedo", "normal", "emission"):
+            out[name][take] = gl_rows(getattr(ref, name))[take]
+    return out

@@ -1,0 +1,197 @@
+"""Reference views: what image-based rendering draws from. Each holds, per pixel, the surface's
+albedo and specular weight, its normal and Phong exponent, its emission and its linear depth (0 =
+nothing there), with the camera that saw it; a set also carries the scene's lights, so the new views
+can be lit again. Captured from a scene by the rasteriser's G-buffer, saved to and loaded from a
+folder (``references.json`` + one ``view-K.npz`` per view), so users can bring their own RGB-D
+captures (albedo, depth in metres along the view axis, normals; see :func:`load_references`)."""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..core.context import Context
+from ..core.errors import InputError
+from ..core.images import atomic_output
+from ..core.renderer import Frame
+from ..passes.scene_renderer import SceneRenderer
+from ..scene.camera import Camera, Pose, View
+from ..scene.scene import AreaLight, PointLight, Scene
+
+__all__ = ["ReferenceView", "ReferenceSet", "capture", "save_references", "load_references", "orbit_views"]
+
+
+@dataclass(eq=False)
+class ReferenceView:
+    """albedo (H, W, 4): albedo rgb and specular k_s; normal (H, W, 4): world normal and Phong
+    exponent; emission (H, W, 3); depth (H, W): metres along the view axis, 0 where nothing is.
+    Row 0 at the top."""
+
+    view: View
+    albedo: np.ndarray
+    normal: np.ndarray
+    emission: np.ndarray
+    depth: np.ndarray
+
+    def __post_init__(self):
+        h, w = np.shape(self.depth)[:2]
+        for name, c in (("albedo", 4), ("normal", 4), ("emission", 3)):
+            a = np.asarray(getattr(self, name), np.float32)
+            if a.ndim == 3 and a.shape[2] == 3 and c == 4:
+                a = np.dstack([a, np.zeros((h, w) if name == "albedo" else (h, w), np.float32)
+                               + (0.0 if name == "albedo" else 32.0)])
+            if a.shape != (h, w, c):
+                raise InputError(f"reference {name} is {a.shape[1]}×{a.shape[0]}, its depth {w}×{h}")
+            setattr(self, name, a)
+        d = np.asarray(self.depth, np.float32)
+        if not np.isfinite(d).all() or (d < 0).any():
+            raise InputError("a reference depth holds non-finite or negative values (0 means nothing there)")
+        self.depth = d
+
+    @property
+    def size(self) -> tuple[int, int]:
+        return self.depth.shape[1], self.depth.shape[0]
+
+
+@dataclass(eq=False)
+class ReferenceSet:
+    views: list[ReferenceView]
+    lights: list = field(default_factory=list)
+    ambient: tuple[float, float, float] = (0.08, 0.08, 0.09)
+    background: tuple[float, float, float] = (0.02, 0.02, 0.025)
+
+    def __post_init__(self):
+        if not self.views:
+            raise InputError("a reference set needs at least one view")
+        sizes = {v.size for v in self.views}
+        if len(sizes) > 1:
+            raise InputError(f"reference views differ in size: {', '.join(f'{w}×{h}' for w, h in sorted(sizes))}")
+
+
+def orbit_views(scene: Scene, count: int, baseline: float = 1.2) -> list[View]:
+    """``count`` views of ``scene`` from its main camera's eye moved sideways (along the camera's
+    right) over ``baseline`` metres, all looking at the camera's target — a rig that stays where the
+    main camera stands (inside a room)."""
+    base = scene.camera()
+    right, _, _ = base.pose.axes()
+    offsets = np.linspace(-baseline / 2, baseline / 2, count) if count > 1 else [0.0]
+    eye = np.asarray(base.pose.position, np.float64)
+    return [View(Pose(tuple(eye + right * o), base.pose.target, base.pose.up), base.camera) for o in offsets]
+
+
+def capture(scene: Scene, views: list[View], size: tuple[int, int], ctx: Context) -> ReferenceSet:
+    """Reference views of ``scene`` from ``views``: its G-buffer at ``size``."""
+    renderer = SceneRenderer(ctx)
+    renderer.prepare(scene)
+    refs = []
+    for view in views:
+        g = renderer.gbuffer(Frame(view, size))
+        images = {k: ctx.readback(t) for k, t in g.textures.items()}
+        g.release()
+        hit = images["object_id"][..., 0] > 0.5
+        refs.append(ReferenceView(view, images["colour"], images["normal"], images["emission"][..., :3],
+                                  np.where(hit, images["depth"][..., 0], 0.0)))
+    renderer.release()
+    return ReferenceSet(refs, list(scene.lights), tuple(scene.ambient), tuple(scene.background))
+
+
+def _floats(values) -> list[float]:
+    return [float(v) for v in values]
+
+
+def _camera_dict(view: View) -> dict:
+    c = view.camera
+    return {"eye": _floats(view.pose.position), "target": _floats(view.pose.target), "up": _floats(view.pose.up),
+            "fov": float(c.fov_y), "near": float(c.near), "far": float(c.far), "shift": _floats(c.shift)}
+
+
+def _light_dict(light) -> dict:
+    if isinstance(light, PointLight):
+        return {"type": "point", "position": _floats(light.position), "colour": _floats(light.colour),
+                "intensity": float(light.intensity)}
+    return {"type": "area", "centre": _floats(light.centre), "edge_u": _floats(light.edge_u), "edge_v": _floats(light.edge_v),
+            "colour": _floats(light.colour), "radiance": float(light.radiance), "samples": int(light.samples)}
+
+
+def save_references(refs: ReferenceSet, folder: str | os.PathLike) -> Path:
+    """Write ``folder/references.json`` (cameras, lights) and ``folder/view-K.npz`` (albedo, normal,
+    emission, depth), each file atomically."""
+    out = Path(folder)
+    out.mkdir(parents=True, exist_ok=True)
+    entries = []
+    for k, v in enumerate(refs.views):
+        name = f"view-{k}.npz"
+        with atomic_output(out / name) as tmp:
+            with open(tmp, "wb") as f:
+                np.savez_compressed(f, albedo=v.albedo, normal=v.normal, emission=v.emission, depth=v.depth)
+        entries.append({"file": name, "camera": _camera_dict(v.view)})
+    doc = {"views": entries, "lights": [_light_dict(light) for light in refs.lights],
+           "ambient": list(refs.ambient), "background": list(refs.background)}
+    with atomic_output(out / "references.json") as tmp:
+        Path(tmp).write_text(json.dumps(doc, indent=1), encoding="utf-8")
+    return out
+
+
+def load_references(folder: str | os.PathLike) -> ReferenceSet:
+    """The reference set in ``folder``: ``references.json`` lists ``views`` (``file``: an .npz with
+    ``depth`` (H, W) metres, 0 = nothing, ``albedo`` (H, W, 3 or 4), ``normal`` (H, W, 3 or 4) and
+    optionally ``emission``; ``camera``: eye, target, up, fov, near, far[, shift]) and optionally
+    ``lights``, ``ambient``, ``background``. Every mistake names the file and the entry."""
+    root = Path(folder)
+    index = root / "references.json"
+    try:
+        doc = json.loads(index.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"{root}: no references.json (capture one with: illusio ibr capture SCENE -o {root})") from None
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{index}: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+    views = []
+    for k, entry in enumerate(doc.get("views") or []):
+        where = f"{index}: views[{k}]"
+        try:
+            cam = entry["camera"]
+            view = View(Pose(tuple(cam["eye"]), tuple(cam["target"]), tuple(cam.get("up", (0, 1, 0)))),
+                        Camera(float(cam["fov"]), float(cam["near"]), float(cam["far"]), tuple(cam.get("shift", (0, 0)))))
+            path = root / entry["file"]
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"{where}: a view needs a file and a camera with eye, target, fov, near, far ({exc})") from None
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+        try:
+            with np.load(path) as data:
+                depth = data["depth"]
+                arrays = {name: data[name] for name in ("albedo", "normal") if name in data}
+                emission = data["emission"] if "emission" in data else np.zeros(depth.shape + (3,), np.float32)
+        except FileNotFoundError:
+            raise InputError(f"{where}: {path.name} is missing") from None
+        except (KeyError, ValueError, OSError) as exc:
+            raise InputError(f"{where}: {path.name} is not a reference view ({exc})") from None
+        if set(arrays) != {"albedo", "normal"}:
+            raise InputError(f"{where}: {path.name} needs depth, albedo and normal arrays")
+        try:
+            views.append(ReferenceView(view, arrays["albedo"], arrays["normal"], emission, depth))
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+    if not views:
+        raise InputError(f"{index}: no views")
+    lights = []
+    for k, ld in enumerate(doc.get("lights") or []):
+        try:
+            if ld.get("type", "point") == "point":
+                lights.append(PointLight(tuple(ld["position"]), tuple(ld.get("colour", (1, 1, 1))), float(ld["intensity"]),
+                                         shadows=False))
+            else:
+                lights.append(AreaLight(tuple(ld["centre"]), tuple(ld["edge_u"]), tuple(ld["edge_v"]),
+                                        tuple(ld.get("colour", (1, 1, 1))), float(ld["radiance"]), samples=int(ld.get("samples", 2)),
+                                        shadows=False))
+        except (KeyError, TypeError, ValueError) as exc:
+            raise InputError(f"{index}: lights[{k}]: {exc}") from None
+    try:
+        return ReferenceSet(views, lights, tuple(doc.get("ambient", (0.08, 0.08, 0.09))),
+                            tuple(doc.get("background", (0.02, 0.02, 0.025))))
+    except InputError as exc:
+        raise InputError(f"{index}: {exc}") from None

@@ -1,0 +1,141 @@
+"""New views from reference views, frame after frame: the IbrRenderer (Renderer protocol) and the
+one-shot ``render_views``. First pass: the reconstruction mesh drawn into the new view's depth (only
+when the camera or the size changed); second pass: the per-pixel choice of the reference
+(SelectPass), whose output is a G-buffer; then the shared deferred shading lights it again with the
+set's lights (moved by IbrParams.light_offset)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import moderngl
+import numpy as np
+
+from ..core.context import Context, default_context
+from ..core.errors import InputError
+from ..core.renderer import Frame, Renderer
+from ..passes.lights import emitters_from_lights
+from ..passes.scene_renderer import SceneRenderer
+from ..passes.shading import MAX_EMITTERS, ShadingParams, ShadingPass
+from ..scene.scene import Node, Scene
+from .params import IbrParams
+from .reconstruction import reconstruction_mesh
+from .references import ReferenceSet
+from .select import ReferenceTextures, SelectPass
+
+__all__ = ["IbrRenderer", "render_views", "SOURCE_COLOURS", "source_view", "fill_holes"]
+
+#: the debug view's colour of each reference (Figure 4.5: red, green, blue first), holes magenta
+SOURCE_COLOURS = np.array([(0.9, 0.15, 0.1), (0.15, 0.75, 0.2), (0.15, 0.3, 0.95), (0.95, 0.8, 0.1),
+                           (0.1, 0.8, 0.85), (0.6, 0.35, 0.15), (0.5, 0.5, 0.5), (0.95, 0.55, 0.75)], np.float32)
+HOLE_COLOUR = np.array((1.0, 0.0, 1.0), np.float32)
+
+
+def fill_holes(depth: np.ndarray, radius: int) -> np.ndarray:
+    """``depth`` (0 = nothing) with its holes up to ``radius`` pixels wide filled by the farthest depth
+    around them, one pixel ring at a time. Holes come from mesh triangles cut at occlusion edges,
+    where the surface behind shows: the farthest neighbour finds it in the references."""
+    from scipy import ndimage
+
+    z = np.asarray(depth, np.float32).copy()
+    for _ in range(max(int(radius), 0)):
+        empty = z <= 0
+        if not empty.any():
+            break
+        z = np.where(empty, ndimage.maximum_filter(z, size=3), z)
+    return z
+
+
+def source_view(source: np.ndarray) -> np.ndarray:
+    """(H, W) source indices (reference + 1, 0 = hole) → the debug colours (H, W, 3)."""
+    s = np.asarray(source, np.int64)
+    colours = SOURCE_COLOURS[(np.maximum(s, 1) - 1) % len(SOURCE_COLOURS)]
+    return np.where((s == 0)[..., None], HOLE_COLOUR, colours).astype(np.float32)
+
+
+class IbrRenderer(Renderer):
+    """Subject: a :class:`ReferenceSet`. Params: :class:`IbrParams`. ``frame.view``: the new camera
+    (None: the first reference's). ``maps()``: "depth" (the reconstructed depth), "source" (reference
+    index + 1 per pixel, 0 = hole, R32F) and the new view's G-buffer."""
+
+    Params = IbrParams
+    subject_name = "a ReferenceSet"
+
+    def __init__(self, ctx: Context):
+        super().__init__(ctx)
+        self.mesh_renderer = SceneRenderer(ctx)
+        self.select = SelectPass(ctx)
+        self.shading = ShadingPass(ctx)
+        self.refs: ReferenceSet | None = None
+        self._textures: list[ReferenceTextures] = []
+        self._mesh_key = None
+        self._depth: tuple | None = None  # (view, size, mesh key, texture): the first pass's result
+
+    def _load(self, refs: ReferenceSet) -> None:
+        if not isinstance(refs, ReferenceSet):
+            raise InputError(f"IbrRenderer draws a ReferenceSet, got {type(refs).__name__}")
+        self.refs = refs
+        self._textures = [ReferenceTextures(self.ctx, r) for r in refs.views]
+
+    def _unload(self) -> None:
+        super()._unload()
+        for t in self._textures:
+            t.release()
+        self._textures = []
+        self._drop_depth()
+        self.mesh_renderer.release()
+        self._mesh_key = None
+        self.refs = None
+
+    def _drop_depth(self) -> None:
+        if self._depth is not None:
+            self._forget_map(self._depth[3])
+            self.ctx.release(self._depth[3])
+            self._depth = None
+
+    def reconstructed_depth(self, view, size, params: IbrParams) -> moderngl.Texture:
+        """The first pass: the reconstruction mesh's linear depth in ``view`` (kept while the view,
+        the size and the mesh settings stay the same)."""
+        mesh_key = (params.mesh_step, params.grazing, params.fill_radius)
+        if mesh_key != self._mesh_key:
+            mesh = reconstruction_mesh(self.refs, params.mesh_step, params.grazing)
+            self.mesh_renderer.prepare(Scene("ibr-reconstruction", nodes=[Node("surface", mesh)]))
+            self._mesh_key = mesh_key
+        key = (view, tuple(size), mesh_key)
+        if self._depth is None or self._depth[:3] != key:
+            self._drop_depth()
+            g = self.mesh_renderer.gbuffer(Frame(view, size))
+            hit = self.ctx.readback(g["object_id"])[..., 0] > 0.5
+            z = np.where(hit, self.ctx.readback(g["depth"])[..., 0], 0.0).astype(np.float32)
+            g.release()
+            self._depth = (*key, self.ctx.acquire_upload(fill_holes(z, params.fill_radius)))
+        return self._depth[3]
+
+    def render_texture(self, frame: Frame, params: IbrParams | None = None) -> moderngl.Texture:
+        params = self._params(params)
+        self._require_subject()
+        view = frame.view or self.refs.views[0].view
+        depth = self.reconstructed_depth(view, frame.size, params)
+        gbuffer = self.select(depth, view, self._textures, params.distance == "3d", params.bilinear_depth,
+                              params.max_distance)
+        lights = [replace(light, position=tuple(np.asarray(light.position) + params.light_offset))
+                  if hasattr(light, "position") else replace(light, centre=tuple(np.asarray(light.centre) + params.light_offset))
+                  for light in self.refs.lights]
+        emitters = emitters_from_lights(lights, False, MAX_EMITTERS)
+        shading = ShadingParams(self.refs.ambient, self.refs.background, params.settings.exposure)
+        out = self.shading(gbuffer, emitters, view.pose.position, shading)
+        self._keep_maps({"depth": depth, "source": gbuffer["object_id"],
+                         **{k: v for k, v in gbuffer.textures.items() if k != "object_id"}})
+        if params.show_sources:
+            self.ctx.release(out)
+            source = np.rint(self.ctx.readback(gbuffer["object_id"])[..., 0]).astype(np.int64)
+            out = self.ctx.acquire_upload(np.dstack([source_view(source), np.ones(source.shape, np.float32)]))
+        return out
+
+
+def render_views(refs: ReferenceSet, frame: Frame, params: IbrParams = IbrParams(), ctx: Context | None = None) -> np.ndarray:
+    """One new view from ``refs``: float32 (H, W, 3) linear, row 0 on top (the context keeps the
+    renderer and its last reference set)."""
+    renderer = (ctx or default_context()).kept(IbrRenderer)
+    renderer.prepare(refs)
+    return renderer.render(frame, params)

@@ -1,0 +1,125 @@
+"""Image-based rendering (Porquet 2005, 4.2): the per-pixel choice against its NumPy reference, the
+references reproducing themselves, new views against ground truth, reference folders in and out."""
+
+import json
+
+import numpy as np
+import pytest
+
+from illusio.core.errors import InputError
+from illusio.core.renderer import Frame
+from illusio.ibr import IbrParams, IbrRenderer, capture, load_references, orbit_views, save_references
+from illusio.ibr import reference
+from illusio.ibr.select import ReferenceTextures, SelectPass
+from illusio.passes.scene_renderer import RenderSettings, SceneRenderer
+from illusio.scene import load_scene
+from tests.conftest import call_cli
+
+SIZE = (128, 96)
+
+
+@pytest.fixture(scope="module")
+def room(ctx):
+    scene = load_scene("living-room")
+    return scene, capture(scene, orbit_views(scene, 3), SIZE, ctx)
+
+
+def psnr(a, b):
+    return 10 * np.log10(1 / np.mean((np.asarray(a, np.float64) - b) ** 2))
+
+
+@pytest.mark.parametrize("use_3d, bilinear", [(False, True), (True, False)])
+def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear):
+    """At a new view (and a random reconstructed depth near the true one), the GPU picks the same
+    reference per pixel as reference.select, with the same corrected depth and attributes."""
+    scene, refs = room
+    view = orbit_views(scene, 7)[int(rng.integers(1, 6))]
+    truth = SceneRenderer(ctx)
+    truth.prepare(scene)
+    g = truth.gbuffer(Frame(view, SIZE))
+    hit = ctx.readback(g["object_id"])[..., 0] > 0.5
+    depth = np.where(hit, ctx.readback(g["depth"])[..., 0], 0.0) * rng.uniform(0.995, 1.005, SIZE[::-1])
+    g.release()
+    depth = depth.astype(np.float32)
+    tex = ctx.upload(depth, filter="nearest")
+    textures = [ReferenceTextures(ctx, r) for r in refs.views]
+    max_distance = 0.05 if use_3d else 3.0
+    gbuf = SelectPass(ctx)(tex, view, textures, use_3d, bilinear, max_distance)
+    source = np.rint(ctx.readback(gbuf["object_id"])[..., 0]).astype(int)
+    got_depth = ctx.readback(gbuf["depth"])[..., 0]
+    got_albedo = ctx.readback(gbuf["colour"])
+    gbuf.release()
+    tex.release()
+    for t in textures:
+        t.release()
+    want = reference.select(depth, view, refs.views, use_3d, bilinear, max_distance)
+    agree = source == want["source"]
+    assert agree.mean() > 0.99  # ties between references within float precision may go either way
+    both = agree & (source > 0)
+    assert both.mean() > 0.8
+    np.testing.assert_allclose(got_depth[both], want["depth"][both], rtol=1e-4, atol=1e-4)
+    np.testing.assert_allclose(got_albedo[both], want["albedo"][both], atol=2e-3)  # half floats
+
+
+def test_references_reproduce_their_own_views_and_views_between_them(ctx, room):
+    scene, refs = room
+    renderer = IbrRenderer(ctx)
+    renderer.prepare(refs)
+    truth = SceneRenderer(ctx)
+    truth.prepare(scene)
+    settings = RenderSettings(shadows=False)
+    for ref in refs.views:
+        assert psnr(renderer.render(Frame(ref.view, SIZE)), truth.render(Frame(ref.view, SIZE), settings)) > 38
+    between = orbit_views(scene, 5)[1]
+    image = renderer.render(Frame(between, SIZE))
+    assert psnr(image, truth.render(Frame(between, SIZE), settings)) > 27
+    source = np.rint(ctx.readback(renderer.maps()["source"])[..., 0]).astype(int)
+    assert (source == 0).mean() < 0.03 and len(np.unique(source[source > 0])) >= 2  # several views used
+    debug = renderer.render(Frame(between, SIZE), IbrParams(show_sources=True))
+    colours = {tuple(c) for c in np.unique((debug.reshape(-1, 3) * 100).round().astype(int), axis=0).tolist()}
+    assert {(90, 15, 10), (15, 75, 20)} <= colours  # the first two references' colours (Figure 4.5)
+    # moving the lights re-lights the view from the stored normals
+    moved = renderer.render(Frame(between, SIZE), IbrParams(light_offset=(1.5, 0.0, 1.0)))
+    assert np.abs(moved - image).mean() > 0.005
+    renderer.release()
+
+
+def test_reference_folders_round_trip_and_bad_folders_say_what(ctx, room, tmp_path):
+    _, refs = room
+    folder = save_references(refs, tmp_path / "refs")
+    back = load_references(folder)
+    for a, b in zip(refs.views, back.views):
+        np.testing.assert_array_equal(a.depth, b.depth)
+        np.testing.assert_array_equal(a.albedo, b.albedo)
+        assert a.view.pose == b.view.pose
+    doc = json.loads((folder / "references.json").read_text())
+    with np.load(folder / "view-0.npz") as d:
+        arrays = dict(d)
+    np.savez(folder / "view-0.npz", **{**arrays, "depth": arrays["depth"][:10]})
+    with pytest.raises(InputError, match=r"views\[0\]: reference albedo is"):
+        load_references(folder)
+    arrays["depth"][3, 3] = np.nan
+    np.savez(folder / "view-0.npz", **arrays)
+    with pytest.raises(InputError, match="non-finite"):
+        load_references(folder)
+    (folder / "view-1.npz").unlink()
+    np.savez(folder / "view-0.npz", **{**arrays, "depth": np.nan_to_num(arrays["depth"])})
+    with pytest.raises(InputError, match=r"views\[1\]: view-1.npz is missing"):
+        load_references(folder)
+    del doc["views"][0]["camera"]["fov"]
+    (folder / "references.json").write_text(json.dumps(doc))
+    with pytest.raises(InputError, match=r"views\[0\]: a view needs"):
+        load_references(folder)
+
+
+def test_ibr_commands(tmp_path, capsys):
+    refs = tmp_path / "refs"
+    code, cap = call_cli(["ibr", "capture", "office", "-o", str(refs), "--views", "3", "--size", "64x48"], capsys)
+    assert code == 0, cap.err
+    out = tmp_path / "new.png"
+    code, cap = call_cli(["ibr", "render", str(refs), "-o", str(out), "--camera", "between:0,2,0.25", "--show-sources"], capsys)
+    assert code == 0 and out.exists(), cap.err
+    for args, message in ((["--camera", "ref:7"], "--camera must be"), (["--light", "1,2"], "--light must be"),
+                          (["--distance", "4d"], "distance")):
+        code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / "x.png"), *args], capsys)
+        assert code == 2 and message in cap.err and cap.err.count("\n") == 1, cap.err
