@@ -32,9 +32,13 @@ def test_every_mode_and_view_draws_something_different(ctx):
             assert image.shape == (SIZE[1], SIZE[0], 3) and image.std() > 0.02, (name, variant)
             images[name, variant] = image
     keys = list(images)
+    same = {(("ibr", "reconstruction"), ("ibr", "ground-truth"))}  # at a reference's own view: alike by design
     for i, a in enumerate(keys):
         for b in keys[i + 1:]:
-            assert np.abs(images[a] - images[b]).mean() > 1e-3, (a, b)
+            if (a, b) in same:
+                assert np.abs(images[a] - images[b]).mean() < 2e-3, (a, b)
+            else:
+                assert np.abs(images[a] - images[b]).mean() > 1e-3, (a, b)
     viewer.release()
 
 

@@ -99,7 +99,7 @@ def render_command(
             except (ValueError, AssertionError):
                 raise InputError(f"--light must be DX,DY,DZ in metres, got {light!r}") from None
         params = replace(_DEFAULT, show_sources=show_sources, distance=distance, bilinear_depth=not nearest_depth,
-                         light_offset=offset)
+                         light_x=offset[0], light_y=offset[1], light_z=offset[2])
         renderer = IbrRenderer(ctx)
         renderer.prepare(refs)
         image = renderer.render(Frame(view, (w, h)), params)

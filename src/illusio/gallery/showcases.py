@@ -13,6 +13,7 @@ from ..passes.scene_renderer import SceneRenderer
 from ..scene.builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .html import Item, Section
 from .dof import dof_showcase
+from .ibr import ibr_showcase
 from .lines import lines_showcase
 from .sis import sis_showcase
 from .viewer import viewer_showcase
@@ -63,5 +64,6 @@ SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]]
     ("sis", sis_showcase),
     ("lines", lines_showcase),
     ("dof", dof_showcase),
+    ("ibr", ibr_showcase),
     ("viewer", viewer_showcase),
 ]

@@ -18,7 +18,8 @@ def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bi
     four texels around the point when all four see something and ``bilinear``, else the nearest),
     unproject it to the point the reference saw, and measure its distance to ours (pixels on the new
     image plane, or metres with ``use_3d``); keep the reference with the smallest distance (the first
-    on ties), none beyond ``max_distance``. Returns source (H, W) int (reference index + 1, 0 =
+    on ties), none beyond ``max_distance``. Attributes: bilinear where the four texels around the
+    point lie on one surface (depths within 1 %), else the nearest texel. Returns source (H, W) int (reference index + 1, 0 =
     hole; a reference whose stored normal faces away from the new eye saw the other side of a thin
     surface and is skipped), depth (the seen point's view depth in the new view), position (H, W, 3), albedo (H, W, 4),
     normal (H, W, 4), emission (H, W, 3) from the chosen reference's nearest texel."""
@@ -42,19 +43,30 @@ def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bi
         gl_depth = np.asarray(ref.depth, np.float64)[::-1]  # GL rows from the bottom
         nearest = np.clip(np.floor(t + 0.5).astype(int), 0, (rw - 1, rh - 1))
         d = gl_depth[nearest[..., 1], nearest[..., 0]]
+        t0 = np.clip(np.floor(t).astype(int), 0, (rw - 1, rh - 1))
+        t1 = np.minimum(t0 + 1, (rw - 1, rh - 1))
+        f = np.clip(t - t0, 0, 1)
+
+        def bilerp(a):
+            a = np.asarray(a, np.float64)[::-1]
+            fx, fy = f[..., 0:1] if a.ndim == 3 else f[..., 0], f[..., 1:2] if a.ndim == 3 else f[..., 1]
+            return ((a[t0[..., 1], t0[..., 0]] * (1 - fx) + a[t0[..., 1], t1[..., 0]] * fx) * (1 - fy)
+                    + (a[t1[..., 1], t0[..., 0]] * (1 - fx) + a[t1[..., 1], t1[..., 0]] * fx) * fy)
+
+        corners = np.stack([gl_depth[t0[..., 1], t0[..., 0]], gl_depth[t0[..., 1], t1[..., 0]],
+                            gl_depth[t1[..., 1], t0[..., 0]], gl_depth[t1[..., 1], t1[..., 0]]], -1)
+        lo, hi = corners.min(-1), corners.max(-1)
+        smooth = (lo > 0) & (hi <= lo * 1.01)
         if bilinear:
-            t0 = np.clip(np.floor(t).astype(int), 0, (rw - 1, rh - 1))
-            t1 = np.minimum(t0 + 1, (rw - 1, rh - 1))
-            f = np.clip(t - t0, 0, 1)
-            d00, d10 = gl_depth[t0[..., 1], t0[..., 0]], gl_depth[t0[..., 1], t1[..., 0]]
-            d01, d11 = gl_depth[t1[..., 1], t0[..., 0]], gl_depth[t1[..., 1], t1[..., 0]]
-            bil = (d00 * (1 - f[..., 0]) + d10 * f[..., 0]) * (1 - f[..., 1]) + (d01 * (1 - f[..., 0]) + d11 * f[..., 0]) * f[..., 1]
-            d = np.where(np.minimum(np.minimum(d00, d10), np.minimum(d01, d11)) > 0, bil, d)
+            d = np.where(lo > 0, bilerp(ref.depth), d)
         ok &= d > 0
         ref_x, ref_y = uv[..., 0] * rw, (1 - uv[..., 1]) * rh
         seen = unproject(ref.view, (rw, rh), ref_x, ref_y, np.where(ok, d, 1.0))
-        gl_rows = lambda a: np.asarray(a, np.float64)[::-1][nearest[..., 1], nearest[..., 0]]  # noqa: E731
-        normal = gl_rows(ref.normal)
+        def attribute(a):
+            at_nearest = np.asarray(a, np.float64)[::-1][nearest[..., 1], nearest[..., 0]]
+            return np.where(smooth[..., None], bilerp(a), at_nearest)
+
+        normal = attribute(ref.normal)
         ok &= ((normal[..., :3] * (np.asarray(view.pose.position, np.float64) - seen)).sum(-1) > 0)  # not the other side
         if use_3d:
             distance = np.linalg.norm(seen - point, axis=-1)
@@ -72,5 +84,5 @@ def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bi
         out["depth"][take] = -seen_view[..., 2][take]
         out["position"][take] = seen[take]
         for name in ("albedo", "normal", "emission"):
-            out[name][take] = gl_rows(getattr(ref, name))[take]
+            out[name][take] = attribute(getattr(ref, name))[take]
     return out

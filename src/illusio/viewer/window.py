@@ -2,7 +2,7 @@
 mouse navigation. Everything the window shows comes from a :class:`~illusio.viewer.viewer.Viewer`.
 
 Keys: W A S D walk (orbit: turn), Q E down / up (orbit: zoom), mouse drag to look (orbit: turn),
-wheel to zoom, Tab next technique, 1 2 3 4 a technique (plain, sis, lines, dof), V next view of the technique, H home,
+wheel to zoom, Tab next technique, 1 2 3 4 5 a technique (plain, sis, lines, dof, ibr), V next view of the technique, H home,
 P screenshot, Esc quit.
 """
 

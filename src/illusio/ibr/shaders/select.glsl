@@ -7,6 +7,8 @@
 // the reference that sees its point best. Outputs the G-buffer layout (albedo + k_s, corrected
 // linear depth, normal + exponent, world position, source view index + 1, emission). A reference
 // whose stored normal faces away from the new eye saw the other side of a thin surface: skipped.
+// Where the four texels around the point lie on one surface (within 1 % in depth), the attributes
+// are interpolated bilinearly too (no resampling aliasing of textures); else the nearest texel.
 // NumPy reference: ibr.reference.select.
 #include "common/fullscreen.glsl"
 
@@ -43,6 +45,11 @@ vec3 unproject(vec2 pixel, vec2 size, float z, vec4 proj, mat4 inverse_view) {
     return (inverse_view * vec4(camera, 1.0)).xyz;
 }
 
+vec4 bilerp(sampler2D s, ivec2 t0, ivec2 t1, vec2 f) {
+    return mix(mix(texelFetch(s, t0, 0), texelFetch(s, ivec2(t1.x, t0.y), 0), f.x),
+               mix(texelFetch(s, ivec2(t0.x, t1.y), 0), texelFetch(s, t1, 0), f.x), f.y);
+}
+
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     vec2 size = vec2(textureSize(reconstructed, 0));
@@ -59,20 +66,21 @@ void main() {
     vec2 t = uv * vec2(ref_size) - 0.5;                           // GL texel coordinates
     ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
     float d = texelFetch(ref_depth, nearest, 0).r;
-    if (bilinear) {
-        ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
-        ivec2 t1 = min(t0 + 1, ref_size - 1);
-        vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
-        float d00 = texelFetch(ref_depth, t0, 0).r, d10 = texelFetch(ref_depth, ivec2(t1.x, t0.y), 0).r;
-        float d01 = texelFetch(ref_depth, ivec2(t0.x, t1.y), 0).r, d11 = texelFetch(ref_depth, t1, 0).r;
-        if (min(min(d00, d10), min(d01, d11)) > 0.0) {
-            d = mix(mix(d00, d10, f.x), mix(d01, d11, f.x), f.y);
-        }
+    ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
+    ivec2 t1 = min(t0 + 1, ref_size - 1);
+    vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
+    float d00 = texelFetch(ref_depth, t0, 0).r, d10 = texelFetch(ref_depth, ivec2(t1.x, t0.y), 0).r;
+    float d01 = texelFetch(ref_depth, ivec2(t0.x, t1.y), 0).r, d11 = texelFetch(ref_depth, t1, 0).r;
+    float lo = min(min(d00, d10), min(d01, d11)), hi = max(max(d00, d10), max(d01, d11));
+    // the four texels on one surface (no depth edge between them): attributes are interpolated too
+    bool on_one_surface = lo > 0.0 && hi <= lo * 1.01;
+    if (bilinear && lo > 0.0) {
+        d = mix(mix(d00, d10, f.x), mix(d01, d11, f.x), f.y);
     }
     if (d <= 0.0) discard;
     vec2 ref_pixel = vec2(uv.x * float(ref_size.x), (1.0 - uv.y) * float(ref_size.y));
     vec3 seen = unproject(ref_pixel, vec2(ref_size), d, ref_projection, ref_inverse_view);
-    vec4 normal = texelFetch(ref_normal, nearest, 0);
+    vec4 normal = on_one_surface ? bilerp(ref_normal, t0, t1, f) : texelFetch(ref_normal, nearest, 0);
     if (dot(normal.xyz, new_eye - seen) <= 0.0) discard;  // the reference saw the other side
 
     float distance;
@@ -87,11 +95,11 @@ void main() {
     if (distance > max_distance) discard;
     gl_FragDepth = distance / max_distance * 0.999;
 
-    out_colour = texelFetch(ref_albedo, nearest, 0);
+    out_colour = on_one_surface ? bilerp(ref_albedo, t0, t1, f) : texelFetch(ref_albedo, nearest, 0);
     out_depth = -(new_view * vec4(seen, 1.0)).z;
     out_normal = normal;
     out_position = vec4(seen, 1.0);
     out_id = source;
-    out_emission = vec4(texelFetch(ref_emission, nearest, 0).rgb, 1.0);
+    out_emission = vec4((on_one_surface ? bilerp(ref_emission, t0, t1, f) : texelFetch(ref_emission, nearest, 0)).rgb, 1.0);
 }
 #endif

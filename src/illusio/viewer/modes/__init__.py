@@ -2,11 +2,12 @@
 
 from .base import Mode
 from .dof import DofMode
+from .ibr import IbrMode
 from .lines import LinesMode
 from .plain import PlainMode
 from .sis import SisMode
 
 #: technique name -> mode class, in the order the viewer cycles through them
-MODES: dict[str, type[Mode]] = {m.name: m for m in (PlainMode, SisMode, LinesMode, DofMode)}
+MODES: dict[str, type[Mode]] = {m.name: m for m in (PlainMode, SisMode, LinesMode, DofMode, IbrMode)}
 
-__all__ = ["Mode", "MODES", "PlainMode", "SisMode", "LinesMode", "DofMode"]
+__all__ = ["Mode", "MODES", "PlainMode", "SisMode", "LinesMode", "DofMode", "IbrMode"]

@@ -1,0 +1,101 @@
+"""Image-based rendering (issue 14): quality on held-out viewpoints and speed against rasterising.
+
+Quality: the office showcase path (gallery/ibr.py), viewpoints that are not references, inside the
+region the references cover; PSNR and SSIM against the rasteriser's render of the same camera, for
+1, 3 and 6 references, with bilinear or nearest reference depth, with the 2D or 3D distance. Speed:
+at 1024×768, an IBR frame of a 1M-triangle scene (from 3 references, the reconstruction mesh every
+4 pixels) against rasterising the scene itself, camera moving (the reconstruction redone every frame)
+and still (only the selection and the lighting)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+from skimage.metrics import structural_similarity
+
+from illusio.core.context import Context
+from illusio.core.renderer import Frame
+from illusio.gallery.ibr import showcase_path
+from illusio.ibr.params import IbrParams
+from illusio.ibr.references import capture, orbit_views
+from illusio.ibr.renderer import IbrRenderer
+from illusio.passes.scene_renderer import RenderSettings, SceneRenderer
+from illusio.scene.builtin import builtin_scene, shapes, turntable
+
+from .runner import Timing, time_case
+
+QUALITY_SIZE = (640, 480)
+SPEED_SIZE = (1024, 768)
+
+
+def psnr(a, b) -> float:
+    return float(10 * np.log10(1 / max(float(np.mean((np.asarray(a, np.float64) - b) ** 2)), 1e-12)))
+
+
+def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], dict[str, float]]:
+    size = (160, 120) if quick else QUALITY_SIZE
+    timings: list[Timing] = []
+    ratios: dict[str, float] = {}
+    scene = builtin_scene("office")
+    truth = SceneRenderer(ctx)
+    truth.prepare(scene)
+    path = showcase_path(scene)
+    times = np.linspace(0.25, path.duration - 0.25, 3 if quick else 7)
+    views = [path.view(t, scene.camera().camera) for t in times]
+    truths = [truth.render(Frame(v, size), RenderSettings(shadows=False)) for v in views]
+    renderer = IbrRenderer(ctx)
+    variants = {"": IbrParams(), ", nearest depth": IbrParams(bilinear_depth=False),
+                ", 3d distance": IbrParams(distance="3d", max_distance=0.05)}
+    for count in (1, 3, 6):
+        renderer.prepare(capture(scene, orbit_views(scene, count, 1.6), size, ctx))
+        for label, params in variants.items():
+            if count != 3 and label:
+                continue
+            images = [renderer.render(Frame(v, size), params) for v in views]
+            ratios[f"office, {count} references{label}: PSNR dB (mean over the path)"] = float(
+                np.mean([psnr(i, t) for i, t in zip(images, truths)]))
+            ratios[f"office, {count} references{label}: SSIM"] = float(np.mean(
+                [structural_similarity(i, t, channel_axis=2, data_range=1.0) for i, t in zip(images, truths)]))
+    renderer.release()
+    truth.release()
+
+    size = (256, 192) if quick else SPEED_SIZE
+    big = turntable(shapes.sphere(1.0, 1000, 501))  # 1,000,002 triangles with the floor
+    raster = SceneRenderer(ctx)
+    raster.prepare(big)
+    settings = RenderSettings(shadows=False)
+    renderer.prepare(capture(big, orbit_views(big, 3, 0.8), size, ctx))
+    params = replace(IbrParams(), mesh_step=4)
+    moving = [0]
+    base = big.camera()
+
+    def view_at(k):
+        right, _, _ = base.pose.axes()
+        from illusio.scene.camera import Pose, View
+
+        return View(Pose(tuple(np.asarray(base.pose.position) + right * 0.02 * (k % 20 - 10)), base.pose.target), base.camera)
+
+    def ibr_moving():
+        moving[0] += 1
+        ctx.release(renderer.render_texture(Frame(view_at(moving[0]), size), params))
+        ctx.finish()
+
+    def ibr_still():
+        ctx.release(renderer.render_texture(Frame(view_at(0), size), params))
+        ctx.finish()
+
+    def rasterise():
+        ctx.release(raster.render_texture(Frame(view_at(0), size), settings))
+        ctx.finish()
+
+    note = f"{size[0]}x{size[1]}, 1,000,002 triangles, 3 references"
+    timings.append(time_case("raster/1M triangles", rasterise, repeat, notes=note))
+    timings.append(time_case("ibr/camera moving", ibr_moving, repeat, notes=note + ", reconstruction each frame"))
+    timings.append(time_case("ibr/camera still", ibr_still, repeat, notes=note + ", selection and lighting only"))
+    by = {t.name: t.median_ms for t in timings}
+    ratios["raster / ibr time, camera moving (goal > 1)"] = by["raster/1M triangles"] / by["ibr/camera moving"]
+    ratios["raster / ibr time, camera still"] = by["raster/1M triangles"] / by["ibr/camera still"]
+    renderer.release()
+    raster.release()
+    return timings, ratios
