@@ -1,6 +1,6 @@
 """New views from reference views, frame after frame: the IbrRenderer (Renderer protocol) and the
-one-shot ``render_views``. First pass: the reconstruction mesh drawn into the new view's depth (only
-when the camera or the size changed); second pass: the per-pixel choice of the reference
+one-shot ``render_views``. First pass: the reconstruction mesh drawn into the new view's depth and
+its holes filled, on the GPU (only when the camera or the size changed); second pass: the per-pixel choice of the reference
 (SelectPass), whose output is a G-buffer; then the shared deferred shading lights it again with the
 set's lights (moved by IbrParams.light_offset)."""
 
@@ -15,10 +15,9 @@ from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.renderer import Frame, Renderer
 from ..passes.lights import emitters_from_lights
-from ..passes.scene_renderer import SceneRenderer
 from ..passes.shading import MAX_EMITTERS, ShadingParams, ShadingPass
-from ..scene.scene import Node, Scene
 from .params import IbrParams
+from .reconstruct import ReconstructPass
 from .reconstruction import reconstruction_mesh
 from .references import ReferenceSet
 from .select import ReferenceTextures, SelectPass
@@ -63,7 +62,7 @@ class IbrRenderer(Renderer):
 
     def __init__(self, ctx: Context):
         super().__init__(ctx)
-        self.mesh_renderer = SceneRenderer(ctx)
+        self.reconstruct = ReconstructPass(ctx)
         self.select = SelectPass(ctx)
         self.shading = ShadingPass(ctx)
         self.refs: ReferenceSet | None = None
@@ -83,33 +82,28 @@ class IbrRenderer(Renderer):
             t.release()
         self._textures = []
         self._drop_depth()
-        self.mesh_renderer.release()
+        self.reconstruct.release()
         self._mesh_key = None
         self.refs = None
 
     def _drop_depth(self) -> None:
         if self._depth is not None:
-            self._forget_map(self._depth[3])
-            self.ctx.release(self._depth[3])
+            self._forget_map(self._depth[4])
+            self.ctx.release(self._depth[4])
             self._depth = None
 
     def reconstructed_depth(self, view, size, params: IbrParams) -> moderngl.Texture:
-        """The first pass: the reconstruction mesh's linear depth in ``view`` (kept while the view,
-        the size and the mesh settings stay the same)."""
-        mesh_key = (params.mesh_step, params.grazing, params.fill_radius)
+        """The first pass: the reconstruction mesh's linear depth in ``view``, holes filled (kept while
+        the view, the size and the mesh settings stay the same)."""
+        mesh_key = (params.mesh_step, params.grazing)
         if mesh_key != self._mesh_key:
-            mesh = reconstruction_mesh(self.refs, params.mesh_step, params.grazing)
-            self.mesh_renderer.prepare(Scene("ibr-reconstruction", nodes=[Node("surface", mesh)]))
+            self.reconstruct.load(reconstruction_mesh(self.refs, params.mesh_step, params.grazing))
             self._mesh_key = mesh_key
-        key = (view, tuple(size), mesh_key)
-        if self._depth is None or self._depth[:3] != key:
+        key = (view, tuple(size), mesh_key, params.fill_radius)
+        if self._depth is None or self._depth[:4] != key:
             self._drop_depth()
-            g = self.mesh_renderer.gbuffer(Frame(view, size))
-            hit = self.ctx.readback(g["object_id"])[..., 0] > 0.5
-            z = np.where(hit, self.ctx.readback(g["depth"])[..., 0], 0.0).astype(np.float32)
-            g.release()
-            self._depth = (*key, self.ctx.acquire_upload(fill_holes(z, params.fill_radius)))
-        return self._depth[3]
+            self._depth = (*key, self.reconstruct(view, size, params.fill_radius))
+        return self._depth[4]
 
     def render_texture(self, frame: Frame, params: IbrParams | None = None) -> moderngl.Texture:
         params = self._params(params)

@@ -1,0 +1,65 @@
+"""The first pass on the GPU: the reconstruction mesh drawn into the new view's linear depth
+(shaders/reconstruct.glsl), then its holes filled ring by ring (shaders/fill.glsl). References:
+passes.reference.gbuffer (ray casting the mesh) and :func:`illusio.ibr.renderer.fill_holes`."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..core.context import Context
+from ..core.gl import set_uniform
+from ..scene.camera import View
+from ..scene.mesh import Mesh
+
+__all__ = ["ReconstructPass"]
+
+
+class ReconstructPass:
+    """``load(mesh)`` once per reference set; ``(view, size, fill_radius)`` → R32F depth (pooled)."""
+
+    def __init__(self, ctx: Context):
+        self.ctx = ctx
+        self.program = ctx.program("ibr/shaders/reconstruct.glsl")
+        self.fill_program = ctx.program("ibr/shaders/fill.glsl")
+        self._buffers = None
+
+    def load(self, mesh: Mesh) -> None:
+        self.release()
+        gl = self.ctx.gl
+        vbo = gl.buffer(np.ascontiguousarray(mesh.vertices, np.float32).tobytes())
+        ibo = gl.buffer(np.ascontiguousarray(mesh.faces, np.int32).tobytes())
+        vao = gl.vertex_array(self.program, [(vbo, "3f", "in_position")], ibo)
+        self._buffers = (vbo, ibo, vao)
+
+    def __call__(self, view: View, size: tuple[int, int], fill_radius: int = 0) -> moderngl.Texture:
+        ctx = self.ctx
+        w, h = size
+        depth = ctx.acquire((w, h), 1, "f4")
+        fbo = ctx.framebuffer([depth], depth=True)
+        fbo.use()
+        fbo.viewport = (0, 0, w, h)
+        fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
+        set_uniform(self.program, "view_matrix", view.view_matrix())
+        set_uniform(self.program, "projection_matrix", view.projection_matrix(w / h))
+        ctx.gl.enable(moderngl.DEPTH_TEST)
+        ctx.gl.disable(moderngl.CULL_FACE)
+        self._buffers[2].render(moderngl.TRIANGLES)
+        ctx.gl.disable(moderngl.DEPTH_TEST)
+        for _ in range(max(int(fill_radius), 0)):
+            filled = ctx.acquire((w, h), 1, "f4")
+            target = ctx.framebuffer([filled])
+            target.use()
+            target.viewport = (0, 0, w, h)
+            depth.use(0)
+            set_uniform(self.fill_program, "depth", 0)
+            ctx.fullscreen.draw(self.fill_program)
+            ctx.release(depth)
+            depth = filled
+        return depth
+
+    def release(self) -> None:
+        if self._buffers is not None:
+            for b in self._buffers[::-1]:
+                b.release()
+            self._buffers = None
