@@ -124,3 +124,35 @@ def test_ibr_commands(tmp_path, capsys):
                           (["--distance", "4d"], "distance")):
         code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / "x.png"), *args], capsys)
         assert code == 2 and message in cap.err and cap.err.count("\n") == 1, cap.err
+
+
+def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference(ctx, room, rng):
+    """The first pass: the reconstruction mesh's depth against passes.reference.gbuffer ray-casting
+    the same mesh; hole filling against renderer.fill_holes on a depth with random holes."""
+    from illusio.ibr.reconstruct import ReconstructPass
+    from illusio.ibr.reconstruction import reconstruction_mesh
+    from illusio.ibr.renderer import fill_holes
+    from illusio.passes import reference as passes_reference
+    from illusio.scene.scene import Node, Scene
+
+    scene, refs = room
+    mesh = reconstruction_mesh(refs, step=4)
+    view = orbit_views(scene, 5)[1]
+    size = (48, 36)
+    rp = ReconstructPass(ctx)
+    rp.load(mesh)
+    tex = rp(view, size, 0)
+    got = ctx.readback(tex)[..., 0]
+    ctx.release(tex)
+    want = passes_reference.gbuffer(Scene("m", nodes=[Node("m", mesh)]), view, size).depth
+    want = np.where(np.isfinite(want), want, 0.0)
+    both = (got > 0) & (want > 0)
+    assert both.mean() > 0.8 and ((got > 0) != (want > 0)).mean() < 0.02  # edges may rasterise apart
+    np.testing.assert_allclose(got[both], want[both], rtol=1e-4)
+    holes = rng.uniform(1, 5, (36, 48)).astype(np.float32)
+    holes[rng.random((36, 48)) < 0.3] = 0.0
+    holes[10:20, 10:20] = 0.0  # a hole wider than the radius stays partly open
+    filled = rp.fill(ctx.acquire_upload(holes), 3)
+    np.testing.assert_array_equal(ctx.readback(filled)[..., 0], fill_holes(holes, 3))
+    ctx.release(filled)
+    rp.release()

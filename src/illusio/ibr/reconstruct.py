@@ -46,7 +46,13 @@ class ReconstructPass:
         ctx.gl.disable(moderngl.CULL_FACE)
         self._buffers[2].render(moderngl.TRIANGLES)
         ctx.gl.disable(moderngl.DEPTH_TEST)
-        for _ in range(max(int(fill_radius), 0)):
+        return self.fill(depth, fill_radius)
+
+    def fill(self, depth: moderngl.Texture, radius: int) -> moderngl.Texture:
+        """``depth`` (pooled; released) with holes up to ``radius`` pixels filled: a new pooled texture."""
+        ctx = self.ctx
+        w, h = depth.size
+        for _ in range(max(int(radius), 0)):
             filled = ctx.acquire((w, h), 1, "f4")
             target = ctx.framebuffer([filled])
             target.use()
