@@ -10,7 +10,7 @@ from illusio.core.errors import InputError
 from illusio.core.renderer import Frame
 from illusio.ibr import IbrParams, IbrRenderer, capture, load_references, orbit_views, save_references
 from illusio.ibr import reference
-from illusio.ibr.select import ReferenceTextures, SelectPass
+from illusio.ibr.select import ReferenceArrays, SelectPass
 from illusio.passes.scene_renderer import RenderSettings, SceneRenderer
 from illusio.scene import load_scene
 from tests.conftest import call_cli
@@ -42,16 +42,15 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear):
     g.release()
     depth = depth.astype(np.float32)
     tex = ctx.upload(depth, filter="nearest")
-    textures = [ReferenceTextures(ctx, r) for r in refs.views]
+    arrays = ReferenceArrays(ctx, refs.views)
     max_distance = 0.05 if use_3d else 3.0
-    gbuf = SelectPass(ctx)(tex, view, textures, use_3d, bilinear, max_distance)
+    gbuf = SelectPass(ctx)(tex, view, arrays, use_3d, bilinear, max_distance)
     source = np.rint(ctx.readback(gbuf["object_id"])[..., 0]).astype(int)
     got_depth = ctx.readback(gbuf["depth"])[..., 0]
     got_albedo = ctx.readback(gbuf["colour"])
     gbuf.release()
     tex.release()
-    for t in textures:
-        t.release()
+    arrays.release()
     want = reference.select(depth, view, refs.views, use_3d, bilinear, max_distance)
     agree = source == want["source"]
     assert agree.mean() > 0.99  # ties between references within float precision may go either way

@@ -20,7 +20,7 @@ from .params import IbrParams
 from .reconstruct import ReconstructPass
 from .reconstruction import reconstruction_mesh
 from .references import ReferenceSet
-from .select import ReferenceTextures, SelectPass
+from .select import ReferenceArrays, SelectPass
 
 __all__ = ["IbrRenderer", "render_views", "SOURCE_COLOURS", "source_view", "fill_holes"]
 
@@ -66,7 +66,7 @@ class IbrRenderer(Renderer):
         self.select = SelectPass(ctx)
         self.shading = ShadingPass(ctx)
         self.refs: ReferenceSet | None = None
-        self._textures: list[ReferenceTextures] = []
+        self._arrays: ReferenceArrays | None = None
         self._mesh_key = None
         self._depth: tuple | None = None  # (view, size, mesh key, texture): the first pass's result
 
@@ -74,13 +74,13 @@ class IbrRenderer(Renderer):
         if not isinstance(refs, ReferenceSet):
             raise InputError(f"IbrRenderer draws a ReferenceSet, got {type(refs).__name__}")
         self.refs = refs
-        self._textures = [ReferenceTextures(self.ctx, r) for r in refs.views]
+        self._arrays = ReferenceArrays(self.ctx, refs.views)
 
     def _unload(self) -> None:
         super()._unload()
-        for t in self._textures:
-            t.release()
-        self._textures = []
+        if self._arrays is not None:
+            self._arrays.release()
+            self._arrays = None
         self._drop_depth()
         self.reconstruct.release()
         self._mesh_key = None
@@ -110,7 +110,7 @@ class IbrRenderer(Renderer):
         self._require_subject()
         view = frame.view or self.refs.views[0].view
         depth = self.reconstructed_depth(view, frame.size, params)
-        gbuffer = self.select(depth, view, self._textures, params.distance == "3d", params.bilinear_depth,
+        gbuffer = self.select(depth, view, self._arrays, params.distance == "3d", params.bilinear_depth,
                               params.max_distance)
         lights = [replace(light, position=tuple(np.asarray(light.position) + params.light_offset))
                   if hasattr(light, "position") else replace(light, centre=tuple(np.asarray(light.centre) + params.light_offset))

@@ -1,6 +1,7 @@
 """The second pass (shaders/select.glsl): one full-screen draw per reference view, the depth test
 keeping per pixel the reference whose back-projected point is nearest ours — the text's multi-pass
-algorithm, which takes any number of views. NumPy reference: :func:`illusio.ibr.reference.select`."""
+algorithm, which takes any number of views (up to 16 here) — then one draw fetching the chosen
+reference's attributes into a G-buffer. NumPy reference: :func:`illusio.ibr.reference.select`."""
 
 from __future__ import annotations
 
@@ -8,11 +9,14 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
+from ..core.errors import InputError
 from ..core.gl import set_uniform
 from ..passes.gbuffer import LAYOUT, GBuffer
 from ..scene.camera import View
 
-__all__ = ["SelectPass", "ReferenceTextures", "projection_terms"]
+__all__ = ["SelectPass", "ReferenceArrays", "projection_terms", "MAX_REFERENCES"]
+
+MAX_REFERENCES = 16
 
 
 def projection_terms(view: View, size) -> tuple[float, float, float, float]:
@@ -21,16 +25,36 @@ def projection_terms(view: View, size) -> tuple[float, float, float, float]:
     return float(p[0, 0]), float(p[0, 2]), float(p[1, 1]), float(p[1, 2])
 
 
-class ReferenceTextures:
-    """One reference view on the GPU (albedo, normal, emission, depth)."""
+class ReferenceArrays:
+    """The reference views on the GPU, one texture array per attribute (a layer per view)."""
 
-    def __init__(self, ctx: Context, ref):
-        self.view = ref.view
-        self.size = ref.size
-        self.albedo = ctx.upload(ref.albedo, filter="nearest")
-        self.normal = ctx.upload(ref.normal, filter="nearest")
-        self.emission = ctx.upload(ref.emission, filter="nearest")
-        self.depth = ctx.upload(ref.depth, filter="nearest")
+    def __init__(self, ctx: Context, views):
+        if not 1 <= len(views) <= MAX_REFERENCES:
+            raise InputError(f"image-based rendering takes 1..{MAX_REFERENCES} reference views, got {len(views)}")
+        self.views = [v.view for v in views]
+        self.size = views[0].size
+        w, h = self.size
+
+        def array(name, components):
+            data = np.stack([np.asarray(getattr(v, name), np.float32).reshape(h, w, -1)[::-1, :, :components]
+                             for v in views])
+            tex = ctx.gl.texture_array((w, h, len(views)), components, np.ascontiguousarray(data).tobytes(), dtype="f4")
+            tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            return tex
+
+        self.albedo, self.normal = array("albedo", 4), array("normal", 4)
+        self.emission, self.depth = array("emission", 3), array("depth", 1)
+
+    def bind(self, program, first_unit: int = 1) -> None:
+        for unit, (name, tex) in enumerate((("ref_albedo", self.albedo), ("ref_normal", self.normal),
+                                            ("ref_emission", self.emission), ("ref_depth", self.depth)), start=first_unit):
+            tex.use(unit)
+            set_uniform(program, name, unit)
+        count = len(self.views)
+        inverse = np.stack([np.linalg.inv(v.view_matrix().astype(np.float64)).T for v in self.views]).astype(np.float32)
+        program["ref_inverse_view"].write(np.pad(inverse, ((0, MAX_REFERENCES - count), (0, 0), (0, 0))).tobytes())
+        terms = np.array([projection_terms(v, self.size) for v in self.views], np.float32)
+        program["ref_projection"].write(np.pad(terms, ((0, MAX_REFERENCES - count), (0, 0))).tobytes())
 
     def release(self) -> None:
         for t in (self.albedo, self.normal, self.emission, self.depth):
@@ -44,40 +68,45 @@ class SelectPass:
     def __init__(self, ctx: Context):
         self.ctx = ctx
         self.program = ctx.program("ibr/shaders/select.glsl")
+        self.resolve = ctx.program("ibr/shaders/select.glsl", RESOLVE=1)
 
-    def __call__(self, reconstructed: moderngl.Texture, view: View, references: list[ReferenceTextures],
+    def __call__(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
                  use_3d: bool = False, bilinear: bool = True, max_distance: float = 3.0) -> GBuffer:
         ctx = self.ctx
         w, h = reconstructed.size
-        textures = {name: ctx.acquire((w, h), comps, dtype) for name, comps, dtype in LAYOUT}
-        fbo = ctx.framebuffer(list(textures.values()), depth=True)
+        hits = ctx.acquire((w, h), 4, "f4")
+        fbo = ctx.framebuffer([hits], depth=True)
         fbo.use()
         fbo.viewport = (0, 0, w, h)
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
         prog = self.program
         reconstructed.use(0)
         set_uniform(prog, "reconstructed", 0)
+        references.bind(prog)
         set_uniform(prog, "new_inverse_view", np.linalg.inv(view.view_matrix().astype(np.float64)).astype(np.float32))
-        set_uniform(prog, "new_view", view.view_matrix())
         set_uniform(prog, "new_view_projection", view.view_projection((w, h)))
         set_uniform(prog, "new_projection", projection_terms(view, (w, h)))
+        set_uniform(prog, "new_eye", tuple(float(v) for v in view.pose.position))
         set_uniform(prog, "use_3d", bool(use_3d))
         set_uniform(prog, "bilinear", bool(bilinear))
         set_uniform(prog, "max_distance", float(max_distance))
-        set_uniform(prog, "new_eye", tuple(float(v) for v in view.pose.position))
         ctx.gl.enable(moderngl.DEPTH_TEST)
         ctx.gl.depth_func = "<"
         try:
-            for index, ref in enumerate(references):
-                for unit, (name, tex) in enumerate((("ref_albedo", ref.albedo), ("ref_normal", ref.normal),
-                                                    ("ref_emission", ref.emission), ("ref_depth", ref.depth)), start=1):
-                    tex.use(unit)
-                    set_uniform(prog, name, unit)
-                set_uniform(prog, "ref_view_projection", ref.view.view_projection(ref.size))
-                set_uniform(prog, "ref_inverse_view", np.linalg.inv(ref.view.view_matrix().astype(np.float64)).astype(np.float32))
-                set_uniform(prog, "ref_projection", projection_terms(ref.view, ref.size))
-                set_uniform(prog, "source", float(index + 1))
+            for index, ref_view in enumerate(references.views):
+                set_uniform(prog, "ref_view_projection", ref_view.view_projection(references.size))
+                set_uniform(prog, "layer", index)
                 ctx.fullscreen.draw(prog)
         finally:
             ctx.gl.disable(moderngl.DEPTH_TEST)
+        textures = {name: ctx.acquire((w, h), comps, dtype) for name, comps, dtype in LAYOUT}
+        out = ctx.framebuffer(list(textures.values()))
+        out.use()
+        out.viewport = (0, 0, w, h)
+        hits.use(0)
+        set_uniform(self.resolve, "hits", 0)
+        references.bind(self.resolve)
+        set_uniform(self.resolve, "new_view", view.view_matrix())
+        ctx.fullscreen.draw(self.resolve)
+        ctx.release(hits)
         return GBuffer(ctx, textures, (w, h))

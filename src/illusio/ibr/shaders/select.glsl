@@ -1,42 +1,30 @@
 #version 430
-// The second pass (section 4.2.3.2), one reference view per draw: each pixel of the new view, at the
-// reconstructed depth, is back-projected into the reference; the reference's own depth there
-// (bilinear over the four texels around it, the fix of Figure 4.4, or the nearest) gives the point
-// the reference saw; its distance to ours — in pixels on the new image plane ("2d") or in metres
-// ("3d") — goes to gl_FragDepth, so with the depth test LESS over all the draws each pixel keeps
-// the reference that sees its point best. Outputs the G-buffer layout (albedo + k_s, corrected
-// linear depth, normal + exponent, world position, source view index + 1, emission). A reference
-// whose stored normal faces away from the new eye saw the other side of a thin surface: skipped.
-// Where the four texels around the point lie on one surface (within 1 % in depth), the attributes
-// are interpolated bilinearly too (no resampling aliasing of textures); else the nearest texel.
-// NumPy reference: ibr.reference.select.
+// The second pass (section 4.2.3.2), in two steps. SELECT, one full-screen draw per reference view:
+// each pixel of the new view, at the reconstructed depth, is back-projected into the reference; the
+// reference's own depth there (bilinear over the four texels around it, the fix of Figure 4.4, or
+// the nearest) gives the point the reference saw; its distance to ours — in pixels on the new image
+// plane ("2d") or in metres ("3d") — goes to gl_FragDepth, so with the depth test LESS over all the
+// draws each pixel keeps the reference that sees its point best; the draw writes (uv, depth read,
+// reference index + 1). A reference whose stored normal faces away from the new eye saw the other
+// side of a thin surface: skipped. RESOLVE (RESOLVE=1), once: the chosen reference's attributes at
+// that point into the G-buffer layout (albedo + k_s, corrected linear depth, normal + exponent, world
+// position, source index + 1, emission) — bilinear where the four texels around the point lie on one
+// surface (depths within 1 %), else the nearest texel. NumPy reference: ibr.reference.select.
 #include "common/fullscreen.glsl"
+#define MAX_REFERENCES 16
+
+#ifndef RESOLVE
+#define RESOLVE 0
+#endif
 
 #if defined(FRAGMENT_SHADER)
-uniform sampler2D reconstructed;   // new view's linear depth, 0 = nothing
-uniform sampler2D ref_albedo;
-uniform sampler2D ref_normal;
-uniform sampler2D ref_emission;
-uniform sampler2D ref_depth;       // metres, 0 = nothing
-uniform mat4 new_inverse_view;
-uniform vec4 new_projection;       // p00, p02, p11, p12 of the new camera's projection
-uniform mat4 new_view_projection;
+uniform sampler2DArray ref_albedo;
+uniform sampler2DArray ref_normal;
+uniform sampler2DArray ref_emission;
+uniform sampler2DArray ref_depth;       // metres, 0 = nothing
+uniform mat4 ref_inverse_view[MAX_REFERENCES];
+uniform vec4 ref_projection[MAX_REFERENCES];  // p00, p02, p11, p12
 uniform mat4 new_view;
-uniform mat4 ref_view_projection;
-uniform mat4 ref_inverse_view;
-uniform vec4 ref_projection;
-uniform bool use_3d;
-uniform bool bilinear;
-uniform float max_distance;
-uniform float source;              // reference index + 1
-uniform vec3 new_eye;
-
-layout(location = 0) out vec4 out_colour;
-layout(location = 1) out float out_depth;
-layout(location = 2) out vec4 out_normal;
-layout(location = 3) out vec4 out_position;
-layout(location = 4) out float out_id;
-layout(location = 5) out vec4 out_emission;
 
 vec3 unproject(vec2 pixel, vec2 size, float z, vec4 proj, mat4 inverse_view) {
     // pixel: from the top-left corner, centres at +0.5; z: metres along the view axis
@@ -45,10 +33,25 @@ vec3 unproject(vec2 pixel, vec2 size, float z, vec4 proj, mat4 inverse_view) {
     return (inverse_view * vec4(camera, 1.0)).xyz;
 }
 
-vec4 bilerp(sampler2D s, ivec2 t0, ivec2 t1, vec2 f) {
-    return mix(mix(texelFetch(s, t0, 0), texelFetch(s, ivec2(t1.x, t0.y), 0), f.x),
-               mix(texelFetch(s, ivec2(t0.x, t1.y), 0), texelFetch(s, t1, 0), f.x), f.y);
+vec4 fetch(sampler2DArray s, ivec2 t, int k) { return texelFetch(s, ivec3(t, k), 0); }
+
+vec4 bilerp(sampler2DArray s, ivec2 t0, ivec2 t1, vec2 f, int k) {
+    return mix(mix(fetch(s, t0, k), fetch(s, ivec2(t1.x, t0.y), k), f.x),
+               mix(fetch(s, ivec2(t0.x, t1.y), k), fetch(s, t1, k), f.x), f.y);
 }
+
+#if !RESOLVE
+uniform sampler2D reconstructed;        // new view's linear depth, 0 = nothing
+uniform mat4 new_inverse_view;
+uniform vec4 new_projection;
+uniform mat4 new_view_projection;
+uniform vec3 new_eye;
+uniform mat4 ref_view_projection;
+uniform int layer;                      // the reference of this draw
+uniform bool use_3d;
+uniform bool bilinear;
+uniform float max_distance;
+out vec4 hit;                           // uv in the reference, its depth there, reference index + 1
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
@@ -57,32 +60,28 @@ void main() {
     if (z <= 0.0) discard;
     vec2 pixel = vec2(gl_FragCoord.x, size.y - gl_FragCoord.y);   // top-left origin, centre
     vec3 point = unproject(pixel, size, z, new_projection, new_inverse_view);
-
     vec4 clip = ref_view_projection * vec4(point, 1.0);
     if (clip.w <= 0.0) discard;
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) discard;
-    ivec2 ref_size = textureSize(ref_depth, 0);
+    ivec2 ref_size = textureSize(ref_depth, 0).xy;
     vec2 t = uv * vec2(ref_size) - 0.5;                           // GL texel coordinates
     ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
-    float d = texelFetch(ref_depth, nearest, 0).r;
-    ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
-    ivec2 t1 = min(t0 + 1, ref_size - 1);
-    vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
-    float d00 = texelFetch(ref_depth, t0, 0).r, d10 = texelFetch(ref_depth, ivec2(t1.x, t0.y), 0).r;
-    float d01 = texelFetch(ref_depth, ivec2(t0.x, t1.y), 0).r, d11 = texelFetch(ref_depth, t1, 0).r;
-    float lo = min(min(d00, d10), min(d01, d11)), hi = max(max(d00, d10), max(d01, d11));
-    // the four texels on one surface (no depth edge between them): attributes are interpolated too
-    bool on_one_surface = lo > 0.0 && hi <= lo * 1.01;
-    if (bilinear && lo > 0.0) {
-        d = mix(mix(d00, d10, f.x), mix(d01, d11, f.x), f.y);
+    float d = fetch(ref_depth, nearest, layer).r;
+    if (bilinear) {
+        ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
+        ivec2 t1 = min(t0 + 1, ref_size - 1);
+        vec4 c = vec4(fetch(ref_depth, t0, layer).r, fetch(ref_depth, ivec2(t1.x, t0.y), layer).r,
+                      fetch(ref_depth, ivec2(t0.x, t1.y), layer).r, fetch(ref_depth, t1, layer).r);
+        if (min(min(c.x, c.y), min(c.z, c.w)) > 0.0) {
+            vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
+            d = mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
+        }
     }
     if (d <= 0.0) discard;
     vec2 ref_pixel = vec2(uv.x * float(ref_size.x), (1.0 - uv.y) * float(ref_size.y));
-    vec3 seen = unproject(ref_pixel, vec2(ref_size), d, ref_projection, ref_inverse_view);
-    vec4 normal = on_one_surface ? bilerp(ref_normal, t0, t1, f) : texelFetch(ref_normal, nearest, 0);
-    if (dot(normal.xyz, new_eye - seen) <= 0.0) discard;  // the reference saw the other side
-
+    vec3 seen = unproject(ref_pixel, vec2(ref_size), d, ref_projection[layer], ref_inverse_view[layer]);
+    if (dot(fetch(ref_normal, nearest, layer).xyz, new_eye - seen) <= 0.0) discard;  // the other side
     float distance;
     if (use_3d) {
         distance = length(seen - point);
@@ -94,12 +93,43 @@ void main() {
     }
     if (distance > max_distance) discard;
     gl_FragDepth = distance / max_distance * 0.999;
-
-    out_colour = on_one_surface ? bilerp(ref_albedo, t0, t1, f) : texelFetch(ref_albedo, nearest, 0);
-    out_depth = -(new_view * vec4(seen, 1.0)).z;
-    out_normal = normal;
-    out_position = vec4(seen, 1.0);
-    out_id = source;
-    out_emission = vec4((on_one_surface ? bilerp(ref_emission, t0, t1, f) : texelFetch(ref_emission, nearest, 0)).rgb, 1.0);
+    hit = vec4(uv, d, float(layer + 1));
 }
+#else
+uniform sampler2D hits;
+layout(location = 0) out vec4 out_colour;
+layout(location = 1) out float out_depth;
+layout(location = 2) out vec4 out_normal;
+layout(location = 3) out vec4 out_position;
+layout(location = 4) out float out_id;
+layout(location = 5) out vec4 out_emission;
+
+void main() {
+    vec4 h = texelFetch(hits, ivec2(gl_FragCoord.xy), 0);
+    int k = int(h.w + 0.5) - 1;
+    if (k < 0) {  // a hole: nothing, as the G-buffer's background
+        out_colour = vec4(0.0); out_depth = 0.0; out_normal = vec4(0.0); out_position = vec4(0.0);
+        out_id = 0.0; out_emission = vec4(0.0);
+        return;
+    }
+    ivec2 ref_size = textureSize(ref_depth, 0).xy;
+    vec2 t = h.xy * vec2(ref_size) - 0.5;
+    ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
+    ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
+    ivec2 t1 = min(t0 + 1, ref_size - 1);
+    vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
+    vec4 c = vec4(fetch(ref_depth, t0, k).r, fetch(ref_depth, ivec2(t1.x, t0.y), k).r,
+                  fetch(ref_depth, ivec2(t0.x, t1.y), k).r, fetch(ref_depth, t1, k).r);
+    float lo = min(min(c.x, c.y), min(c.z, c.w)), hi = max(max(c.x, c.y), max(c.z, c.w));
+    bool on_one_surface = lo > 0.0 && hi <= lo * 1.01;
+    vec2 ref_pixel = vec2(h.x * float(ref_size.x), (1.0 - h.y) * float(ref_size.y));
+    vec3 seen = unproject(ref_pixel, vec2(ref_size), h.z, ref_projection[k], ref_inverse_view[k]);
+    out_colour = on_one_surface ? bilerp(ref_albedo, t0, t1, f, k) : fetch(ref_albedo, nearest, k);
+    out_normal = on_one_surface ? bilerp(ref_normal, t0, t1, f, k) : fetch(ref_normal, nearest, k);
+    out_emission = vec4((on_one_surface ? bilerp(ref_emission, t0, t1, f, k) : fetch(ref_emission, nearest, k)).rgb, 1.0);
+    out_depth = -(new_view * vec4(seen, 1.0)).z;
+    out_position = vec4(seen, 1.0);
+    out_id = h.w;
+}
+#endif
 #endif
