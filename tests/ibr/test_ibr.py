@@ -155,3 +155,43 @@ def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference
     np.testing.assert_array_equal(ctx.readback(filled)[..., 0], fill_holes(holes, 3))
     ctx.release(filled)
     rp.release()
+
+
+def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ctx, tmp_path, capsys):
+    """Path-traced references: depth along the view axis, normals and albedo agree with our
+    G-buffer away from edges; drawn at a reference's own view, the photographic output is the
+    photograph; the command captures them."""
+    pytest.importorskip("mitsuba", reason="the photo extra (pip install mitsuba)")
+    from scipy import ndimage
+
+    from illusio.ibr.mitsuba import capture_mitsuba
+    from illusio.scene.builtin import shape, turntable
+
+    scene = turntable(shape("sphere"))
+    views = orbit_views(scene, 2, 0.5)
+    size = (64, 48)
+    raster = capture(scene, views, size, ctx)
+    photo = capture_mitsuba(scene, views, size, samples=8)
+    r, p = raster.views[0], photo.views[0]
+    depth = r.depth
+    interior = ndimage.minimum_filter(depth, 3) > 0.9 * ndimage.maximum_filter(depth, 3)  # no silhouette inside
+    assert interior.mean() > 0.5
+    relative = np.abs(p.depth[interior] / depth[interior] - 1)
+    assert np.median(relative) < 0.002 and relative.max() < 0.02  # a pixel's mean depth vs its centre's
+    assert np.median(np.abs(p.normal[..., :3] - r.normal[..., :3])[interior]) < 0.05
+    # the sphere is plain; the floor is textured, and Mitsuba gets the texture's mean colour
+    subject = interior & np.all(np.abs(r.albedo[..., :3] - scene.nodes[1].material.colour) < 0.01, axis=-1)
+    assert subject.sum() > 0.2 * interior.sum()
+    assert np.median(np.abs(p.albedo[..., :3] - r.albedo[..., :3])[subject]) < 0.01
+    floor = interior & ~subject
+    np.testing.assert_allclose(p.albedo[floor][:, :3].mean(0), r.albedo[floor][:, :3].mean(0), atol=0.05)
+    renderer = IbrRenderer(ctx)
+    renderer.prepare(photo)
+    again = renderer.render(Frame(p.view, size), IbrParams(relight=False))
+    assert np.abs(again - np.clip(p.colour, 0, 1))[interior].mean() < 0.01
+    renderer.release()
+    code, cap = call_cli(["ibr", "capture", "sphere", "-o", str(tmp_path / "photo"), "--views", "2", "--size", "32x24",
+                          "--renderer", "mitsuba", "--samples", "4"], capsys)
+    assert code == 0, cap.err
+    code, cap = call_cli(["ibr", "render", str(tmp_path / "photo"), "-o", str(tmp_path / "p.png"), "--photographic"], capsys)
+    assert code == 0 and (tmp_path / "p.png").exists(), cap.err

@@ -24,15 +24,27 @@ def capture_command(
     views: int = typer.Option(3, "--views", help="reference cameras along the main camera's right"),
     baseline: float = typer.Option(1.2, "--baseline", help="metres the reference eyes span"),
     size: str = typer.Option("512x384", "--size", help="WIDTHxHEIGHT of each reference"),
+    renderer: str = typer.Option("raster", "--renderer", help="raster (our G-buffer) or mitsuba (path-traced photographs)"),
+    samples: int = typer.Option(64, "--samples", help="paths a pixel with --renderer mitsuba"),
 ) -> None:
-    """Capture reference views of SCENE (G-buffer: albedo, normal, emission, depth, camera)."""
+    """Capture reference views of SCENE (albedo, normal, emission, depth, the recorded colour, camera)."""
     from ..core.context import Context
     from ..ibr.references import capture, orbit_views, save_references
 
-    if not 1 <= views <= 64:
-        raise InputError(f"--views must be in 1..64, got {views}")
+    if not 1 <= views <= 16:
+        raise InputError(f"--views must be in 1..16, got {views}")
+    if renderer not in ("raster", "mitsuba"):
+        raise InputError(f"--renderer must be raster or mitsuba, got {renderer!r}")
+    if not 1 <= samples <= 65536:
+        raise InputError(f"--samples must be in 1..65536, got {samples}")
     sc = resolve_scene(scene)
-    refs = capture(sc, orbit_views(sc, views, baseline), parse_size(size), Context())
+    cameras = orbit_views(sc, views, baseline)
+    if renderer == "mitsuba":
+        from ..ibr.mitsuba import capture_mitsuba
+
+        refs = capture_mitsuba(sc, cameras, parse_size(size), samples)
+    else:
+        refs = capture(sc, cameras, parse_size(size), Context())
     save_references(refs, output)
     typer.echo(f"wrote {output} ({views} reference views)")
 
@@ -69,6 +81,7 @@ def render_command(
     camera: str = typer.Option("between:0,1", "--camera", help="ref:K, between:I,J[,T] or x,y,z:x,y,z"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT (default: the references')"),
     show_sources: bool = typer.Option(_DEFAULT.show_sources, "--show-sources", help="colour by source view, holes magenta"),
+    photographic: bool = typer.Option(not _DEFAULT.relight, "--photographic", help="the references' recorded colour, not re-lit"),
     distance: str = typer.Option(_DEFAULT.distance, "--distance", help="2d (pixels on the new image) or 3d (metres)"),
     nearest_depth: bool = typer.Option(not _DEFAULT.bilinear_depth, "--nearest-depth", help="nearest reference depth instead of bilinear"),
     light: str = typer.Option(None, "--light", help="move every light by DX,DY,DZ metres"),
@@ -99,6 +112,7 @@ def render_command(
             except (ValueError, AssertionError):
                 raise InputError(f"--light must be DX,DY,DZ in metres, got {light!r}") from None
         params = replace(_DEFAULT, show_sources=show_sources, distance=distance, bilinear_depth=not nearest_depth,
+                         relight=not photographic,
                          light_x=offset[0], light_y=offset[1], light_z=offset[2])
         renderer = IbrRenderer(ctx)
         renderer.prepare(refs)

@@ -24,7 +24,9 @@ class IbrParams:
     angle from its normal is left out (it would bridge an occlusion edge). fill_radius: holes of the
     reconstructed depth up to this many pixels wide take the farthest depth around them (where a cut
     triangle let the surface behind show). show_sources: colour each pixel by the
-    reference it came from (Figure 4.5), holes in magenta. light_x, light_y, light_z: every light of
+    reference it came from (Figure 4.5), holes in magenta. relight: shade from the stored albedo and
+    normals with the set's lights; off: show the chosen reference's recorded colour (a path-traced
+    "photograph" keeps its indirect light). light_x, light_y, light_z: every light of
     the set moved by this many metres (the new view is lit again from the stored normals; the
     viewer's panel drags them live). settings: exposure."""
 
@@ -35,6 +37,7 @@ class IbrParams:
     grazing: float = param(85.0, range=(1.0, 90.0), unit="°", help="mesh triangles seen more obliquely are cut")
     fill_radius: int = param(4, range=(0, 64), step=1, unit="px", help="holes of the reconstructed depth this wide are filled")
     show_sources: bool = param(False, label="show source views")
+    relight: bool = param(True, help="light from the stored normals; off: the references' recorded colour")
     light_x: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights x")
     light_y: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights y")
     light_z: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights z")

@@ -18,7 +18,7 @@ from ..core.context import Context
 from ..core.errors import InputError
 from ..core.images import atomic_output
 from ..core.renderer import Frame
-from ..passes.scene_renderer import SceneRenderer
+from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.camera import Camera, Pose, View
 from ..scene.scene import AreaLight, PointLight, Scene
 
@@ -28,14 +28,16 @@ __all__ = ["ReferenceView", "ReferenceSet", "capture", "save_references", "load_
 @dataclass(eq=False)
 class ReferenceView:
     """albedo (H, W, 4): albedo rgb and specular k_s; normal (H, W, 4): world normal and Phong
-    exponent; emission (H, W, 3); depth (H, W): metres along the view axis, 0 where nothing is.
-    Row 0 at the top."""
+    exponent; emission (H, W, 3); depth (H, W): metres along the view axis, 0 where nothing is;
+    colour (H, W, 3), optional: the image as the camera recorded it (rasterised, or path-traced by
+    Mitsuba), for the photographic output. Row 0 at the top."""
 
     view: View
     albedo: np.ndarray
     normal: np.ndarray
     emission: np.ndarray
     depth: np.ndarray
+    colour: np.ndarray | None = None  # what the camera recorded (the lit image, a photograph): optional
 
     def __post_init__(self):
         h, w = np.shape(self.depth)[:2]
@@ -47,6 +49,11 @@ class ReferenceView:
             if a.shape != (h, w, c):
                 raise InputError(f"reference {name} is {a.shape[1]}×{a.shape[0]}, its depth {w}×{h}")
             setattr(self, name, a)
+        if self.colour is not None:
+            c = np.asarray(self.colour, np.float32)[..., :3]
+            if c.shape != (h, w, 3) or not np.isfinite(c).all():
+                raise InputError(f"reference colour must be finite and {w}×{h}×3, got {np.shape(self.colour)}")
+            self.colour = c
         d = np.asarray(self.depth, np.float32)
         if not np.isfinite(d).all() or (d < 0).any():
             raise InputError("a reference depth holds non-finite or negative values (0 means nothing there)")
@@ -84,7 +91,7 @@ def orbit_views(scene: Scene, count: int, baseline: float = 1.2) -> list[View]:
 
 
 def capture(scene: Scene, views: list[View], size: tuple[int, int], ctx: Context) -> ReferenceSet:
-    """Reference views of ``scene`` from ``views``: its G-buffer at ``size``."""
+    """Reference views of ``scene`` from ``views``: its G-buffer at ``size``, and the lit image."""
     renderer = SceneRenderer(ctx)
     renderer.prepare(scene)
     refs = []
@@ -93,8 +100,9 @@ def capture(scene: Scene, views: list[View], size: tuple[int, int], ctx: Context
         images = {k: ctx.readback(t) for k, t in g.textures.items()}
         g.release()
         hit = images["object_id"][..., 0] > 0.5
+        lit = renderer.render(Frame(view, size), RenderSettings(shadows=False))
         refs.append(ReferenceView(view, images["colour"], images["normal"], images["emission"][..., :3],
-                                  np.where(hit, images["depth"][..., 0], 0.0)))
+                                  np.where(hit, images["depth"][..., 0], 0.0), lit))
     renderer.release()
     return ReferenceSet(refs, list(scene.lights), tuple(scene.ambient), tuple(scene.background))
 
@@ -127,7 +135,8 @@ def save_references(refs: ReferenceSet, folder: str | os.PathLike) -> Path:
         name = f"view-{k}.npz"
         with atomic_output(out / name) as tmp:
             with open(tmp, "wb") as f:
-                np.savez_compressed(f, albedo=v.albedo, normal=v.normal, emission=v.emission, depth=v.depth)
+                extra = {"colour": v.colour} if v.colour is not None else {}
+                np.savez_compressed(f, albedo=v.albedo, normal=v.normal, emission=v.emission, depth=v.depth, **extra)
         entries.append({"file": name, "camera": _camera_dict(v.view)})
     doc = {"views": entries, "lights": [_light_dict(light) for light in refs.lights],
            "ambient": list(refs.ambient), "background": list(refs.background)}
@@ -166,6 +175,7 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
                 depth = data["depth"]
                 arrays = {name: data[name] for name in ("albedo", "normal") if name in data}
                 emission = data["emission"] if "emission" in data else np.zeros(depth.shape + (3,), np.float32)
+                colour = data["colour"] if "colour" in data else None
         except FileNotFoundError:
             raise InputError(f"{where}: {path.name} is missing") from None
         except (KeyError, ValueError, OSError) as exc:
@@ -173,7 +183,7 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
         if set(arrays) != {"albedo", "normal"}:
             raise InputError(f"{where}: {path.name} needs depth, albedo and normal arrays")
         try:
-            views.append(ReferenceView(view, arrays["albedo"], arrays["normal"], emission, depth))
+            views.append(ReferenceView(view, arrays["albedo"], arrays["normal"], emission, depth, colour))
         except InputError as exc:
             raise InputError(f"{where}: {exc}") from None
     if not views:

@@ -111,12 +111,13 @@ class IbrRenderer(Renderer):
         view = frame.view or self.refs.views[0].view
         depth = self.reconstructed_depth(view, frame.size, params)
         gbuffer = self.select(depth, view, self._arrays, params.distance == "3d", params.bilinear_depth,
-                              params.max_distance)
+                              params.max_distance, not params.relight)
         lights = [replace(light, position=tuple(np.asarray(light.position) + params.light_offset))
                   if hasattr(light, "position") else replace(light, centre=tuple(np.asarray(light.centre) + params.light_offset))
                   for light in self.refs.lights]
-        emitters = emitters_from_lights(lights, False, MAX_EMITTERS)
-        shading = ShadingParams(self.refs.ambient, self.refs.background, params.settings.exposure)
+        emitters = emitters_from_lights(lights if params.relight else [], False, MAX_EMITTERS)
+        ambient = self.refs.ambient if params.relight else (0.0, 0.0, 0.0)
+        shading = ShadingParams(ambient, self.refs.background, params.settings.exposure)
         out = self.shading(gbuffer, emitters, view.pose.position, shading)
         self._keep_maps({"depth": depth, "source": gbuffer["object_id"],
                          **{k: v for k, v in gbuffer.textures.items() if k != "object_id"}})

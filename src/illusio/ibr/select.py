@@ -29,6 +29,7 @@ class ReferenceArrays:
     """The reference views on the GPU, one texture array per attribute (a layer per view)."""
 
     def __init__(self, ctx: Context, views):
+        # (a recorded colour array, "colour", when every view has one; else the emission array stands in)
         if not 1 <= len(views) <= MAX_REFERENCES:
             raise InputError(f"image-based rendering takes 1..{MAX_REFERENCES} reference views, got {len(views)}")
         self.views = [v.view for v in views]
@@ -44,10 +45,13 @@ class ReferenceArrays:
 
         self.albedo, self.normal = array("albedo", 4), array("normal", 4)
         self.emission, self.depth = array("emission", 3), array("depth", 1)
+        self.has_colour = all(v.colour is not None for v in views)
+        self.colour = array("colour", 3) if self.has_colour else self.emission
 
     def bind(self, program, first_unit: int = 1) -> None:
         for unit, (name, tex) in enumerate((("ref_albedo", self.albedo), ("ref_normal", self.normal),
-                                            ("ref_emission", self.emission), ("ref_depth", self.depth)), start=first_unit):
+                                            ("ref_emission", self.emission), ("ref_depth", self.depth),
+                                            ("ref_colour", self.colour)), start=first_unit):
             tex.use(unit)
             set_uniform(program, name, unit)
         count = len(self.views)
@@ -57,7 +61,7 @@ class ReferenceArrays:
         program["ref_projection"].write(np.pad(terms, ((0, MAX_REFERENCES - count), (0, 0))).tobytes())
 
     def release(self) -> None:
-        for t in (self.albedo, self.normal, self.emission, self.depth):
+        for t in {self.albedo, self.normal, self.emission, self.depth, self.colour}:
             t.release()
 
 
@@ -71,7 +75,12 @@ class SelectPass:
         self.resolve = ctx.program("ibr/shaders/select.glsl", RESOLVE=1)
 
     def __call__(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
-                 use_3d: bool = False, bilinear: bool = True, max_distance: float = 3.0) -> GBuffer:
+                 use_3d: bool = False, bilinear: bool = True, max_distance: float = 3.0,
+                 photographic: bool = False) -> GBuffer:
+        """``photographic``: the G-buffer carries the references' recorded colour as emission (and no
+        albedo), so shading shows it as it was recorded."""
+        if photographic and not references.has_colour:
+            raise InputError("these references hold no recorded colour: relight them (IbrParams.relight)")
         ctx = self.ctx
         w, h = reconstructed.size
         hits = ctx.acquire((w, h), 4, "f4")
@@ -107,6 +116,7 @@ class SelectPass:
         set_uniform(self.resolve, "hits", 0)
         references.bind(self.resolve)
         set_uniform(self.resolve, "new_view", view.view_matrix())
+        set_uniform(self.resolve, "photographic", bool(photographic))
         ctx.fullscreen.draw(self.resolve)
         ctx.release(hits)
         return GBuffer(ctx, textures, (w, h))

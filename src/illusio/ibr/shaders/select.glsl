@@ -22,6 +22,7 @@ uniform sampler2DArray ref_albedo;
 uniform sampler2DArray ref_normal;
 uniform sampler2DArray ref_emission;
 uniform sampler2DArray ref_depth;       // metres, 0 = nothing
+uniform sampler2DArray ref_colour;      // the recorded image (photographic output)
 uniform mat4 ref_inverse_view[MAX_REFERENCES];
 uniform vec4 ref_projection[MAX_REFERENCES];  // p00, p02, p11, p12
 uniform mat4 new_view;
@@ -97,6 +98,7 @@ void main() {
 }
 #else
 uniform sampler2D hits;
+uniform bool photographic;             // the recorded colour as emission, no albedo
 layout(location = 0) out vec4 out_colour;
 layout(location = 1) out float out_depth;
 layout(location = 2) out vec4 out_normal;
@@ -127,6 +129,10 @@ void main() {
     out_colour = on_one_surface ? bilerp(ref_albedo, t0, t1, f, k) : fetch(ref_albedo, nearest, k);
     out_normal = on_one_surface ? bilerp(ref_normal, t0, t1, f, k) : fetch(ref_normal, nearest, k);
     out_emission = vec4((on_one_surface ? bilerp(ref_emission, t0, t1, f, k) : fetch(ref_emission, nearest, k)).rgb, 1.0);
+    if (photographic) {
+        out_emission = vec4((on_one_surface ? bilerp(ref_colour, t0, t1, f, k) : fetch(ref_colour, nearest, k)).rgb, 1.0);
+        out_colour = vec4(0.0);
+    }
     out_depth = -(new_view * vec4(seen, 1.0)).z;
     out_position = vec4(seen, 1.0);
     out_id = h.w;
