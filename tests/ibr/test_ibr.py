@@ -165,7 +165,7 @@ def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ct
     from scipy import ndimage
 
     from illusio.ibr.mitsuba import capture_mitsuba
-    from illusio.scene.builtin import shape, turntable
+    from illusio.scene.builtin import builtin_scene, shape, turntable
 
     scene = turntable(shape("sphere"))
     views = orbit_views(scene, 2, 0.5)
@@ -185,6 +185,13 @@ def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ct
     assert np.median(np.abs(p.albedo[..., :3] - r.albedo[..., :3])[subject]) < 0.01
     floor = interior & ~subject
     np.testing.assert_allclose(p.albedo[floor][:, :3].mean(0), r.albedo[floor][:, :3].mean(0), atol=0.05)
+    office = builtin_scene("office")  # lamp panels and screens: emission comes from the shape hit
+    lamps = capture(office, office_views := [office.camera()], (48, 36), ctx).views[0].emission
+    shot = capture_mitsuba(office, office_views, (48, 36), samples=2).views[0].emission
+    lit = lamps.max(axis=-1) > 0
+    assert lit.sum() > 20 and np.median(np.abs(shot - lamps)[lit]) < 0.01
+    assert abs(shot.sum() / lamps.sum() - 1) < 0.1  # pixel coverage (Mitsuba) vs centre sample
+    assert np.mean(shot[~lit].max(axis=-1) > 0.01) < 0.05  # edge pixels may take part of a lamp
     renderer = IbrRenderer(ctx)
     renderer.prepare(photo)
     again = renderer.render(Frame(p.view, size), IbrParams(relight=False))

@@ -43,7 +43,7 @@ def _rgb(values) -> dict:
     return {"type": "rgb", "value": [float(v) for v in values]}
 
 
-def _scene_dict(mi, scene: Scene, folder: Path) -> dict:
+def _scene_dict(mi, scene: Scene, folder: Path, lights: bool = True) -> dict:
     import trimesh
 
     out: dict = {"type": "scene"}
@@ -61,7 +61,7 @@ def _scene_dict(mi, scene: Scene, folder: Path) -> dict:
         if np.max(material.emission) > 0:
             shape["emitter"] = {"type": "area", "radiance": _rgb(material.emission)}
         out[f"node_{k}"] = shape
-    for k, light in enumerate(scene.lights):
+    for k, light in enumerate(scene.lights if lights else ()):
         if isinstance(light, PointLight):
             out[f"light_{k}"] = {"type": "point", "position": [float(v) for v in light.position],
                                  "intensity": _rgb(np.asarray(light.colour) * light.intensity)}
@@ -76,6 +76,17 @@ def _scene_dict(mi, scene: Scene, folder: Path) -> dict:
     return out
 
 
+def _sensor(mi, view: View, size: tuple[int, int], samples: int, seed: int) -> dict:
+    w, h = size
+    return {"type": "perspective", "fov": float(view.camera.fov_y), "fov_axis": "y",
+            "near_clip": float(view.camera.near), "far_clip": float(view.camera.far),
+            "to_world": mi.ScalarTransform4f.look_at(origin=[float(v) for v in view.pose.position],
+                                                      target=[float(v) for v in view.pose.target],
+                                                      up=[float(v) for v in view.pose.up]),
+            "film": {"type": "hdrfilm", "width": int(w), "height": int(h), "rfilter": {"type": "box"}},
+            "sampler": {"type": "independent", "sample_count": int(samples), "seed": int(seed)}}
+
+
 def capture_mitsuba(scene: Scene, views: list[View], size: tuple[int, int], samples: int = 64,
                     seed: int = 0) -> ReferenceSet:
     """Path-traced reference views of ``scene`` from ``views`` at ``size`` with ``samples`` paths a
@@ -85,21 +96,21 @@ def capture_mitsuba(scene: Scene, views: list[View], size: tuple[int, int], samp
     refs = []
     with tempfile.TemporaryDirectory(prefix="illusio-mitsuba-") as tmp:
         base = _scene_dict(mi, scene, Path(tmp))
+        # the albedo AOV has no emission: the emitting surfaces seen directly (one bounce of a path
+        # tracer), without the lamps' own rectangles, which share the panels' place and would
+        # report the lamps' radiance, not the panels' emission the rasteriser shows
+        glowing = _scene_dict(mi, scene, Path(tmp), lights=False)
         for view in views:
             if any(abs(s) > 0 for s in view.camera.shift):
                 raise InputError("Mitsuba references take centred cameras (no lens shift)")
-            doc = dict(base)
+            sensor = _sensor(mi, view, size, samples, seed)
+            doc = dict(base, sensor=sensor)
             doc["integrator"] = {"type": "aov", "aovs": "dd:depth,nn:sh_normal,al:albedo",
                                  "img": {"type": "path", "max_depth": 6}}
-            doc["sensor"] = {"type": "perspective", "fov": float(view.camera.fov_y), "fov_axis": "y",
-                             "near_clip": float(view.camera.near), "far_clip": float(view.camera.far),
-                             "to_world": mi.ScalarTransform4f.look_at(origin=[float(v) for v in view.pose.position],
-                                                                       target=[float(v) for v in view.pose.target],
-                                                                       up=[float(v) for v in view.pose.up]),
-                             "film": {"type": "hdrfilm", "width": int(w), "height": int(h), "rfilter": {"type": "box"}},
-                             "sampler": {"type": "independent", "sample_count": int(samples), "seed": int(seed)}}
             image = np.array(mi.render(mi.load_dict(doc), seed=int(seed)), np.float32)
             colour, distance, normal, albedo = image[..., :3], image[..., 3], image[..., 4:7], image[..., 7:10]
+            emission = np.array(mi.render(mi.load_dict(dict(glowing, sensor=sensor, integrator={
+                "type": "path", "max_depth": 1})), seed=int(seed)), np.float32)[..., :3]
             # Mitsuba's depth AOV is the distance along the ray from the near plane (its perspective
             # sensor starts rays there); ours is the depth along the view axis from the eye
             forward = np.asarray(view.pose.axes()[2], np.float64)
@@ -107,6 +118,6 @@ def capture_mitsuba(scene: Scene, views: list[View], size: tuple[int, int], samp
             hit = distance > 0
             refs.append(ReferenceView(view, np.dstack([albedo, np.zeros((h, w), np.float32)]),
                                       np.dstack([normal, np.full((h, w), 32.0, np.float32)]),
-                                      np.zeros((h, w, 3), np.float32), np.where(hit, axis_depth, 0.0).astype(np.float32),
+                                      emission, np.where(hit, axis_depth, 0.0).astype(np.float32),
                                       colour=np.clip(colour, 0, None)))
     return ReferenceSet(refs, list(scene.lights), tuple(scene.ambient), tuple(scene.background))
