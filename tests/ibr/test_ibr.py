@@ -123,6 +123,31 @@ def test_ibr_commands(tmp_path, capsys):
                           (["--distance", "4d"], "distance")):
         code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / "x.png"), *args], capsys)
         assert code == 2 and message in cap.err and cap.err.count("\n") == 1, cap.err
+    # cameras from a file: a references.json gives the same cameras again; a bad entry is named
+    again = tmp_path / "again"
+    code, cap = call_cli(["ibr", "capture", "office", "-o", str(again), "--cameras", str(refs / "references.json"),
+                          "--size", "32x24"], capsys)
+    assert code == 0, cap.err
+    cameras = lambda folder: [v["camera"] for v in json.loads((folder / "references.json").read_text())["views"]]  # noqa: E731
+    assert cameras(again) == cameras(refs)
+    bad = tmp_path / "cameras.json"
+    bad.write_text(json.dumps([cameras(refs)[0], {"eye": [0, 1, 2], "target": [0, 1, 0]}]))
+    code, cap = call_cli(["ibr", "capture", "office", "-o", str(tmp_path / "bad"), "--cameras", str(bad)], capsys)
+    assert code == 2 and "camera 2" in cap.err and "fov" in cap.err and not (tmp_path / "bad").exists(), cap.err
+    # a camera path played into a video: duration × fps + 1 frames
+    walk = tmp_path / "walk.json"
+    eye = cameras(refs)
+    walk.write_text(json.dumps([{"t": 0, "eye": eye[0]["eye"], "target": eye[0]["target"]},
+                                {"t": 0.25, "eye": eye[2]["eye"], "target": eye[2]["target"]}]))
+    video = tmp_path / "walk.gif"
+    code, cap = call_cli(["ibr", "render", str(refs), "-o", str(video), "--path", str(walk), "--fps", "8"], capsys)
+    assert code == 0, cap.err
+    from PIL import Image
+
+    with Image.open(video) as gif:
+        assert gif.n_frames == 3 and gif.size == (64, 48)
+    code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / "w.png"), "--path", str(walk)], capsys)
+    assert code == 2 and ".mp4 or .gif" in cap.err, cap.err
 
 
 def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference(ctx, room, rng):

@@ -9,7 +9,7 @@ import numpy as np
 import typer
 
 from ..core.errors import InputError
-from ..core.images import check_output_path, write_image
+from ..core.images import check_output_path, write_image, write_video
 from ..ibr.params import IbrParams
 from .common import parse_size, resolve_scene, scene_inputs
 
@@ -22,6 +22,8 @@ def capture_command(
     scene: str = typer.Argument(..., help="built-in scene, .yaml scene, mesh file or built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="folder to write the references to"),
     views: int = typer.Option(3, "--views", help="reference cameras along the main camera's right"),
+    cameras: Path = typer.Option(None, "--cameras", help="JSON list of cameras {eye, target, fov, near, far} "
+                                 "(or a references.json) to capture from, instead of --views"),
     baseline: float = typer.Option(1.2, "--baseline", help="metres the reference eyes span"),
     size: str = typer.Option("512x384", "--size", help="WIDTHxHEIGHT of each reference"),
     renderer: str = typer.Option("raster", "--renderer", help="raster (our G-buffer) or mitsuba (path-traced photographs)"),
@@ -29,7 +31,7 @@ def capture_command(
 ) -> None:
     """Capture reference views of SCENE (albedo, normal, emission, depth, the recorded colour, camera)."""
     from ..core.context import Context
-    from ..ibr.references import capture, orbit_views, save_references
+    from ..ibr.references import capture, load_cameras, orbit_views, save_references
 
     if not 1 <= views <= 16:
         raise InputError(f"--views must be in 1..16, got {views}")
@@ -37,16 +39,17 @@ def capture_command(
         raise InputError(f"--renderer must be raster or mitsuba, got {renderer!r}")
     if not 1 <= samples <= 65536:
         raise InputError(f"--samples must be in 1..65536, got {samples}")
+    chosen = load_cameras(cameras) if cameras is not None else None
     sc = resolve_scene(scene)
-    cameras = orbit_views(sc, views, baseline)
+    chosen = chosen or orbit_views(sc, views, baseline)
     if renderer == "mitsuba":
         from ..ibr.mitsuba import capture_mitsuba
 
-        refs = capture_mitsuba(sc, cameras, parse_size(size), samples)
+        refs = capture_mitsuba(sc, chosen, parse_size(size), samples)
     else:
-        refs = capture(sc, cameras, parse_size(size), Context())
+        refs = capture(sc, chosen, parse_size(size), Context())
     save_references(refs, output)
-    typer.echo(f"wrote {output} ({views} reference views)")
+    typer.echo(f"wrote {output} ({len(chosen)} reference views)")
 
 
 def parse_camera(text: str, refs):
@@ -77,8 +80,11 @@ def parse_camera(text: str, refs):
 @app.command("render")
 def render_command(
     references: Path = typer.Argument(..., help="a references folder (illusio ibr capture, or your own)"),
-    output: Path = typer.Option(..., "-o", "--output", help="image to write (.png, .exr, .npy)"),
+    output: Path = typer.Option(..., "-o", "--output", help="image to write (.png, .exr, .npy), or .mp4/.gif with --path"),
     camera: str = typer.Option("between:0,1", "--camera", help="ref:K, between:I,J[,T] or x,y,z:x,y,z"),
+    path: Path = typer.Option(None, "--path", help="camera path JSON [{t, eye, target}, ...] (as illusio view "
+                              "--path) played into a video, instead of --camera"),
+    fps: float = typer.Option(12.0, "--fps", help="frames a second along --path"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT (default: the references')"),
     show_sources: bool = typer.Option(_DEFAULT.show_sources, "--show-sources", help="colour by source view, holes magenta"),
     photographic: bool = typer.Option(not _DEFAULT.relight, "--photographic", help="the references' recorded colour, not re-lit"),
@@ -96,13 +102,25 @@ def render_command(
     from ..ibr.renderer import IbrRenderer
     from ..passes.scene_renderer import RenderSettings, render_scene
 
-    out = check_output_path(output, [references] + scene_inputs(ground_truth or ""))
+    out = check_output_path(output, [references] + scene_inputs(ground_truth or "") + ([path] if path else []))
+    if path is not None and out.suffix.lower() not in (".mp4", ".gif"):
+        raise InputError(f"--path plays a video: the output must be .mp4 or .gif, got {out.name}")
+    if not 0 < fps <= 120:
+        raise InputError(f"--fps must be in (0, 120], got {fps:g}")
     refs = load_references(references)
-    view = parse_camera(camera, refs)
+    if path is not None:
+        from ..viewer.path import CameraPath
+
+        walk = CameraPath.load(path)
+        lens = refs.views[0].view.camera
+        views = [walk.view(k / fps, lens) for k in range(int(walk.duration * fps) + 1)]
+    else:
+        views = [parse_camera(camera, refs)]
     w, h = parse_size(size) if size else refs.views[0].size
     ctx = Context()
     if ground_truth:
-        image = render_scene(resolve_scene(ground_truth), view, (w, h), ctx, RenderSettings(shadows=False))
+        truth = resolve_scene(ground_truth)
+        images = [render_scene(truth, view, (w, h), ctx, RenderSettings(shadows=False)) for view in views]
     else:
         offset = (0.0, 0.0, 0.0)
         if light:
@@ -116,6 +134,11 @@ def render_command(
                          light_x=offset[0], light_y=offset[1], light_z=offset[2])
         renderer = IbrRenderer(ctx)
         renderer.prepare(refs)
-        image = renderer.render(Frame(view, (w, h)), params)
-    write_image(out, image)
-    typer.echo(f"wrote {out} ({w}×{h})")
+        images = [renderer.render(Frame(view, (w, h), k / fps, k), params) for k, view in enumerate(views)]
+        renderer.release()
+    if path is not None:
+        write_video(out, images, fps)
+        typer.echo(f"wrote {out} ({len(images)} frames of {w}×{h} at {fps:g} fps)")
+    else:
+        write_image(out, images[0])
+        typer.echo(f"wrote {out} ({w}×{h})")

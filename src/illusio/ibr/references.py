@@ -22,7 +22,7 @@ from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.camera import Camera, Pose, View
 from ..scene.scene import AreaLight, PointLight, Scene
 
-__all__ = ["ReferenceView", "ReferenceSet", "capture", "save_references", "load_references", "orbit_views"]
+__all__ = ["ReferenceView", "ReferenceSet", "capture", "save_references", "load_references", "load_cameras", "orbit_views"]
 
 
 @dataclass(eq=False)
@@ -125,6 +125,40 @@ def _light_dict(light) -> dict:
             "colour": _floats(light.colour), "radiance": float(light.radiance), "samples": int(light.samples)}
 
 
+def _camera_from_dict(cam, where: str) -> View:
+    """A camera entry (eye, target, fov, near, far, optionally up and shift) → View."""
+    try:
+        return View(Pose(tuple(float(v) for v in cam["eye"]), tuple(float(v) for v in cam["target"]),
+                         tuple(float(v) for v in cam.get("up", (0, 1, 0)))),
+                    Camera(float(cam["fov"]), float(cam["near"]), float(cam["far"]),
+                           tuple(float(v) for v in cam.get("shift", (0, 0)))))
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+        raise InputError(f"{where}: a camera needs eye, target, fov, near, far ({exc})") from None
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+
+
+def load_cameras(path: str | os.PathLike) -> list[View]:
+    """Cameras to capture from: a JSON list of camera entries (``eye``, ``target``, ``fov`` degrees,
+    ``near``, ``far`` metres, optionally ``up`` and ``shift``), or a references.json (its views'
+    cameras). Every mistake names the file and the entry."""
+    from ..core.files import read_text
+
+    try:
+        doc = json.loads(read_text(path, "cameras"))
+    except json.JSONDecodeError as exc:
+        raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+    if isinstance(doc, dict) and isinstance(doc.get("views"), list):
+        entries = [(f"{path}: views[{k}]", e.get("camera") if isinstance(e, dict) else None) for k, e in enumerate(doc["views"])]
+    elif isinstance(doc, list):
+        entries = [(f"{path}: camera {k + 1}", e) for k, e in enumerate(doc)]
+    else:
+        raise InputError(f"{path}: expected a JSON list of cameras {{eye, target, fov, near, far}} or a references.json")
+    if not 1 <= len(entries) <= 16:
+        raise InputError(f"{path}: 1 to 16 cameras, got {len(entries)}")
+    return [_camera_from_dict(cam, where) for where, cam in entries]
+
+
 def save_references(refs: ReferenceSet, folder: str | os.PathLike) -> Path:
     """Write ``folder/references.json`` (cameras, lights) and ``folder/view-K.npz`` (albedo, normal,
     emission, depth), each file atomically."""
@@ -162,14 +196,10 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
     for k, entry in enumerate(doc.get("views") or []):
         where = f"{index}: views[{k}]"
         try:
-            cam = entry["camera"]
-            view = View(Pose(tuple(cam["eye"]), tuple(cam["target"]), tuple(cam.get("up", (0, 1, 0)))),
-                        Camera(float(cam["fov"]), float(cam["near"]), float(cam["far"]), tuple(cam.get("shift", (0, 0)))))
             path = root / entry["file"]
-        except (KeyError, TypeError, ValueError) as exc:
-            raise InputError(f"{where}: a view needs a file and a camera with eye, target, fov, near, far ({exc})") from None
-        except InputError as exc:
-            raise InputError(f"{where}: {exc}") from None
+        except (KeyError, TypeError) as exc:
+            raise InputError(f"{where}: a view needs a file and a camera ({exc})") from None
+        view = _camera_from_dict(entry.get("camera"), where)
         try:
             with np.load(path) as data:
                 depth = data["depth"]
