@@ -84,8 +84,8 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         ctx.release(renderer.render_texture(Frame(view_at(moving[0]), size), params))
         ctx.finish()
 
-    def ibr_still():
-        ctx.release(renderer.render_texture(Frame(view_at(0), size), params))
+    def ibr_still(selection="multi-pass"):
+        ctx.release(renderer.render_texture(Frame(view_at(0), size), replace(params, selection=selection)))
         ctx.finish()
 
     def rasterise():
@@ -96,9 +96,13 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     timings.append(time_case("raster/1M triangles", rasterise, repeat, notes=note))
     timings.append(time_case("ibr/camera moving", ibr_moving, repeat, notes=note + ", reconstruction each frame"))
     timings.append(time_case("ibr/camera still", ibr_still, repeat, notes=note + ", selection and lighting only"))
+    timings.append(time_case("ibr/camera still, single pass", lambda: ibr_still("single-pass"), repeat,
+                             notes=note + ", the text's one-draw selection"))
     by = {t.name: t.median_ms for t in timings}
     ratios["raster / ibr time, camera moving (goal > 1)"] = by["raster/1M triangles"] / by["ibr/camera moving"]
     ratios["raster / ibr time, camera still"] = by["raster/1M triangles"] / by["ibr/camera still"]
+    ratios["multi-pass / single-pass selection time, camera still"] = (
+        by["ibr/camera still"] / by["ibr/camera still, single pass"])
     renderer.release()
     raster.release()
     return timings, ratios

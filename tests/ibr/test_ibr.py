@@ -28,10 +28,11 @@ def psnr(a, b):
     return 10 * np.log10(1 / np.mean((np.asarray(a, np.float64) - b) ** 2))
 
 
-@pytest.mark.parametrize("use_3d, bilinear", [(False, True), (True, False)])
-def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear):
+@pytest.mark.parametrize("use_3d, bilinear, single_pass", [(False, True, False), (True, False, False), (False, True, True)])
+def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_pass):
     """At a new view (and a random reconstructed depth near the true one), the GPU picks the same
-    reference per pixel as reference.select, with the same corrected depth and attributes."""
+    reference per pixel as reference.select, with the same corrected depth and attributes, in the
+    multi-pass mode (a draw per reference, the depth test choosing) and in the single pass."""
     scene, refs = room
     view = orbit_views(scene, 7)[int(rng.integers(1, 6))]
     truth = SceneRenderer(ctx)
@@ -44,7 +45,7 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear):
     tex = ctx.upload(depth, filter="nearest")
     arrays = ReferenceArrays(ctx, refs.views)
     max_distance = 0.05 if use_3d else 3.0
-    gbuf = SelectPass(ctx)(tex, view, arrays, use_3d, bilinear, max_distance)
+    gbuf = SelectPass(ctx)(tex, view, arrays, use_3d, bilinear, max_distance, single_pass=single_pass)
     source = np.rint(ctx.readback(gbuf["object_id"])[..., 0]).astype(int)
     got_depth = ctx.readback(gbuf["depth"])[..., 0]
     got_albedo = ctx.readback(gbuf["colour"])
@@ -108,7 +109,7 @@ def test_reference_folders_round_trip_and_bad_folders_say_what(ctx, room, tmp_pa
         load_references(folder)
     del doc["views"][0]["camera"]["fov"]
     (folder / "references.json").write_text(json.dumps(doc))
-    with pytest.raises(InputError, match=r"views\[0\]: a view needs"):
+    with pytest.raises(InputError, match=r"views\[0\]: a camera needs eye, target, fov"):
         load_references(folder)
 
 
@@ -120,7 +121,7 @@ def test_ibr_commands(tmp_path, capsys):
     code, cap = call_cli(["ibr", "render", str(refs), "-o", str(out), "--camera", "between:0,2,0.25", "--show-sources"], capsys)
     assert code == 0 and out.exists(), cap.err
     for args, message in ((["--camera", "ref:7"], "--camera must be"), (["--light", "1,2"], "--light must be"),
-                          (["--distance", "4d"], "distance")):
+                          (["--distance", "4d"], "distance"), (["--selection", "one"], "selection")):
         code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / "x.png"), *args], capsys)
         assert code == 2 and message in cap.err and cap.err.count("\n") == 1, cap.err
     # cameras from a file: a references.json gives the same cameras again; a bad entry is named

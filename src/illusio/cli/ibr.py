@@ -90,6 +90,7 @@ def render_command(
     photographic: bool = typer.Option(not _DEFAULT.relight, "--photographic", help="the references' recorded colour, not re-lit"),
     distance: str = typer.Option(_DEFAULT.distance, "--distance", help="2d (pixels on the new image) or 3d (metres)"),
     nearest_depth: bool = typer.Option(not _DEFAULT.bilinear_depth, "--nearest-depth", help="nearest reference depth instead of bilinear"),
+    selection: str = typer.Option(_DEFAULT.selection, "--selection", help="multi-pass (a draw per reference) or single-pass"),
     light: str = typer.Option(None, "--light", help="move every light by DX,DY,DZ metres"),
     ground_truth: str = typer.Option(None, "--ground-truth", help="render this scene from the same camera instead"),
 ) -> None:
@@ -130,6 +131,7 @@ def render_command(
             except (ValueError, AssertionError):
                 raise InputError(f"--light must be DX,DY,DZ in metres, got {light!r}") from None
         params = replace(_DEFAULT, show_sources=show_sources, distance=distance, bilinear_depth=not nearest_depth,
+                         selection=selection,
                          relight=not photographic,
                          light_x=offset[0], light_y=offset[1], light_z=offset[2])
         renderer = IbrRenderer(ctx)

@@ -7,16 +7,19 @@ from dataclasses import dataclass
 from ..core.params import check_ranges, param
 from ..passes.scene_renderer import RenderSettings
 
-__all__ = ["IbrParams", "DISTANCES"]
+__all__ = ["IbrParams", "DISTANCES", "SELECTIONS"]
 
 #: how the point a reference sees is compared with the point to draw: "2d", in pixels on the new
 #: camera's image plane (the text's choice, for the depth buffer's precision); "3d", in metres
 DISTANCES = ("2d", "3d")
+#: how the second pass chooses: "multi-pass", a draw per reference with the depth test keeping the
+#: nearest (the text's any-number-of-views mode); "single-pass", one draw comparing every reference
+SELECTIONS = ("multi-pass", "single-pass")
 
 
 @dataclass(frozen=True)
 class IbrParams:
-    """distance: DISTANCES. bilinear_depth: read a reference's depth by bilinear interpolation of the
+    """distance: DISTANCES. selection: SELECTIONS (the same choice either way). bilinear_depth: read a reference's depth by bilinear interpolation of the
     four texels around the back-projected point (the text's fix for border artefacts, Figure 4.4)
     rather than the nearest texel. max_distance: a point whose best reference misses it by more is
     a hole (pixels for "2d", metres for "3d"). mesh_step: reference pixels between the vertices of the
@@ -31,6 +34,7 @@ class IbrParams:
     viewer's panel drags them live). settings: exposure."""
 
     distance: str = param("2d", choices=DISTANCES)
+    selection: str = param("multi-pass", choices=SELECTIONS)
     bilinear_depth: bool = param(True, label="bilinear depth")
     max_distance: float = param(3.0, range=(0.01, 1000.0), log=True, help="beyond it a pixel is a hole")
     mesh_step: int = param(2, range=(1, 16), step=1, unit="px", label="reconstruction mesh step")

@@ -111,7 +111,7 @@ class IbrRenderer(Renderer):
         view = frame.view or self.refs.views[0].view
         depth = self.reconstructed_depth(view, frame.size, params)
         gbuffer = self.select(depth, view, self._arrays, params.distance == "3d", params.bilinear_depth,
-                              params.max_distance, not params.relight)
+                              params.max_distance, not params.relight, params.selection == "single-pass")
         lights = [replace(light, position=tuple(np.asarray(light.position) + params.light_offset))
                   if hasattr(light, "position") else replace(light, centre=tuple(np.asarray(light.centre) + params.light_offset))
                   for light in self.refs.lights]

@@ -1,7 +1,8 @@
 """The second pass (shaders/select.glsl): one full-screen draw per reference view, the depth test
 keeping per pixel the reference whose back-projected point is nearest ours — the text's multi-pass
-algorithm, which takes any number of views (up to 16 here) — then one draw fetching the chosen
-reference's attributes into a G-buffer. NumPy reference: :func:`illusio.ibr.reference.select`."""
+algorithm, which takes any number of views (up to 16 here) — or the text's single pass, one draw
+comparing every reference itself; then one draw fetching the chosen reference's attributes into a
+G-buffer. NumPy reference: :func:`illusio.ibr.reference.select`."""
 
 from __future__ import annotations
 
@@ -72,23 +73,25 @@ class SelectPass:
     def __init__(self, ctx: Context):
         self.ctx = ctx
         self.program = ctx.program("ibr/shaders/select.glsl")
+        self.single = ctx.program("ibr/shaders/select.glsl", SINGLE_PASS=1)
         self.resolve = ctx.program("ibr/shaders/select.glsl", RESOLVE=1)
 
     def __call__(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
                  use_3d: bool = False, bilinear: bool = True, max_distance: float = 3.0,
-                 photographic: bool = False) -> GBuffer:
+                 photographic: bool = False, single_pass: bool = False) -> GBuffer:
         """``photographic``: the G-buffer carries the references' recorded colour as emission (and no
-        albedo), so shading shows it as it was recorded."""
+        albedo), so shading shows it as it was recorded. ``single_pass``: one draw over every
+        reference instead of a draw each (the same choice, ties to the first reference)."""
         if photographic and not references.has_colour:
             raise InputError("these references hold no recorded colour: relight them (IbrParams.relight)")
         ctx = self.ctx
         w, h = reconstructed.size
         hits = ctx.acquire((w, h), 4, "f4")
-        fbo = ctx.framebuffer([hits], depth=True)
+        fbo = ctx.framebuffer([hits], depth=not single_pass)
         fbo.use()
         fbo.viewport = (0, 0, w, h)
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        prog = self.program
+        prog = self.single if single_pass else self.program
         reconstructed.use(0)
         set_uniform(prog, "reconstructed", 0)
         references.bind(prog)
@@ -99,15 +102,21 @@ class SelectPass:
         set_uniform(prog, "use_3d", bool(use_3d))
         set_uniform(prog, "bilinear", bool(bilinear))
         set_uniform(prog, "max_distance", float(max_distance))
-        ctx.gl.enable(moderngl.DEPTH_TEST)
-        ctx.gl.depth_func = "<"
-        try:
-            for index, ref_view in enumerate(references.views):
-                set_uniform(prog, "ref_view_projection", ref_view.view_projection(references.size))
-                set_uniform(prog, "layer", index)
-                ctx.fullscreen.draw(prog)
-        finally:
-            ctx.gl.disable(moderngl.DEPTH_TEST)
+        count = len(references.views)
+        matrices = np.stack([v.view_projection(references.size).astype(np.float32).T for v in references.views])
+        prog["ref_view_projection"].write(np.pad(matrices, ((0, MAX_REFERENCES - count), (0, 0), (0, 0))).tobytes())
+        if single_pass:
+            set_uniform(prog, "count", count)
+            ctx.fullscreen.draw(prog)
+        else:
+            ctx.gl.enable(moderngl.DEPTH_TEST)
+            ctx.gl.depth_func = "<"
+            try:
+                for index in range(count):
+                    set_uniform(prog, "layer", index)
+                    ctx.fullscreen.draw(prog)
+            finally:
+                ctx.gl.disable(moderngl.DEPTH_TEST)
         textures = {name: ctx.acquire((w, h), comps, dtype) for name, comps, dtype in LAYOUT}
         out = ctx.framebuffer(list(textures.values()))
         out.use()

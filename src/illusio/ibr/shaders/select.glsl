@@ -6,7 +6,10 @@
 // plane ("2d") or in metres ("3d") — goes to gl_FragDepth, so with the depth test LESS over all the
 // draws each pixel keeps the reference that sees its point best; the draw writes (uv, depth read,
 // reference index + 1). A reference whose stored normal faces away from the new eye saw the other
-// side of a thin surface: skipped. RESOLVE (RESOLVE=1), once: the chosen reference's attributes at
+// side of a thin surface: skipped. SINGLE_PASS=1: the text's one-pass variant, one draw looping over
+// the references and keeping the smallest distance itself (no depth test; the text packs depth
+// in the colour's alpha to fit three views in its texture units, texture arrays lift that limit).
+// RESOLVE (RESOLVE=1), once: the chosen reference's attributes at
 // that point into the G-buffer layout (albedo + k_s, corrected linear depth, normal + exponent, world
 // position, source index + 1, emission) — bilinear where the four texels around the point lie on one
 // surface (depths within 1 %), else the nearest texel. NumPy reference: ibr.reference.select.
@@ -15,6 +18,9 @@
 
 #ifndef RESOLVE
 #define RESOLVE 0
+#endif
+#ifndef SINGLE_PASS
+#define SINGLE_PASS 0
 #endif
 
 #if defined(FRAGMENT_SHADER)
@@ -47,12 +53,51 @@ uniform mat4 new_inverse_view;
 uniform vec4 new_projection;
 uniform mat4 new_view_projection;
 uniform vec3 new_eye;
-uniform mat4 ref_view_projection;
-uniform int layer;                      // the reference of this draw
+uniform mat4 ref_view_projection[MAX_REFERENCES];
+uniform int layer;                      // the reference of this draw (multi-pass)
+uniform int count;                      // the references (single pass)
 uniform bool use_3d;
 uniform bool bilinear;
 uniform float max_distance;
 out vec4 hit;                           // uv in the reference, its depth there, reference index + 1
+
+// reference `k` seeing the new view's `point` (at `pixel`): its distance to the point the reference
+// saw there, and what the draw writes; false where the reference does not see it
+bool candidate(int k, vec3 point, vec2 pixel, vec2 size, out float distance, out vec4 found) {
+    vec4 clip = ref_view_projection[k] * vec4(point, 1.0);
+    if (clip.w <= 0.0) return false;
+    vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
+    ivec2 ref_size = textureSize(ref_depth, 0).xy;
+    vec2 t = uv * vec2(ref_size) - 0.5;                           // GL texel coordinates
+    ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
+    float d = fetch(ref_depth, nearest, k).r;
+    if (bilinear) {
+        ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
+        ivec2 t1 = min(t0 + 1, ref_size - 1);
+        vec4 c = vec4(fetch(ref_depth, t0, k).r, fetch(ref_depth, ivec2(t1.x, t0.y), k).r,
+                      fetch(ref_depth, ivec2(t0.x, t1.y), k).r, fetch(ref_depth, t1, k).r);
+        if (min(min(c.x, c.y), min(c.z, c.w)) > 0.0) {
+            vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
+            d = mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
+        }
+    }
+    if (d <= 0.0) return false;
+    vec2 ref_pixel = vec2(uv.x * float(ref_size.x), (1.0 - uv.y) * float(ref_size.y));
+    vec3 seen = unproject(ref_pixel, vec2(ref_size), d, ref_projection[k], ref_inverse_view[k]);
+    if (dot(fetch(ref_normal, nearest, k).xyz, new_eye - seen) <= 0.0) return false;  // the other side
+    if (use_3d) {
+        distance = length(seen - point);
+    } else {
+        vec4 c = new_view_projection * vec4(seen, 1.0);
+        if (c.w <= 0.0) return false;
+        vec2 seen_pixel = vec2((c.x / c.w * 0.5 + 0.5) * size.x, (0.5 - c.y / c.w * 0.5) * size.y);
+        distance = length(seen_pixel - pixel);
+    }
+    if (distance > max_distance) return false;
+    found = vec4(uv, d, float(k + 1));
+    return true;
+}
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
@@ -61,40 +106,24 @@ void main() {
     if (z <= 0.0) discard;
     vec2 pixel = vec2(gl_FragCoord.x, size.y - gl_FragCoord.y);   // top-left origin, centre
     vec3 point = unproject(pixel, size, z, new_projection, new_inverse_view);
-    vec4 clip = ref_view_projection * vec4(point, 1.0);
-    if (clip.w <= 0.0) discard;
-    vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
-    if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) discard;
-    ivec2 ref_size = textureSize(ref_depth, 0).xy;
-    vec2 t = uv * vec2(ref_size) - 0.5;                           // GL texel coordinates
-    ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
-    float d = fetch(ref_depth, nearest, layer).r;
-    if (bilinear) {
-        ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
-        ivec2 t1 = min(t0 + 1, ref_size - 1);
-        vec4 c = vec4(fetch(ref_depth, t0, layer).r, fetch(ref_depth, ivec2(t1.x, t0.y), layer).r,
-                      fetch(ref_depth, ivec2(t0.x, t1.y), layer).r, fetch(ref_depth, t1, layer).r);
-        if (min(min(c.x, c.y), min(c.z, c.w)) > 0.0) {
-            vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
-            d = mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
+    float distance;
+    vec4 found;
+#if SINGLE_PASS
+    float best = max_distance * 2.0;
+    hit = vec4(0.0);
+    for (int k = 0; k < count; ++k) {
+        // strictly nearer, as the depth test LESS over draws in reference order
+        if (candidate(k, point, pixel, size, distance, found) && distance < best) {
+            best = distance;
+            hit = found;
         }
     }
-    if (d <= 0.0) discard;
-    vec2 ref_pixel = vec2(uv.x * float(ref_size.x), (1.0 - uv.y) * float(ref_size.y));
-    vec3 seen = unproject(ref_pixel, vec2(ref_size), d, ref_projection[layer], ref_inverse_view[layer]);
-    if (dot(fetch(ref_normal, nearest, layer).xyz, new_eye - seen) <= 0.0) discard;  // the other side
-    float distance;
-    if (use_3d) {
-        distance = length(seen - point);
-    } else {
-        vec4 c = new_view_projection * vec4(seen, 1.0);
-        if (c.w <= 0.0) discard;
-        vec2 seen_pixel = vec2((c.x / c.w * 0.5 + 0.5) * size.x, (0.5 - c.y / c.w * 0.5) * size.y);
-        distance = length(seen_pixel - pixel);
-    }
-    if (distance > max_distance) discard;
+    if (hit.w == 0.0) discard;
+#else
+    if (!candidate(layer, point, pixel, size, distance, found)) discard;
     gl_FragDepth = distance / max_distance * 0.999;
-    hit = vec4(uv, d, float(layer + 1));
+    hit = found;
+#endif
 }
 #else
 uniform sampler2D hits;
