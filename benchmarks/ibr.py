@@ -35,6 +35,26 @@ def psnr(a, b) -> float:
     return float(10 * np.log10(1 / max(float(np.mean((np.asarray(a, np.float64) - b) ** 2)), 1e-12)))
 
 
+def seam_errors(images, truths, sources, depths) -> tuple[float, float]:
+    """The error where the source view changes (a pixel whose 3×3 neighbourhood came from more than
+    one reference) on flat, smooth surfaces — true depth within 2 % and true colour within 0.02 over
+    5×5, so occlusion and texture edges do not count — as (mean, 99th percentile) of the absolute
+    error in 1/255 steps of linear colour. A visible seam is a jump of a step or more there."""
+    from scipy import ndimage
+
+    at_seam = []
+    for image, true, source, depth in zip(images, truths, sources, depths):
+        error = np.abs(np.asarray(image, np.float64) - true).mean(axis=-1)
+        spread = np.max([ndimage.maximum_filter(true[..., c], 5) - ndimage.minimum_filter(true[..., c], 5)
+                         for c in range(3)], axis=0)
+        flat = (depth > 0) & (ndimage.minimum_filter(depth, 5) > 0.98 * ndimage.maximum_filter(depth, 5)) & (spread < 0.02)
+        flat &= ndimage.minimum_filter(source, 3) > 0
+        boundary = (ndimage.maximum_filter(source, 3) != ndimage.minimum_filter(source, 3)) & flat
+        at_seam.append(error[boundary])
+    errors = np.concatenate(at_seam) * 255
+    return float(errors.mean()), float(np.percentile(errors, 99))
+
+
 def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], dict[str, float]]:
     size = (160, 120) if quick else QUALITY_SIZE
     timings: list[Timing] = []
@@ -46,6 +66,11 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     times = np.linspace(0.25, path.duration - 0.25, 3 if quick else 7)
     views = [path.view(t, scene.camera().camera) for t in times]
     truths = [truth.render(Frame(v, size), RenderSettings(shadows=False)) for v in views]
+    truth_depths = []
+    for v in views:
+        g = truth.gbuffer(Frame(v, size))
+        truth_depths.append(ctx.readback(g["depth"])[..., 0])
+        g.release()
     renderer = IbrRenderer(ctx)
     variants = {"": IbrParams(), ", nearest depth": IbrParams(bilinear_depth=False),
                 ", 3d distance": IbrParams(distance="3d", max_distance=0.05)}
@@ -55,7 +80,14 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             if (count != 3 or scale != 2) and label:
                 continue
             label = label + (", references at the output's size" if scale == 1 else "")
-            images = [renderer.render(Frame(v, size), params) for v in views]
+            images, sources = [], []
+            for v in views:
+                images.append(renderer.render(Frame(v, size), params))
+                sources.append(np.rint(ctx.readback(renderer.maps()["source"])[..., 0]).astype(int))
+            if count == 3 and scale == 2 and not label:
+                mean, p99 = seam_errors(images, truths, sources, truth_depths)
+                ratios["office, 3 references: error at view boundaries on flat surfaces, 1/255 steps: mean"] = mean
+                ratios["office, 3 references: error at view boundaries on flat surfaces, 1/255 steps: 99th percentile"] = p99
             ratios[f"office, {count} references{label}: PSNR dB (mean over the path)"] = float(
                 np.mean([psnr(i, t) for i, t in zip(images, truths)]))
             ratios[f"office, {count} references{label}: SSIM"] = float(np.mean(
