@@ -183,6 +183,28 @@ def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference
     rp.release()
 
 
+def test_disocclusion_fill_matches_reference(ctx, rng):
+    """The GPU's filling of the selection's holes (rings up to 5 pixels) equals renderer.fill_hits
+    on random hits, exactly: the same neighbour wins."""
+    from illusio.ibr.renderer import fill_hits
+
+    h, w = 36, 48
+    hits = np.dstack([rng.random((h, w, 2)), rng.uniform(1, 9, (h, w)), rng.integers(1, 4, (h, w))]).astype(np.float32)
+    hits[rng.random((h, w)) < 0.3] = 0.0
+    hits[6:28, 10:32] = 0.0  # its middle is farther than 5 pixels from any hit
+    reconstructed = rng.uniform(1, 5, (h, w)).astype(np.float32)
+    reconstructed[rng.random((h, w)) < 0.1] = 0.0
+    want = fill_hits(hits, reconstructed, 5)
+    assert (want[..., 3] > 0).sum() > (hits[..., 3] > 0).sum() + 150
+    assert ((want[..., 3] == 0) & (reconstructed > 0)).any()  # the block's middle stays open
+    np.testing.assert_array_equal(want[reconstructed <= 0], hits[reconstructed <= 0])
+    select = SelectPass(ctx)
+    depth = ctx.acquire_upload(reconstructed)
+    got = ctx.readback(select.fill_hits(ctx.acquire_upload(hits), depth, 5))
+    np.testing.assert_array_equal(got, want)
+    ctx.release(depth)
+
+
 def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ctx, tmp_path, capsys):
     """Path-traced references: depth along the view axis, normals and albedo agree with our
     G-buffer away from edges; drawn at a reference's own view, the photographic output is the

@@ -26,7 +26,9 @@ class IbrParams:
     depth-reconstruction mesh. grazing: a mesh triangle seen from its reference at more than this
     angle from its normal is left out (it would bridge an occlusion edge). fill_radius: holes of the
     reconstructed depth up to this many pixels wide take the farthest depth around them (where a cut
-    triangle let the surface behind show). show_sources: colour each pixel by the
+    triangle let the surface behind show). fill_disocclusions: pixels the new view sees and no
+    reference does, up to this many pixels from a seen one, take the farthest seen point of the
+    nearest ring around them (off in the sources view, which shows them as holes). show_sources: colour each pixel by the
     reference it came from (Figure 4.5), holes in magenta. relight: shade from the stored albedo and
     normals with the set's lights; off: show the chosen reference's recorded colour (a path-traced
     "photograph" keeps its indirect light). light_x, light_y, light_z: every light of
@@ -40,6 +42,7 @@ class IbrParams:
     mesh_step: int = param(2, range=(1, 16), step=1, unit="px", label="reconstruction mesh step")
     grazing: float = param(85.0, range=(1.0, 90.0), unit="°", help="mesh triangles seen more obliquely are cut")
     fill_radius: int = param(4, range=(0, 64), step=1, unit="px", help="holes of the reconstructed depth this wide are filled")
+    fill_disocclusions: int = param(16, range=(0, 256), step=1, unit="px", help="disocclusions no reference sees are filled this far")
     show_sources: bool = param(False, label="show source views")
     relight: bool = param(True, help="light from the stored normals; off: the references' recorded colour")
     light_x: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights x")

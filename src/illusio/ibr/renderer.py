@@ -22,7 +22,7 @@ from .reconstruction import reconstruction_mesh
 from .references import ReferenceSet
 from .select import ReferenceArrays, SelectPass
 
-__all__ = ["IbrRenderer", "render_views", "SOURCE_COLOURS", "source_view", "fill_holes"]
+__all__ = ["IbrRenderer", "render_views", "SOURCE_COLOURS", "source_view", "fill_holes", "fill_hits"]
 
 #: the debug view's colour of each reference (Figure 4.5: red, green, blue first), holes magenta
 SOURCE_COLOURS = np.array([(0.9, 0.15, 0.1), (0.15, 0.75, 0.2), (0.15, 0.3, 0.95), (0.95, 0.8, 0.1),
@@ -43,6 +43,26 @@ def fill_holes(depth: np.ndarray, radius: int) -> np.ndarray:
             break
         z = np.where(empty, ndimage.maximum_filter(z, size=3), z)
     return z
+
+
+def fill_hits(hits: np.ndarray, reconstructed: np.ndarray, radius: int) -> np.ndarray:
+    """``hits`` (H, W, 4: uv, reference depth, reference index + 1, 0 = none; row 0 at the top) with
+    its disocclusions — pixels where ``reconstructed`` (H, W) has depth and no reference saw the
+    point — filled: such a pixel looks at the square rings around it, nearest first, up to
+    ``radius``, and takes from the first ring holding hits the one whose reference saw the farthest
+    point (the background goes on behind the occluder; the first in the GPU's order on a tie)."""
+    source = np.asarray(hits, np.float32)
+    out = source.copy()
+    h, w = out.shape[:2]
+    for y, x in zip(*np.nonzero((source[..., 3] == 0) & (np.asarray(reconstructed) > 0))):
+        for r in range(1, int(radius) + 1):
+            ring = [(y - dy, x + dx) for dy in range(-r, r + 1) for dx in range(-r, r + 1)  # GL rows go up
+                    if max(abs(dx), abs(dy)) == r]
+            found = [source[q] for q in ring if 0 <= q[0] < h and 0 <= q[1] < w and source[q][3] > 0]
+            if found:
+                out[y, x] = max(found, key=lambda hit: hit[2])  # max keeps the first of equals
+                break
+    return out
 
 
 def source_view(source: np.ndarray) -> np.ndarray:
@@ -111,7 +131,8 @@ class IbrRenderer(Renderer):
         view = frame.view or self.refs.views[0].view
         depth = self.reconstructed_depth(view, frame.size, params)
         gbuffer = self.select(depth, view, self._arrays, params.distance == "3d", params.bilinear_depth,
-                              params.max_distance, not params.relight, params.selection == "single-pass")
+                              params.max_distance, not params.relight, params.selection == "single-pass",
+                              0 if params.show_sources else params.fill_disocclusions)
         lights = [replace(light, position=tuple(np.asarray(light.position) + params.light_offset))
                   if hasattr(light, "position") else replace(light, centre=tuple(np.asarray(light.centre) + params.light_offset))
                   for light in self.refs.lights]

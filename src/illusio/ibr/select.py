@@ -74,14 +74,17 @@ class SelectPass:
         self.ctx = ctx
         self.program = ctx.program("ibr/shaders/select.glsl")
         self.single = ctx.program("ibr/shaders/select.glsl", SINGLE_PASS=1)
+        self.fill_program = ctx.program("ibr/shaders/fill_hits.glsl")
         self.resolve = ctx.program("ibr/shaders/select.glsl", RESOLVE=1)
 
     def __call__(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
                  use_3d: bool = False, bilinear: bool = True, max_distance: float = 3.0,
-                 photographic: bool = False, single_pass: bool = False) -> GBuffer:
+                 photographic: bool = False, single_pass: bool = False, fill: int = 0) -> GBuffer:
         """``photographic``: the G-buffer carries the references' recorded colour as emission (and no
         albedo), so shading shows it as it was recorded. ``single_pass``: one draw over every
-        reference instead of a draw each (the same choice, ties to the first reference)."""
+        reference instead of a draw each (the same choice, ties to the first reference). ``fill``:
+        disocclusions (depth but no reference) up to this many pixels from a hit take the farthest
+        hit of the nearest ring around them (:meth:`fill_hits`); 0 leaves them holes."""
         if photographic and not references.has_colour:
             raise InputError("these references hold no recorded colour: relight them (IbrParams.relight)")
         ctx = self.ctx
@@ -117,6 +120,7 @@ class SelectPass:
                     ctx.fullscreen.draw(prog)
             finally:
                 ctx.gl.disable(moderngl.DEPTH_TEST)
+        hits = self.fill_hits(hits, reconstructed, fill)
         textures = {name: ctx.acquire((w, h), comps, dtype) for name, comps, dtype in LAYOUT}
         out = ctx.framebuffer(list(textures.values()))
         out.use()
@@ -129,3 +133,24 @@ class SelectPass:
         ctx.fullscreen.draw(self.resolve)
         ctx.release(hits)
         return GBuffer(ctx, textures, (w, h))
+
+    def fill_hits(self, hits: moderngl.Texture, reconstructed: moderngl.Texture, radius: int) -> moderngl.Texture:
+        """``hits`` (pooled RGBA32F: uv, reference depth, index + 1; released) with its holes where
+        ``reconstructed`` has depth filled from up to ``radius`` pixels away: a new pooled texture.
+        NumPy reference: renderer.fill_hits."""
+        if radius <= 0:
+            return hits
+        ctx = self.ctx
+        w, h = hits.size
+        filled = ctx.acquire((w, h), 4, "f4")
+        target = ctx.framebuffer([filled])
+        target.use()
+        target.viewport = (0, 0, w, h)
+        hits.use(0)
+        reconstructed.use(1)
+        set_uniform(self.fill_program, "hits", 0)
+        set_uniform(self.fill_program, "reconstructed", 1)
+        set_uniform(self.fill_program, "radius", int(radius))
+        ctx.fullscreen.draw(self.fill_program)
+        ctx.release(hits)
+        return filled
