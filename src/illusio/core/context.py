@@ -15,6 +15,7 @@ import numpy as np
 
 from .errors import APT_HINT, GLUnavailable
 from .fullscreen import FullscreenTriangle
+from .gl import set_uniform
 from .programs import ProgramCache
 from .textures import TexturePool, TextureSpec, readback, upload, write_texture
 
@@ -155,6 +156,24 @@ class Context:
             fbo = self.gl.framebuffer(color_attachments=colour, depth_attachment=depth_attachment)
             self._framebuffers[key] = fbo
         return fbo
+
+    def draw_fullscreen(self, program: moderngl.Program, size: tuple[int, int], components: int = 4,
+                        dtype: str = "f4", textures: dict[str, moderngl.Texture] | None = None,
+                        **uniforms: Any) -> moderngl.Texture:
+        """One full-screen pass into a new pooled texture of ``size`` (release it): ``textures``
+        bound to units 0, 1, ... under their sampler names, ``uniforms`` set, no depth test."""
+        out = self.acquire(size, components, dtype)
+        fbo = self.framebuffer([out])
+        fbo.use()
+        fbo.viewport = (0, 0, *size)
+        for unit, (name, texture) in enumerate((textures or {}).items()):
+            texture.use(unit)
+            set_uniform(program, name, unit)
+        for name, value in uniforms.items():
+            set_uniform(program, name, value)
+        self.gl.disable(moderngl.DEPTH_TEST)
+        self.fullscreen.draw(program)
+        return out
 
     def info(self) -> dict[str, str]:
         """Renderer, vendor and version strings of the driver."""

@@ -6,7 +6,6 @@ from __future__ import annotations
 import moderngl
 
 from ..core.context import Context
-from ..core.gl import set_uniform
 
 __all__ = ["MipmapPass", "mipmapped"]
 
@@ -29,15 +28,4 @@ class MipmapPass:
         self.program = ctx.program("dof/shaders/mipmap.glsl")
 
     def __call__(self, image: moderngl.Texture, coc: moderngl.Texture) -> moderngl.Texture:
-        w, h = coc.size
-        out = self.ctx.acquire((w, h), 4, "f4")
-        fbo = self.ctx.framebuffer([out])
-        fbo.use()
-        fbo.viewport = (0, 0, w, h)
-        image.use(0)
-        coc.use(1)
-        set_uniform(self.program, "image", 0)
-        set_uniform(self.program, "coc", 1)
-        self.ctx.gl.disable(moderngl.DEPTH_TEST)
-        self.ctx.fullscreen.draw(self.program)
-        return out
+        return self.ctx.draw_fullscreen(self.program, coc.size, textures={"image": image, "coc": coc})

@@ -50,17 +50,9 @@ class ReconstructPass:
 
     def fill(self, depth: moderngl.Texture, radius: int) -> moderngl.Texture:
         """``depth`` (pooled; released) with holes up to ``radius`` pixels filled: a new pooled texture."""
-        ctx = self.ctx
-        w, h = depth.size
         for _ in range(max(int(radius), 0)):
-            filled = ctx.acquire((w, h), 1, "f4")
-            target = ctx.framebuffer([filled])
-            target.use()
-            target.viewport = (0, 0, w, h)
-            depth.use(0)
-            set_uniform(self.fill_program, "depth", 0)
-            ctx.fullscreen.draw(self.fill_program)
-            ctx.release(depth)
+            filled = self.ctx.draw_fullscreen(self.fill_program, depth.size, 1, textures={"depth": depth})
+            self.ctx.release(depth)
             depth = filled
         return depth
 

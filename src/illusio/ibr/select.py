@@ -140,17 +140,7 @@ class SelectPass:
         NumPy reference: renderer.fill_hits."""
         if radius <= 0:
             return hits
-        ctx = self.ctx
-        w, h = hits.size
-        filled = ctx.acquire((w, h), 4, "f4")
-        target = ctx.framebuffer([filled])
-        target.use()
-        target.viewport = (0, 0, w, h)
-        hits.use(0)
-        reconstructed.use(1)
-        set_uniform(self.fill_program, "hits", 0)
-        set_uniform(self.fill_program, "reconstructed", 1)
-        set_uniform(self.fill_program, "radius", int(radius))
-        ctx.fullscreen.draw(self.fill_program)
-        ctx.release(hits)
+        filled = self.ctx.draw_fullscreen(self.fill_program, hits.size, textures={"hits": hits, "reconstructed": reconstructed},
+                                          radius=int(radius))
+        self.ctx.release(hits)
         return filled
