@@ -49,9 +49,11 @@ class IbrParams:
     light_y: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights y")
     light_z: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights z")
 
+    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+
     @property
     def light_offset(self) -> tuple[float, float, float]:
+        """Metres every light of the set moves."""
         return (self.light_x, self.light_y, self.light_z)
-    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
 
     __post_init__ = check_ranges
