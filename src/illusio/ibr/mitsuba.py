@@ -16,31 +16,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..core.errors import InputError
+from ..passes.mitsuba import load_mitsuba as _mitsuba, mitsuba_available, rgb as _rgb, sensor as _sensor
 from ..scene.camera import View
 from ..scene.scene import AreaLight, PointLight, Scene
 from .references import ReferenceSet, ReferenceView
 
 __all__ = ["capture_mitsuba", "mitsuba_available"]
-
-
-def mitsuba_available() -> bool:
-    import importlib.util
-
-    return importlib.util.find_spec("mitsuba") is not None
-
-
-def _mitsuba():
-    try:
-        import mitsuba as mi
-    except ImportError:
-        raise InputError("Mitsuba references need the mitsuba package: pip install mitsuba") from None
-    mi.set_variant("scalar_rgb")
-    return mi
-
-
-def _rgb(values) -> dict:
-    return {"type": "rgb", "value": [float(v) for v in values]}
 
 
 def _scene_dict(mi, scene: Scene, folder: Path, lights: bool = True) -> dict:
@@ -76,17 +57,6 @@ def _scene_dict(mi, scene: Scene, folder: Path, lights: bool = True) -> dict:
     return out
 
 
-def _sensor(mi, view: View, size: tuple[int, int], samples: int, seed: int) -> dict:
-    w, h = size
-    return {"type": "perspective", "fov": float(view.camera.fov_y), "fov_axis": "y",
-            "near_clip": float(view.camera.near), "far_clip": float(view.camera.far),
-            "to_world": mi.ScalarTransform4f.look_at(origin=[float(v) for v in view.pose.position],
-                                                      target=[float(v) for v in view.pose.target],
-                                                      up=[float(v) for v in view.pose.up]),
-            "film": {"type": "hdrfilm", "width": int(w), "height": int(h), "rfilter": {"type": "box"}},
-            "sampler": {"type": "independent", "sample_count": int(samples), "seed": int(seed)}}
-
-
 def capture_mitsuba(scene: Scene, views: list[View], size: tuple[int, int], samples: int = 64,
                     seed: int = 0) -> ReferenceSet:
     """Path-traced reference views of ``scene`` from ``views`` at ``size`` with ``samples`` paths a
@@ -101,8 +71,6 @@ def capture_mitsuba(scene: Scene, views: list[View], size: tuple[int, int], samp
         # report the lamps' radiance, not the panels' emission the rasteriser shows
         glowing = _scene_dict(mi, scene, Path(tmp), lights=False)
         for view in views:
-            if any(abs(s) > 0 for s in view.camera.shift):
-                raise InputError("Mitsuba references take centred cameras (no lens shift)")
             sensor = _sensor(mi, view, size, samples, seed)
             doc = dict(base, sensor=sensor)
             doc["integrator"] = {"type": "aov", "aovs": "dd:depth,nn:sh_normal,al:albedo",

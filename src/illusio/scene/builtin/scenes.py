@@ -1,6 +1,6 @@
 """The built-in scenes, built from procedural shapes and textures (no data files).
 
-Units are metres; y up; each scene has a ``main`` camera. Names: living-room, office, museum,
+Units are metres; y up; each scene has a ``main`` camera. Names: cornell-box, living-room, office, museum,
 turntable. Tags techniques rely on: ``host`` (a surface that can show an autostereogram: the TV
 screen, a wall), ``screen``, ``lamp``, ``exhibit``, ``subject``.
 """
@@ -209,7 +209,65 @@ def turntable(mesh: Mesh | None = None, colour=(0.75, 0.72, 0.68), azimuth: floa
     return s
 
 
+# The Cornell box as published by the Cornell Program of Computer Graphics (geometry in mm, x to the
+# left of the camera, z into the box), with the RGB reflectances and lamp radiance commonly derived
+# from its measured spectra (those of Mitsuba's built-in Cornell box).
+_CORNELL_WHITE, _CORNELL_RED, _CORNELL_GREEN = (0.885809, 0.698859, 0.666422), (0.570068, 0.0430135, 0.0443706), (0.105421, 0.37798, 0.076425)
+_CORNELL_LAMP_RADIANCE = (18.387, 13.9873, 6.75357)
+_CORNELL_QUADS = {
+    "floor": ([[552.8, 0, 0], [0, 0, 0], [0, 0, 559.2], [549.6, 0, 559.2]], _CORNELL_WHITE),
+    "ceiling": ([[556.0, 548.8, 0], [556.0, 548.8, 559.2], [0, 548.8, 559.2], [0, 548.8, 0]], _CORNELL_WHITE),
+    "back-wall": ([[549.6, 0, 559.2], [0, 0, 559.2], [0, 548.8, 559.2], [556.0, 548.8, 559.2]], _CORNELL_WHITE),
+    "right-wall": ([[0, 0, 559.2], [0, 0, 0], [0, 548.8, 0], [0, 548.8, 559.2]], _CORNELL_GREEN),
+    "left-wall": ([[552.8, 0, 0], [549.6, 0, 559.2], [556.0, 548.8, 559.2], [556.0, 548.8, 0]], _CORNELL_RED),
+}
+_CORNELL_BLOCKS = {
+    "short-block": ([130.0, 65.0], [82.0, 225.0], [240.0, 272.0], [290.0, 114.0], 165.0),
+    "tall-block": ([423.0, 247.0], [265.0, 296.0], [314.0, 456.0], [472.0, 406.0], 330.0),
+}
+
+
+def _quads_mesh(quads: list, name: str, outward_from=None, inward_to=None) -> Mesh:
+    """Quads (each 4 corners) as a triangle mesh, each turned to face away from ``outward_from`` or
+    towards ``inward_to`` (the published corner orders are not all counter-clockwise)."""
+    verts, faces = [], []
+    for q in quads:
+        q = np.asarray(q, np.float64)
+        n = np.cross(q[2] - q[0], q[3] - q[1])
+        centre = q.mean(axis=0)
+        towards = (centre - outward_from) if outward_from is not None else (inward_to - centre)
+        if n @ towards < 0:
+            q = q[::-1]
+        b = len(verts)
+        verts += list(q)
+        faces += [(b, b + 1, b + 2), (b, b + 2, b + 3)]
+    return Mesh(np.array(verts), np.array(faces), name=name)
+
+
+def cornell_box() -> Scene:
+    s = Scene("cornell-box", ambient=(0.0, 0.0, 0.0), background=(0.0, 0.0, 0.0))
+    mm = 0.001
+    inside = np.array([278.0, 274.4, 279.6]) * mm
+    for name, (quad, colour) in _CORNELL_QUADS.items():
+        s.add(Node(name, _quads_mesh([np.asarray(quad) * mm], name, inward_to=inside), material=Material(colour=colour),
+                   tags=("wall",)))
+    for name, (a, b, c, d, height) in _CORNELL_BLOCKS.items():
+        bottom = [np.array([x, 0.0, z]) * mm for x, z in (a, b, c, d)]
+        top = [p + np.array([0, height * mm, 0]) for p in bottom]
+        quads = [top] + [[bottom[k], bottom[(k + 1) % 4], top[(k + 1) % 4], top[k]] for k in range(4)]
+        s.add(Node(name, _quads_mesh(quads, name, outward_from=np.mean(bottom + top, axis=0)),
+                   material=Material(colour=_CORNELL_WHITE)))
+    radiance = np.asarray(_CORNELL_LAMP_RADIANCE)
+    # the published lamp lies in the ceiling's plane; 0.5 mm below it, so the two never fight for a pixel
+    s.lights.append(AreaLight((0.278, 0.5483, 0.2795), (0.13, 0, 0), (0, 0, 0.105), tuple(radiance / radiance.max()),
+                              float(radiance.max()), samples=4, name="lamp"))
+    fov = float(np.degrees(2 * np.arctan(12.5 / 35.0)))
+    s.cameras["main"] = View(Pose((0.278, 0.273, -0.8), (0.278, 0.273, 0.0)), Camera(fov, 0.05, 10.0))
+    return s
+
+
 SCENES: dict[str, Callable[[], Scene]] = {
+    "cornell-box": cornell_box,
     "living-room": living_room,
     "office": office,
     "museum": museum,

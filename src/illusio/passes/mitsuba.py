@@ -1,0 +1,44 @@
+"""What every Mitsuba 3 export shares: loading the package (an optional dependency, its
+``scalar_rgb`` variant: no system package needed), RGB values and a perspective sensor matching one
+of our views. Used by the path-traced references of ibr and the ground truth of radiosity."""
+
+from __future__ import annotations
+
+import importlib.util
+
+from ..core.errors import InputError
+from ..scene.camera import View
+
+__all__ = ["mitsuba_available", "load_mitsuba", "rgb", "sensor"]
+
+
+def mitsuba_available() -> bool:
+    return importlib.util.find_spec("mitsuba") is not None
+
+
+def load_mitsuba():
+    """The mitsuba module set to ``scalar_rgb``; InputError with the install hint when missing."""
+    try:
+        import mitsuba as mi
+    except ImportError:
+        raise InputError("path tracing needs the mitsuba package: pip install mitsuba") from None
+    mi.set_variant("scalar_rgb")
+    return mi
+
+
+def rgb(values) -> dict:
+    return {"type": "rgb", "value": [float(v) for v in values]}
+
+
+def sensor(mi, view: View, size: tuple[int, int], samples: int, seed: int) -> dict:
+    """A perspective sensor of ``view`` at ``size`` (box pixel filter: each pixel its own footprint)."""
+    if any(abs(s) > 0 for s in view.camera.shift):
+        raise InputError("Mitsuba renders take centred cameras (no lens shift)")
+    w, h = size
+    return {"type": "perspective", "fov": float(view.camera.fov_y), "fov_axis": "y",
+            "near_clip": float(view.camera.near), "far_clip": float(view.camera.far),
+            "to_world": mi.ScalarTransform4f.look_at(origin=[float(v) for v in view.pose.position],
+                                                      target=[float(v) for v in view.pose.target],
+                                                      up=[float(v) for v in view.pose.up]),
+            "film": {"type": "hdrfilm", "width": int(w), "height": int(h), "rfilter": {"type": "box"}},
+            "sampler": {"type": "independent", "sample_count": int(samples), "seed": int(seed)}}

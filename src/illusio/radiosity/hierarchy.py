@@ -1,0 +1,185 @@
+"""The element hierarchy: each input polygon is the root of a quadtree of elements (a quad splits
+into 4 quads at its edge midpoints and centre, a triangle into 4 at its edge midpoints).
+
+Elements live in flat arrays (structure of arrays, grown by doubling) so that refinement, gather and
+push-pull are vectorised. Children are created after their parent, four in a row: ``child[i]`` is the
+first, −1 for a leaf. Per element: corners, area A (m²), centre, unit normal, ρ, E (W/m²), B (W/m²),
+the gathered irradiance H (W/m²) and its level; the links an element receives are the rows of
+:class:`illusio.radiosity.links.Links` whose receiver is that element.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from .polygons import Polygons, polygon_areas
+
+__all__ = ["Hierarchy"]
+
+_FIELDS = {"corners": ((4, 3), np.float64), "triangle": ((), bool), "polygon": ((), np.int64),
+           "parent": ((), np.int64), "child": ((), np.int64), "level": ((), np.int32),
+           "area": ((), np.float64), "centre": ((3,), np.float64), "normal": ((3,), np.float64),
+           "reflectance": ((3,), np.float64), "exitance": ((3,), np.float64),
+           "radiosity": ((3,), np.float64), "irradiance": ((3,), np.float64), "active": ((), bool)}
+
+
+class Hierarchy:
+    """Quadtrees over ``polygons``; element i's fields are ``self.<field>[i]`` for i < ``len(self)``."""
+
+    def __init__(self, polygons: Polygons):
+        self.polygons = polygons
+        self.size = 0
+        self._capacity = 0
+        self._grow(max(4 * len(polygons), 64))
+        self.roots = self._append(polygons.corners, polygons.triangle, np.arange(len(polygons)),
+                                  np.full(len(polygons), -1), 0)
+        self.reflectance[self.roots] = polygons.reflectance
+        self.exitance[self.roots] = polygons.exitance
+        self.radiosity[self.roots] = polygons.exitance
+
+    def __len__(self) -> int:
+        return self.size
+
+    def add_roots(self, polygons: Polygons, first_polygon: int) -> np.ndarray:
+        """New roots for ``polygons``, which are rows ``first_polygon``… of the (extended) input."""
+        roots = self._append(polygons.corners, polygons.triangle, first_polygon + np.arange(len(polygons)),
+                             np.full(len(polygons), -1), 0)
+        self.reflectance[roots] = polygons.reflectance
+        self.exitance[roots] = polygons.exitance
+        self.radiosity[roots] = polygons.exitance
+        self.roots = np.r_[self.roots, roots]
+        return roots
+
+    def transform(self, elements: np.ndarray, matrix: np.ndarray) -> None:
+        """Move ``elements`` (all of an object's, children included) by the 4×4 ``matrix``."""
+        elements = np.asarray(elements, np.int64)
+        m = np.asarray(matrix, np.float64)
+        c = self._corners[elements]
+        moved = c @ m[:3, :3].T + m[:3, 3]
+        self._set_geometry(elements, moved)
+
+    def _set_geometry(self, idx: np.ndarray, corners: np.ndarray) -> None:
+        triangle = self._triangle[idx]
+        self._corners[idx] = corners
+        self._area[idx] = polygon_areas(corners, triangle)
+        self._centre[idx] = np.where(triangle[:, None], corners[:, :3].mean(axis=1), corners.mean(axis=1))
+        n_quad = np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1])
+        n_tri = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
+        normal = np.where(triangle[:, None], n_tri, n_quad)
+        self._normal[idx] = normal / np.linalg.norm(normal, axis=1, keepdims=True)
+
+    def _grow(self, capacity: int) -> None:
+        for name, (shape, dtype) in _FIELDS.items():
+            new = np.zeros((capacity,) + shape, dtype)
+            if self._capacity:
+                new[: self.size] = getattr(self, "_" + name)[: self.size]
+            setattr(self, "_" + name, new)
+        self._capacity = capacity
+
+    def __getattr__(self, name):
+        if name in _FIELDS:
+            return self.__dict__["_" + name][: self.__dict__["size"]]
+        raise AttributeError(name)
+
+    def _append(self, corners, triangle, polygon, parent, level) -> np.ndarray:
+        n = len(corners)
+        if self.size + n > self._capacity:
+            self._grow(max(2 * self._capacity, self.size + n))
+        idx = np.arange(self.size, self.size + n)
+        self.size += n
+        self._corners[idx] = corners
+        self._triangle[idx] = triangle
+        self._polygon[idx] = polygon
+        self._parent[idx] = parent
+        self._child[idx] = -1
+        self._level[idx] = level
+        self._active[idx] = True
+        self._set_geometry(idx, corners)
+        return idx
+
+    def subdivide(self, elements: np.ndarray) -> np.ndarray:
+        """Give each of ``elements`` (those without) four children; returns the first child of every
+        element asked for, (n,). Children inherit ρ, E and B (refined later by the solver)."""
+        elements = np.asarray(elements, np.int64)
+        todo = np.unique(elements[self._child[elements] < 0])
+        if len(todo):
+            c = self._corners[todo]
+            tri = self._triangle[todo]
+            m01, m12, m23, m30 = ((c[:, k] + c[:, (k + 1) % 4]) / 2 for k in range(4))
+            m20 = (c[:, 2] + c[:, 0]) / 2
+            centre = c.mean(axis=1)
+            quad_children = np.stack([np.stack(q, axis=1) for q in (
+                (c[:, 0], m01, centre, m30), (m01, c[:, 1], m12, centre),
+                (centre, m12, c[:, 2], m23), (m30, centre, m23, c[:, 3]))], axis=1)
+            tri_children = np.stack([np.stack(q, axis=1) for q in (
+                (c[:, 0], m01, m20, m20), (m01, c[:, 1], m12, m12),
+                (m20, m12, c[:, 2], c[:, 2]), (m01, m12, m20, m20))], axis=1)
+            children = np.where(tri[:, None, None, None], tri_children, quad_children)   # (n, 4, 4, 3)
+            n = len(todo)
+            rep = np.repeat(todo, 4)
+            first = self._append(children.reshape(-1, 4, 3), np.repeat(tri, 4), self._polygon[rep], rep,
+                                 np.repeat(self._level[todo] + 1, 4))[::4]
+            self._child[todo] = first
+            for name in ("reflectance", "exitance", "radiosity"):
+                arr = getattr(self, "_" + name)
+                arr[np.repeat(first, 4) + np.tile(np.arange(4), n)] = arr[rep]
+        return self._child[elements]
+
+    def children(self, elements: np.ndarray) -> np.ndarray:
+        """(n, 4) children of elements that have them."""
+        return self._child[np.asarray(elements)][:, None] + np.arange(4)
+
+    @property
+    def leaf(self) -> np.ndarray:
+        return self.child < 0
+
+    def leaves(self, elements: np.ndarray | None = None) -> np.ndarray:
+        """Leaf indices (active), all of them or those below ``elements`` (each element's own if a leaf)."""
+        if elements is None:
+            return np.flatnonzero(self.leaf & self.active)
+        out, frontier = [], np.asarray(elements, np.int64)
+        while len(frontier):
+            is_leaf = self._child[frontier] < 0
+            out.append(frontier[is_leaf])
+            frontier = self.children(frontier[~is_leaf]).reshape(-1)
+        return np.concatenate(out) if out else frontier
+
+    def descendants(self, roots: np.ndarray) -> np.ndarray:
+        """Every element below and including ``roots``."""
+        out, frontier = [], np.asarray(roots, np.int64)
+        while len(frontier):
+            out.append(frontier)
+            inner = frontier[self._child[frontier] >= 0]
+            frontier = self.children(inner).reshape(-1)
+        return np.concatenate(out) if out else frontier
+
+    def by_level(self) -> list[np.ndarray]:
+        """Element indices grouped by level (0 = roots), active ones only."""
+        lv = self.level
+        act = self.active
+        return [np.flatnonzero((lv == k) & act) for k in range(int(lv.max()) + 1 if len(lv) else 0)]
+
+    def sample_points(self, elements: np.ndarray, uv: np.ndarray) -> np.ndarray:
+        """Points on ``elements`` (n,) at parameters ``uv`` (n, k, 2) in [0, 1)²: bilinear on quads,
+        folded barycentric on triangles. Returns (n, k, 3)."""
+        out = np.empty(uv.shape[:2] + (3,))
+        _sample_points(self._corners, self._triangle, np.asarray(elements, np.int64), np.ascontiguousarray(uv, np.float64), out)
+        return out
+
+
+@numba.njit(cache=True)
+def _sample_points(corners, triangle, elements, uv, out):
+    for p in range(elements.shape[0]):
+        e = elements[p]
+        for s in range(uv.shape[1]):
+            u, v = uv[p, s, 0], uv[p, s, 1]
+            if triangle[e]:
+                if u + v > 1:
+                    u, v = 1 - u, 1 - v
+                for c in range(3):
+                    out[p, s, c] = corners[e, 0, c] + u * (corners[e, 1, c] - corners[e, 0, c]) + v * (corners[e, 2, c] - corners[e, 0, c])
+            else:
+                for c in range(3):
+                    out[p, s, c] = ((1 - u) * (1 - v) * corners[e, 0, c] + u * (1 - v) * corners[e, 1, c]
+                                    + u * v * corners[e, 2, c] + (1 - u) * v * corners[e, 3, c])

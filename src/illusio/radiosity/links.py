@@ -1,0 +1,54 @@
+"""Links: light flowing from a source element j to a receiver element i at some level of the two
+hierarchies, with the form factor F_ij, the visibility V_ij and its type (VISIBLE, PARTIAL,
+INVISIBLE). Stored as flat arrays; the gather of every link at once is one sparse product."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from .visibility import link_type
+
+__all__ = ["Links"]
+
+
+@dataclass(eq=False)
+class Links:
+    receiver: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    source: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    form_factor: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    visibility: np.ndarray = field(default_factory=lambda: np.zeros(0))
+
+    def __len__(self) -> int:
+        return len(self.receiver)
+
+    @property
+    def type(self) -> np.ndarray:
+        return link_type(self.visibility)
+
+    def extend(self, receiver, source, form_factor, visibility) -> None:
+        self.receiver = np.r_[self.receiver, np.asarray(receiver, np.int64)]
+        self.source = np.r_[self.source, np.asarray(source, np.int64)]
+        self.form_factor = np.r_[self.form_factor, form_factor]
+        self.visibility = np.r_[self.visibility, visibility]
+
+    def take(self, keep: np.ndarray) -> "Links":
+        """The links where ``keep`` (a mask or indices)."""
+        return Links(self.receiver[keep], self.source[keep], self.form_factor[keep], self.visibility[keep])
+
+    def remove(self, drop: np.ndarray) -> "Links":
+        """Remove the links where ``drop`` (a mask) and return them."""
+        gone = self.take(drop)
+        keep = ~drop
+        self.receiver, self.source = self.receiver[keep], self.source[keep]
+        self.form_factor, self.visibility = self.form_factor[keep], self.visibility[keep]
+        return gone
+
+    def matrix(self, n: int) -> sp.csr_matrix:
+        """K with K[i, j] = Σ F_ij·V_ij over the links from j to i: the gather is H = K·B."""
+        return sp.csr_matrix((self.form_factor * self.visibility, (self.receiver, self.source)), shape=(n, n))
+
+    def received_by(self, element: int) -> "Links":
+        return self.take(self.receiver == element)

@@ -1,0 +1,78 @@
+"""Ground truth: the same polygons path-traced by Mitsuba 3 (diffuse BSDFs of reflectance ρ, area
+emitters of radiance E/π, no other light), and the score of a radiosity render against it.
+
+Both images are radiance (W/(m²·sr)) in linear RGB for the same camera, so they compare pixel to
+pixel once written with the same exposure and sRGB encoding."""
+
+from __future__ import annotations
+
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..passes.mitsuba import load_mitsuba, rgb, sensor
+from ..scene.camera import View
+from .polygons import Polygons
+
+__all__ = ["render_mitsuba", "score", "Score"]
+
+
+def _scene_dict(polygons: Polygons, folder: Path) -> dict:
+    import trimesh
+
+    out: dict = {"type": "scene"}
+    material = np.c_[polygons.reflectance, polygons.exitance]
+    _, group = np.unique(np.round(material, 9), axis=0, return_inverse=True)
+    vertices, faces = polygons.triangles()
+    face_polygon = np.r_[np.arange(len(polygons)), np.flatnonzero(~polygons.triangle)]
+    for g in range(int(group.max()) + 1):
+        members = np.flatnonzero(group.reshape(-1) == g)
+        take = np.isin(face_polygon, members)
+        path = folder / f"group-{g}.ply"
+        trimesh.Trimesh(vertices.astype(np.float64), faces[take], process=False).export(path)
+        k = members[0]
+        shape = {"type": "ply", "filename": str(path), "face_normals": True,
+                 "bsdf": {"type": "diffuse", "reflectance": rgb(polygons.reflectance[k])}}
+        if polygons.exitance[k].max() > 0:
+            shape["emitter"] = {"type": "area", "radiance": rgb(polygons.exitance[k] / np.pi)}
+        out[f"group_{g}"] = shape
+    return out
+
+
+def render_mitsuba(polygons: Polygons, view: View, size: tuple[int, int], samples: int = 256,
+                   seed: int = 0, max_depth: int = -1) -> np.ndarray:
+    """Radiance (H, W, 3) float32 of ``polygons`` seen from ``view``: Mitsuba's path tracer with
+    ``samples`` paths a pixel (box filter), unbounded path length (Russian roulette) by default."""
+    mi = load_mitsuba()
+    with tempfile.TemporaryDirectory(prefix="illusio-radiosity-") as tmp:
+        doc = _scene_dict(polygons, Path(tmp))
+        doc["sensor"] = sensor(mi, view, size, samples, seed)
+        doc["integrator"] = {"type": "path", "max_depth": int(max_depth)}
+        image = np.array(mi.render(mi.load_dict(doc), seed=int(seed)), np.float32)
+    return np.clip(image[..., :3], 0, None)
+
+
+@dataclass(frozen=True)
+class Score:
+    """mean_relative_error: the mean over scored pixels of |R − M| / M (RGB means); psnr: dB over the
+    scored pixels with the reference's 99th percentile as the peak; pixels: how many were scored."""
+
+    mean_relative_error: float
+    psnr: float
+    pixels: int
+
+
+def score(render: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None, floor: float = 0.01) -> Score:
+    """Score ``render`` against ``reference`` (both radiance, same exposure) over ``mask`` (e.g. the
+    non-emitter geometry), leaving out pixels darker than ``floor`` × the reference's mean (a
+    relative error of near-black is noise)."""
+    r = np.asarray(render, np.float64)[..., :3].mean(axis=2)
+    m = np.asarray(reference, np.float64)[..., :3].mean(axis=2)
+    keep = np.ones(m.shape, bool) if mask is None else np.asarray(mask, bool)
+    keep &= m > floor * m[keep].mean()
+    rel = np.abs(r - m)[keep] / m[keep]
+    peak = np.percentile(np.asarray(reference, np.float64)[keep], 99)
+    mse = ((np.asarray(render, np.float64)[..., :3] - np.asarray(reference, np.float64)[..., :3])[keep] ** 2).mean()
+    return Score(float(rel.mean()), float(10 * np.log10(peak ** 2 / max(mse, 1e-30))), int(keep.sum()))

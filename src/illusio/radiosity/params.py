@@ -1,0 +1,69 @@
+"""Every knob of hierarchical radiosity (Hanrahan, Salzman & Aupperle 1991, as Loscos' chapter 4 uses
+it), with units and ranges. The CLI, the viewer and the benchmarks read their defaults from here."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..core.errors import InputError
+from ..core.params import check_ranges, param
+
+__all__ = ["HierarchyParams", "RadiosityParams", "CRITERIA", "SHOW"]
+
+#: bf: refine a link when B_j·F_ij·V_ij·A_i > ε (a shadowed link counts by its visible part);
+#: bfv: the same, and a PARTIAL link also when B_j·F_ij·A_i > ε (shadow boundaries refined as if lit)
+CRITERIA = ("bf", "bfv")
+#: radiosity: B/π interpolated to the vertices (Gouraud); mesh: each leaf flat with its edges drawn;
+#: links: the radiosity with the links the chosen element receives drawn to their sources
+SHOW = ("radiosity", "mesh", "links")
+
+
+@dataclass(frozen=True)
+class HierarchyParams:
+    """What builds the hierarchy and its links.
+
+    epsilon: ε of the refinement criterion, as a fraction of the scene's total emitted power
+    Φ = Σ E_i·A_i (W): a link from j to i is refined while B_j·F_ij·A_i > ε·Φ (max over RGB), so one
+    value suits any scene's scale. min_area: A_ε, elements are not split below this area (m²).
+    criterion: one of CRITERIA. visibility_samples: rays per link for V_ij (a jittered grid of
+    that many points on each element, paired). lights_to_leaves: push every link from a light source
+    down to the receivers' leaves after refinement (Loscos Figure 4.6b). refinements: refine → solve
+    rounds (the first round estimates B from the emitters' power). seed: the ray jitter."""
+
+    epsilon: float = param(2e-5, range=(1e-9, 1.0), log=True, label="refinement ε (× total power)")
+    min_area: float = param(0.002, range=(1e-8, 100.0), unit="m²", log=True, label="minimum element area A_ε")
+    criterion: str = param("bfv", choices=CRITERIA)
+    visibility_samples: int = param(16, range=(1, 256), step=1, help="rays per link for the visibility V_ij")
+    lights_to_leaves: bool = param(False, help="links from lamps pushed to the receivers' leaves (Figure 4.6b)")
+    refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds")
+    seed: int = param(0, range=(0, 2**31 - 1), step=1)
+
+    __post_init__ = check_ranges
+
+
+@dataclass(frozen=True)
+class RadiosityParams:
+    """A radiosity frame: the hierarchy's params, the solver's stopping rule, the lamps and the display.
+
+    tolerance: stop gather + push-pull when the largest change of B is below tolerance × the largest
+    B. max_iterations: at most this many. lamp_scales: (lamp name, factor on its exitance) pairs, the
+    sliders of interactive relighting (links kept, only the solve reruns). show: one of SHOW.
+    exposure: the displayed value is exposure × B/π (radiance, W/(m²·sr)) before sRGB encoding.
+    element: the element whose links ``show="links"`` draws (−1: the brightest receiver's largest)."""
+
+    hierarchy: HierarchyParams = param(default_factory=HierarchyParams)
+    tolerance: float = param(1e-4, range=(1e-9, 0.5), log=True)
+    max_iterations: int = param(200, range=(1, 10000), step=1)
+    lamp_scales: tuple = param((), panel=False)
+    show: str = param("radiosity", choices=SHOW)
+    exposure: float = param(1.0, range=(1e-6, 1e6), log=True)
+    element: int = param(-1, range=(-1, 2**31 - 1), step=1, panel=False)
+
+    def __post_init__(self):
+        check_ranges(self)
+        for pair in self.lamp_scales:
+            if len(pair) != 2 or not isinstance(pair[0], str) or not float(pair[1]) >= 0:
+                raise InputError(f"lamp_scales takes (name, factor ≥ 0) pairs, got {pair!r}")
+
+    def scale_of(self, name: str) -> float:
+        return float(dict(self.lamp_scales).get(name, 1.0))

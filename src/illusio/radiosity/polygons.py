@@ -1,0 +1,227 @@
+"""The radiosity input: a scene's surfaces as polygons (quads and triangles) with diffuse
+reflectance ρ and exitance E.
+
+Units: exitance E and radiosity B in W/m² (per RGB channel); the radiance a Lambertian surface shows
+is B/π. A scene node's triangles are paired back into the quads they were cut from (two coplanar
+triangles sharing their longest edge and forming a convex quad); what cannot be paired stays a
+triangle. Lamps: a rectangular ``AreaLight`` of radiance L becomes an emitting quad of exitance
+E = π·L (one-sided, along edge_u × edge_v); a ``PointLight`` of intensity I becomes a small emitting
+cube (side ``point_lamp_size``) of the same power 4π·I. Nodes tagged ``lamp`` are the fittings of
+those lamps and are left out (their glow is a display effect of the rasteriser); any other node whose
+material emits is an emitter of exitance π × its emission (the office's monitor screens).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.errors import InputError
+from ..scene.scene import AreaLight, PointLight, Scene
+
+__all__ = ["Polygons", "scene_polygons", "quads_from_triangles"]
+
+
+@dataclass(eq=False)
+class Polygons:
+    """Polygons in world space (metres).
+
+    corners: (n, 4, 3) float64, counter-clockwise seen from the front; a triangle repeats its last
+    corner (corner 3 = corner 2). triangle: (n,) bool. reflectance: ρ (n, 3) in [0, 1).
+    exitance: E (n, 3) W/m², ≥ 0. group: (n,) int, the index in ``names`` of the node or lamp each
+    polygon comes from; ``lamps`` lists the group indices that are scene lamps (for the sliders).
+    """
+
+    corners: np.ndarray
+    triangle: np.ndarray
+    reflectance: np.ndarray
+    exitance: np.ndarray
+    group: np.ndarray
+    names: list[str] = field(default_factory=list)
+    lamps: list[int] = field(default_factory=list)
+
+    def __post_init__(self):
+        self.corners = np.ascontiguousarray(self.corners, np.float64).reshape(-1, 4, 3)
+        n = len(self.corners)
+        self.triangle = np.asarray(self.triangle, bool).reshape(n)
+        self.reflectance = np.asarray(self.reflectance, np.float64).reshape(n, 3)
+        self.exitance = np.asarray(self.exitance, np.float64).reshape(n, 3)
+        self.group = np.asarray(self.group, np.int64).reshape(n)
+        self.validate()
+
+    def __len__(self) -> int:
+        return len(self.corners)
+
+    def where(self, k: int) -> str:
+        g = int(self.group[k])
+        return f"polygon {k} ({self.names[g]})" if g < len(self.names) else f"polygon {k}"
+
+    def validate(self) -> None:
+        if not np.isfinite(self.corners).all():
+            bad = int(np.flatnonzero(~np.isfinite(self.corners).all(axis=(1, 2)))[0])
+            raise InputError(f"{self.where(bad)} has non-finite corners")
+        areas = polygon_areas(self.corners, self.triangle)
+        scale = max(float(np.ptp(self.corners.reshape(-1, 3), axis=0).max()), 1e-9) if len(self) else 1.0
+        degenerate = areas <= 1e-10 * scale * scale
+        if degenerate.any():
+            k = int(np.flatnonzero(degenerate)[0])
+            what = "zero-area emitter" if self.exitance[k].max() > 0 else "degenerate polygon (zero area)"
+            raise InputError(f"{self.where(k)} is a {what}; remove it from the scene")
+        bad = ~((self.reflectance >= 0) & (self.reflectance < 1)).all(axis=1)
+        if bad.any():
+            k = int(np.flatnonzero(bad)[0])
+            raise InputError(f"{self.where(k)} has reflectance {tuple(np.round(self.reflectance[k], 4))}: "
+                             "radiosity needs every channel in [0, 1) (energy must not grow)")
+        if not (np.isfinite(self.exitance) & (self.exitance >= 0)).all():
+            k = int(np.flatnonzero(~(np.isfinite(self.exitance) & (self.exitance >= 0)).all(axis=1))[0])
+            raise InputError(f"{self.where(k)} has exitance {tuple(self.exitance[k])}: it must be finite and ≥ 0")
+
+    def extended(self, other: "Polygons", name: str, lamp: bool = False) -> "Polygons":
+        """These polygons followed by ``other``, all of which form one new group ``name``."""
+        if name in self.names:
+            raise InputError(f"there is already an object or lamp named {name!r}")
+        g = len(self.names)
+        return Polygons(np.concatenate([self.corners, other.corners]), np.r_[self.triangle, other.triangle],
+                        np.concatenate([self.reflectance, other.reflectance]),
+                        np.concatenate([self.exitance, other.exitance]), np.r_[self.group, np.full(len(other), g)],
+                        self.names + [name], self.lamps + ([g] if lamp else []))
+
+    def group_of(self, name: str) -> int:
+        if name not in self.names:
+            raise InputError(f"no object or lamp named {name!r}; there are: {', '.join(self.names)}")
+        return self.names.index(name)
+
+    @property
+    def emitters(self) -> np.ndarray:
+        return np.flatnonzero(self.exitance.max(axis=1) > 0)
+
+    def triangles(self) -> tuple[np.ndarray, np.ndarray]:
+        """(vertices (m, 3) float32, faces (k, 3) int32): every polygon as one or two triangles."""
+        quads = ~self.triangle
+        v = self.corners.reshape(-1, 4, 3)
+        base = np.arange(len(self)) * 4
+        faces = [np.c_[base, base + 1, base + 2], np.c_[base[quads], base[quads] + 2, base[quads] + 3]]
+        return v.reshape(-1, 3).astype(np.float32), np.concatenate(faces).astype(np.int32)
+
+
+def polygon_areas(corners: np.ndarray, triangle: np.ndarray) -> np.ndarray:
+    """Area (m²) of quads (half the cross product of the diagonals, exact when planar) and triangles."""
+    quad = 0.5 * np.linalg.norm(np.cross(corners[:, 2] - corners[:, 0], corners[:, 3] - corners[:, 1]), axis=1)
+    tri = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+    return np.where(triangle, tri, quad)
+
+
+def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: float = 1e-6):
+    """Pair triangles back into quads: two coplanar triangles sharing the longest edge of both and
+    forming a convex quad. Returns (corners (n, 4, 3), triangle (n,) bool), corners in the triangles'
+    winding. Vertices are matched by position (a box's faces have their own copies of corners)."""
+    v = np.asarray(vertices, np.float64)
+    f = np.asarray(faces, np.int64)
+    scale = max(float(np.ptp(v, axis=0).max()), 1e-9)
+    _, ids = np.unique(np.round(v / (tolerance * scale)).astype(np.int64), axis=0, return_inverse=True)
+    ids = ids.reshape(-1)
+    p = v[f]                                                   # (m, 3, 3)
+    # the edge opposite corner k joins corners k+1 and k+2; the longest one is the diagonal
+    lengths = np.stack([np.linalg.norm(p[:, (k + 2) % 3] - p[:, (k + 1) % 3], axis=1) for k in range(3)], axis=1)
+    apex = lengths.argmax(axis=1)
+    m = len(f)
+    rows = np.arange(m)
+    a = f[rows, apex]
+    b = f[rows, (apex + 1) % 3]
+    c = f[rows, (apex + 2) % 3]
+    key = np.sort(np.c_[ids[b], ids[c]], axis=1)
+    normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    order = np.lexsort((key[:, 1], key[:, 0]))
+    same = (key[order[1:]] == key[order[:-1]]).all(axis=1)
+    partner = np.full(m, -1)
+    first, second = order[:-1][same], order[1:][same]
+    # an edge shared by more than two triangles is left unpaired
+    count = np.zeros(m, int)
+    np.add.at(count, first, 1)
+    np.add.at(count, second, 1)
+    ok = (count[first] == 1) & (count[second] == 1)
+    first, second = first[ok], second[ok]
+    d = f[second, apex[second]]
+    coplanar = (normal[first] * normal[second]).sum(axis=1) > 1 - 1e-6
+    quad = np.stack([v[a[first]], v[b[first]], v[d], v[c[first]]], axis=1)
+    # convex: every corner turns the same way as the normal
+    turn = np.stack([np.cross(quad[:, (k + 1) % 4] - quad[:, k], quad[:, (k + 2) % 4] - quad[:, (k + 1) % 4]) for k in range(4)], axis=1)
+    convex = ((turn * normal[first][:, None]).sum(axis=2) > 0).all(axis=1)
+    take = coplanar & convex
+    partner[first[take]] = second[take]
+    partner[second[take]] = first[take]
+    quads = quad[take]
+    singles = np.flatnonzero(partner < 0)
+    tris = np.concatenate([p[singles], p[singles][:, 2:3]], axis=1)
+    corners = np.concatenate([quads, tris]) if len(tris) else quads
+    triangle = np.r_[np.zeros(len(quads), bool), np.ones(len(tris), bool)]
+    return corners, triangle
+
+
+def _rect(centre, u, v) -> np.ndarray:
+    c, u, v = (np.asarray(x, np.float64) for x in (centre, u, v))
+    return np.stack([c - u / 2 - v / 2, c + u / 2 - v / 2, c + u / 2 + v / 2, c - u / 2 + v / 2])
+
+
+def _cube(centre, side: float) -> np.ndarray:
+    """Six outward quads of an axis-aligned cube (counter-clockwise seen from outside)."""
+    h = side / 2
+    out = []
+    for axis in range(3):
+        for sign in (1, -1):
+            n = np.zeros(3)
+            n[axis] = sign
+            u = np.zeros(3)
+            u[(axis + 1) % 3] = side
+            v = np.cross(n, u)
+            out.append(_rect(np.asarray(centre) + n * h, u, v))
+    return np.stack(out)
+
+
+def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
+    """The polygons of ``scene``'s visible nodes (ρ = material colour × the texture's mean) and of its
+    lamps (see the module docstring). Raises InputError on degenerate polygons, zero-area emitters
+    and reflectances outside [0, 1)."""
+    corners, triangle, rho, exitance, group, names, lamps = [], [], [], [], [], [], []
+    for node in scene.nodes:
+        if not node.visible or "lamp" in node.tags:
+            continue
+        m = node.transform.astype(np.float64)
+        world = (np.c_[node.mesh.vertices, np.ones(len(node.mesh.vertices))] @ m.T)[:, :3]
+        faces = node.mesh.faces
+        if np.linalg.det(m[:3, :3]) < 0:
+            faces = faces[:, ::-1]
+        c, t = quads_from_triangles(world, faces)
+        colour = np.asarray(node.material.colour, np.float64)
+        if node.material.texture is not None:
+            colour = colour * np.asarray(node.material.texture, np.float64).reshape(-1, 3).mean(axis=0)
+        g = len(names)
+        names.append(node.name)
+        corners.append(c)
+        triangle.append(t)
+        rho.append(np.repeat(colour[None], len(c), axis=0))
+        exitance.append(np.repeat(np.pi * np.asarray(node.material.emission, np.float64)[None], len(c), axis=0))
+        group.append(np.full(len(c), g))
+    for light in scene.lights:
+        if isinstance(light, AreaLight):
+            c = _rect(light.centre, light.edge_u, light.edge_v)[None]
+            e = np.pi * light.radiance * np.asarray(light.colour, np.float64)
+        elif isinstance(light, PointLight):
+            c = _cube(light.position, point_lamp_size)
+            e = 4 * np.pi * light.intensity * np.asarray(light.colour, np.float64) / (6 * point_lamp_size ** 2)
+        else:
+            continue
+        g = len(names)
+        names.append(light.name)
+        lamps.append(g)
+        corners.append(c)
+        triangle.append(np.zeros(len(c), bool))
+        rho.append(np.zeros((len(c), 3)))
+        exitance.append(np.repeat(e[None], len(c), axis=0))
+        group.append(np.full(len(c), g))
+    if not corners:
+        raise InputError(f"scene {scene.name!r} has no visible geometry for radiosity")
+    return Polygons(np.concatenate(corners), np.concatenate(triangle), np.concatenate(rho),
+                    np.concatenate(exitance), np.concatenate(group), names, lamps)

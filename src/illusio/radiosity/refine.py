@@ -1,0 +1,79 @@
+"""Link refinement (Hanrahan, Salzman & Aupperle 1991): each candidate pair (receiver i, source j)
+becomes a link when its estimated transfer is small enough, else the larger of the two elements is
+split and the pair replaced by the four pairs with its children.
+
+Breadth first and vectorised: every round evaluates all pending pairs at once (form factors, one
+batch of visibility rays, the criterion), accepts some, splits elements for the others and makes the
+next round's pairs. The criteria (``params.CRITERIA``), with Φ the total emitted power:
+
+- bf: refine when B_j·F_ij·V_ij·A_i > ε·Φ;
+- bfv: also refine a PARTIAL link (0 < V < 1) when B_j·F_ij·A_i > ε·Φ.
+
+A pair straddling a plane (some corners of one behind the other) is refined while it can be: its
+centre-to-centre estimate is unreliable: it is refined while the bound B_j·A_j·A_i/(π r² + A_j) (both
+cosines taken as 1) exceeds ε·Φ. No element is split below ``min_area``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .formfactor import facing
+from .hierarchy import Hierarchy
+from .links import Links
+from .visibility import Visibility
+
+__all__ = ["refine", "transfer_estimate", "needs_refinement"]
+
+
+def transfer_estimate(h: Hierarchy, receiver, source, form_factor, radiosity=None) -> np.ndarray:
+    """B_j·F_ij·A_i (W, max over RGB) for each pair: the power the link would carry unoccluded."""
+    b = (h.radiosity if radiosity is None else radiosity)[source].max(axis=1)
+    return b * form_factor * h.area[receiver]
+
+
+def needs_refinement(transfer, visibility, threshold: float, criterion: str) -> np.ndarray:
+    """The criterion of the module docstring, given B_j·F_ij·A_i and V_ij."""
+    refine = transfer * visibility > threshold
+    if criterion == "bfv":
+        refine |= (visibility > 0) & (visibility < 1) & (transfer > threshold)
+    return refine
+
+
+def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: float, min_area: float,
+           criterion: str = "bfv", radiosity=None, links: Links | None = None) -> Links:
+    """Refine the candidate pairs into links (appended to ``links``, which is returned). ``radiosity``:
+    the B estimate of the criterion (default: the hierarchy's). Elements are created as needed."""
+    links = Links() if links is None else links
+    recv = np.asarray(receivers, np.int64)
+    src = np.asarray(sources, np.int64)
+    while len(recv):
+        useful = (h.polygon[recv] != h.polygon[src]) & (h.reflectance[recv].max(axis=1) > 0)
+        recv, src = recv[useful], src[useful]
+        some, every = facing(h.corners[recv], h.normal[recv], h.centre[recv],
+                             h.corners[src], h.normal[src], h.centre[src])
+        recv, src, every = recv[some], src[some], every[some]
+        if not len(recv):
+            break
+        ff, vis = visibility(recv, src)
+        transfer = transfer_estimate(h, recv, src, ff, radiosity)
+        split = needs_refinement(transfer, vis, threshold, criterion)
+        straddle = ~every & (vis > 0)
+        if straddle.any():
+            d2 = ((h.centre[src[straddle]] - h.centre[recv[straddle]]) ** 2).sum(axis=1)
+            a_s = h.area[src[straddle]]
+            point_bound = a_s / (np.pi * d2 + a_s)
+            b = (h.radiosity if radiosity is None else radiosity)[src[straddle]].max(axis=1)
+            split[straddle] |= b * point_bound * h.area[recv[straddle]] > threshold
+        area_r, area_s = h.area[recv], h.area[src]
+        can_r, can_s = area_r / 4 >= min_area, area_s / 4 >= min_area
+        split_src = split & can_s & ((area_s >= area_r) | ~can_r)
+        split_recv = split & ~split_src & can_r
+        accept = ~(split_src | split_recv)
+        links.extend(recv[accept], src[accept], ff[accept], vis[accept])
+        first_s = h.subdivide(src[split_src])
+        first_r = h.subdivide(recv[split_recv])
+        quad = np.arange(4)
+        recv = np.r_[np.repeat(recv[split_src], 4), (first_r[:, None] + quad).reshape(-1)]
+        src = np.r_[(first_s[:, None] + quad).reshape(-1), np.repeat(src[split_recv], 4)]
+    return links

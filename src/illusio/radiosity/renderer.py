@@ -1,0 +1,89 @@
+"""``RadiosityRenderer``: the Renderer protocol over the engine. The subject is a Scene (or
+Polygons); the solution is built on the first frame for the params' ``hierarchy`` and kept — a
+frame whose params change only the lamp scales re-solves with the links kept (Loscos 4.4.2), one
+that changes only the display draws again. Maps: ``element`` (R32F, the leaf index under each pixel,
+−1 off the geometry)."""
+
+from __future__ import annotations
+
+import moderngl
+import numpy as np
+
+from ..core.renderer import Frame, Renderer
+from ..scene.scene import Scene
+from .display import DisplayPass, leaf_mesh
+from .params import RadiosityParams
+from .polygons import Polygons, scene_polygons
+from .solution import Radiosity
+
+__all__ = ["RadiosityRenderer"]
+
+
+class RadiosityRenderer(Renderer):
+    Params = RadiosityParams
+    channels = 3
+    subject_name = "a scene (or Polygons)"
+
+    def __init__(self, ctx):
+        super().__init__(ctx)
+        self.display = DisplayPass(ctx)
+        self.solution: Radiosity | None = None
+        self.polygons: Polygons | None = None
+        self._scene: Scene | None = None
+        self._state = None      # (hierarchy params, lamp scales, tolerance, smooth) of the loaded mesh
+
+    def _load(self, subject) -> None:
+        self._scene = subject if isinstance(subject, Scene) else None
+        self.polygons = scene_polygons(subject) if isinstance(subject, Scene) else subject
+        if not isinstance(self.polygons, Polygons):
+            from ..core.errors import InputError
+            raise InputError(f"RadiosityRenderer takes a Scene or Polygons, got {type(subject).__name__}")
+
+    def _unload(self) -> None:
+        super()._unload()
+        self.display.release()
+        self.solution = None
+        self._state = None
+
+    def solve(self, params: RadiosityParams) -> Radiosity:
+        """The solution for ``params`` (built, re-solved or kept as they require)."""
+        self._require_subject()
+        if self.solution is None or self.solution.params != params.hierarchy:
+            self.solution = Radiosity(self.polygons, params.hierarchy)
+            self.solution.build(params.tolerance, params.max_iterations)
+            self._state = None
+        state = (params.hierarchy, params.lamp_scales, params.tolerance, params.show == "mesh")
+        if self._state != state:
+            if self._state is None or self._state[1:3] != state[1:3]:
+                self.solution.set_lamps(dict(params.lamp_scales), params.tolerance, params.max_iterations)
+            self.display.load(leaf_mesh(self.solution.hierarchy, self.solution.links, self.solution.exitance(), smooth=params.show != "mesh"))
+            self._state = state
+        return self.solution
+
+    def render_texture(self, frame: Frame, params: RadiosityParams | None = None) -> moderngl.Texture:
+        params = self._params(params)
+        solution = self.solve(params)
+        view = frame.view
+        if view is None:
+            view = self._scene.camera("main") if self._scene is not None else _framing_view(self.polygons)
+        colour, element = self.display(view, frame.size, params.exposure, edges=params.show == "mesh")
+        if params.show == "links":
+            chosen = params.element if params.element >= 0 else default_element(solution)
+            self.display.links(colour, view, solution.hierarchy, solution.links.received_by(chosen))
+        self._keep_maps({"element": element})
+        return colour
+
+
+def default_element(solution: Radiosity) -> int:
+    """The receiver with the most links (the links view's default)."""
+    counts = np.bincount(solution.links.receiver, minlength=len(solution.hierarchy))
+    return int(counts.argmax())
+
+
+def _framing_view(polygons: Polygons):
+    from ..scene.camera import Camera, Pose, View
+
+    pts = polygons.corners.reshape(-1, 3)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    centre, radius = (lo + hi) / 2, float(np.linalg.norm(hi - lo)) / 2
+    return View(Pose(centre + np.array([0.0, 0.3, 1.0]) * 2.2 * radius, centre), Camera(45.0, radius * 0.01, radius * 10))

@@ -1,0 +1,218 @@
+"""The engine's state: a hierarchy, its links and its solution, kept across edits.
+
+``Radiosity(polygons, params).build()`` refines and solves; afterwards ``set_lamps`` re-solves with the
+links kept (interactive relighting, Loscos 4.4.2) and ``illusio.radiosity.dynamic`` adds lamps and
+adds, moves or removes objects, re-linking only what the change touches (Drettakis & Sillion 1997).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..core.errors import InputError
+from .hierarchy import Hierarchy
+from .links import Links
+from .params import HierarchyParams
+from .polygons import Polygons
+from .refine import needs_refinement, refine, transfer_estimate
+from .solve import SolveResult, solve
+from .visibility import Visibility
+
+__all__ = ["Radiosity", "Stats"]
+
+
+@dataclass
+class Stats:
+    """Sizes and seconds per phase (the CLI's ``--stats``)."""
+
+    elements: int = 0
+    leaves: int = 0
+    links: int = 0
+    rays: int = 0
+    iterations: int = 0
+    seconds: dict = field(default_factory=dict)
+
+    def add_time(self, phase: str, seconds: float) -> None:
+        self.seconds[phase] = self.seconds.get(phase, 0.0) + seconds
+
+    def lines(self) -> list[str]:
+        times = ", ".join(f"{k} {v * 1000:.0f} ms" for k, v in self.seconds.items())
+        return [f"elements {self.elements} ({self.leaves} leaves), links {self.links}, rays {self.rays}, "
+                f"iterations {self.iterations}", f"time: {times}"]
+
+
+class Radiosity:
+    """Hierarchical radiosity over ``polygons`` with ``params`` (HierarchyParams)."""
+
+    def __init__(self, polygons: Polygons, params: HierarchyParams = HierarchyParams()):
+        self.polygons = polygons
+        self.params = params
+        self.hierarchy = Hierarchy(polygons)
+        self.visibility = Visibility(self.hierarchy, params.visibility_samples, params.seed)
+        self.links = Links()
+        self.lamp_scale = np.ones(len(polygons.names))     # per group
+        self.stats = Stats()
+        self.result: SolveResult | None = None
+        self._matrix = None
+        self.built = False
+
+    # --- what the criterion measures against
+    @property
+    def power(self) -> float:
+        """Φ = Σ E_i·A_i over the roots at full lamp scale (W, max over RGB): ε's unit."""
+        h = self.hierarchy
+        roots = h.roots[h.active[h.roots]]
+        return float((h.exitance[roots] * h.area[roots, None]).sum(axis=0).max())
+
+    @property
+    def threshold(self) -> float:
+        return self.params.epsilon * max(self.power, 1e-300)
+
+    def exitance(self) -> np.ndarray:
+        """E per element with the lamp scales applied (n, 3)."""
+        h = self.hierarchy
+        return h.exitance * self.lamp_scale[self.polygons.group[h.polygon]][:, None]
+
+    def _ambient_estimate(self) -> np.ndarray:
+        """A first B for the criterion before any solve: E plus ρ times the ambient irradiance of a
+        closed room of the same power, Φ / (ΣA·(1 − ρ̄)) (the estimate of Loscos eq. 4.2)."""
+        h = self.hierarchy
+        roots = h.roots[h.active[h.roots]]
+        area = h.area[roots]
+        rho = (h.reflectance[roots] * area[:, None]).sum(axis=0) / area.sum()
+        power = (h.exitance[roots] * area[:, None]).sum(axis=0)
+        ambient = power / (area.sum() * np.maximum(1 - rho, 1e-3))
+        return h.exitance + h.reflectance * ambient
+
+    # --- building
+    def build(self, tolerance: float = 1e-4, max_iterations: int = 200) -> "Radiosity":
+        """Refine every pair of roots, solve, and re-refine with the solved B (``params.refinements``
+        rounds); then, with ``lights_to_leaves``, push the lamps' links down to the leaves."""
+        h = self.hierarchy
+        roots = h.roots[h.active[h.roots]]
+        recv, src = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
+        t = time.perf_counter()
+        h.radiosity[:] = self._ambient_estimate()      # children inherit it as they are made
+        refine(h, self.visibility, recv, src, self.threshold, self.params.min_area, self.params.criterion,
+               links=self.links)
+        self.stats.add_time("refine", time.perf_counter() - t)
+        self.solve(tolerance, max_iterations)
+        for _ in range(self.params.refinements - 1):
+            if not self.rerefine():
+                break
+            self.solve(tolerance, max_iterations)
+        if self.params.lights_to_leaves:
+            self.lights_to_leaves()
+            self.solve(tolerance, max_iterations)
+        self.built = True
+        return self
+
+    def rerefine(self, links: np.ndarray | None = None) -> int:
+        """Re-test existing links (all, or those where the mask ``links``) against the criterion with
+        the current B; refine those that fail. Returns how many were refined."""
+        t = time.perf_counter()
+        h, L = self.hierarchy, self.links
+        transfer = transfer_estimate(h, L.receiver, L.source, L.form_factor)
+        fail = needs_refinement(transfer, L.visibility, self.threshold, self.params.criterion)
+        fail &= (h.area[L.receiver] / 4 >= self.params.min_area) | (h.area[L.source] / 4 >= self.params.min_area)
+        if links is not None:
+            fail &= links
+        gone = L.remove(fail)
+        if len(gone):
+            # the pairs re-enter refinement one level down, so an accepted pair is not re-accepted as is
+            self._split_and_refine(gone.receiver, gone.source)
+        self._matrix = None
+        self.stats.add_time("refine", time.perf_counter() - t)
+        return len(gone)
+
+    def _split_and_refine(self, recv, src) -> None:
+        h = self.hierarchy
+        split_src = (h.area[src] >= h.area[recv]) & (h.area[src] / 4 >= self.params.min_area)
+        split_src |= h.area[recv] / 4 < self.params.min_area
+        first_s = h.subdivide(src[split_src])
+        first_r = h.subdivide(recv[~split_src])
+        quad = np.arange(4)
+        r = np.r_[np.repeat(recv[split_src], 4), (first_r[:, None] + quad).reshape(-1)]
+        s = np.r_[(first_s[:, None] + quad).reshape(-1), np.repeat(src[~split_src], 4)]
+        refine(h, self.visibility, r, s, self.threshold, self.params.min_area, self.params.criterion, links=self.links)
+
+    def lights_to_leaves(self) -> None:
+        """Replace every link from an emitter by links from the same source to each leaf under its
+        receiver (F and V computed per leaf)."""
+        t = time.perf_counter()
+        h, L = self.hierarchy, self.links
+        from_lamp = (h.exitance[L.source].max(axis=1) > 0) & (h.child[L.receiver] >= 0)
+        gone = L.remove(from_lamp)
+        recv, src = [], []
+        for r, s in zip(gone.receiver, gone.source):
+            leaves = h.leaves(np.array([r]))
+            recv.append(leaves)
+            src.append(np.full(len(leaves), s))
+        if recv:
+            recv, src = np.concatenate(recv), np.concatenate(src)
+            self.add_links(recv, src)
+        self.stats.add_time("lights to leaves", time.perf_counter() - t)
+
+    def add_links(self, recv: np.ndarray, src: np.ndarray) -> None:
+        """Links for these pairs as they are (no refinement): F and V computed."""
+        self.links.extend(recv, src, *self.visibility(recv, src))
+        self._matrix = None
+
+    # --- solving
+    def matrix(self):
+        if self._matrix is None:
+            self._matrix = self.links.matrix(len(self.hierarchy))
+        return self._matrix
+
+    def solve(self, tolerance: float = 1e-4, max_iterations: int = 200) -> SolveResult:
+        t = time.perf_counter()
+        self.result = solve(self.hierarchy, self.matrix(), self.exitance(), tolerance, max_iterations)
+        self.stats.add_time("solve", time.perf_counter() - t)
+        self._update_stats()
+        return self.result
+
+    def set_lamps(self, scales: dict[str, float] | tuple = (), tolerance: float = 1e-4,
+                  max_iterations: int = 200) -> SolveResult:
+        """Lamp exitances scaled by name (others back to 1), then re-solved with the links kept."""
+        scales = dict(scales)
+        unknown = sorted(set(scales) - set(self.lamp_names))
+        if unknown:
+            raise InputError(f"no lamp named {unknown[0]!r}; lamps: {', '.join(self.lamp_names) or 'none'}")
+        new = np.ones(len(self.polygons.names))
+        for name, value in scales.items():
+            new[self.polygons.names.index(name)] = float(value)
+        self.lamp_scale = new
+        return self.solve(tolerance, max_iterations)
+
+    # --- dynamic updates (illusio.radiosity.dynamic)
+    def add_lamp(self, centre, edge_u, edge_v, exitance, name: str, **solve) -> SolveResult:
+        """A new rectangular lamp (exitance W/m², RGB), linked at the leaves (Loscos 4.4.1)."""
+        from .dynamic import add_lamp
+        return add_lamp(self, centre, edge_u, edge_v, exitance, name, **solve)
+
+    def add_object(self, polygons: Polygons, name: str, **solve) -> SolveResult:
+        from .dynamic import add_object
+        return add_object(self, polygons, name, **solve)
+
+    def move_object(self, name: str, matrix, **solve) -> SolveResult:
+        from .dynamic import move_object
+        return move_object(self, name, matrix, **solve)
+
+    def remove_object(self, name: str, **solve) -> SolveResult:
+        from .dynamic import remove_object
+        return remove_object(self, name, **solve)
+
+    @property
+    def lamp_names(self) -> list[str]:
+        return [self.polygons.names[g] for g in self.polygons.lamps]
+
+    def _update_stats(self) -> None:
+        h = self.hierarchy
+        self.stats.elements = int(h.active.sum())
+        self.stats.leaves = int((h.leaf & h.active).sum())
+        self.stats.links = len(self.links)
+        self.stats.rays = self.visibility.rays
+        self.stats.iterations = self.result.iterations if self.result else 0
