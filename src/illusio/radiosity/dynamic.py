@@ -89,10 +89,17 @@ def _link_object(sol, roots: np.ndarray) -> None:
            links=sol.links)
 
 
-def _finish(sol, started: float, phase: str, tolerance: float, max_iterations: int):
+def _finish(sol, started: float, phase: str, tolerance: float, max_iterations: int, elements=None):
+    """Solve; then, when the object's links were made from estimated B (``elements``), re-test them
+    against the solved B and solve again if any had to be refined (as a build's second round does)."""
     sol._matrix = None
+    result = sol.solve(tolerance, max_iterations)
+    if elements is not None:
+        touching = np.isin(sol.links.receiver, elements) | np.isin(sol.links.source, elements)
+        if sol.rerefine(touching):
+            result = sol.solve(tolerance, max_iterations)
     sol.stats.add_time(phase, time.perf_counter() - started)
-    return sol.solve(tolerance, max_iterations)
+    return result
 
 
 def add_object(sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_iterations: int = 200,
@@ -104,6 +111,8 @@ def add_object(sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_
     sol.hierarchy.polygons = sol.polygons
     sol.lamp_scale = np.r_[sol.lamp_scale, 1.0]
     roots = sol.hierarchy.add_roots(polygons, first)
+    # what its light will be, until solved (B = E alone would let every link from it stay coarse)
+    sol.hierarchy.radiosity[roots] = polygons.exitance + polygons.reflectance * sol.ambient_irradiance()
     sol.visibility.rebuild()
     box = _object_box(sol, roots)
     _relink_shafts(sol, [box], np.zeros(len(sol.links), bool))
@@ -111,7 +120,7 @@ def add_object(sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_
         _link_lamp(sol, roots)
     else:
         _link_object(sol, roots)
-    return _finish(sol, t, "add", tolerance, max_iterations)
+    return _finish(sol, t, "add", tolerance, max_iterations, sol.hierarchy.descendants(roots))
 
 
 def _link_lamp(sol, roots) -> None:
@@ -169,4 +178,4 @@ def move_object(sol, name: str, matrix: np.ndarray, tolerance: float = 1e-4, max
     _relink_shafts(sol, [old_box, new_box], np.zeros(len(L), bool))
     roots = h.roots[sol.polygons.group[h.polygon[h.roots]] == group]
     _link_object(sol, roots)
-    return _finish(sol, t, "move", tolerance, max_iterations)
+    return _finish(sol, t, "move", tolerance, max_iterations, h.descendants(roots))

@@ -144,7 +144,8 @@ def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: flo
     ok = (count[first] == 1) & (count[second] == 1)
     first, second = first[ok], second[ok]
     d = f[second, apex[second]]
-    coplanar = (normal[first] * normal[second]).sum(axis=1) > 1 - 1e-6
+    # within about 0.8°: a slightly warped quad (the Cornell box's left wall, 3 mm over 55 cm) stays one
+    coplanar = (normal[first] * normal[second]).sum(axis=1) > 1 - 1e-4
     quad = np.stack([v[a[first]], v[b[first]], v[d], v[c[first]]], axis=1)
     # convex: every corner turns the same way as the normal
     turn = np.stack([np.cross(quad[:, (k + 1) % 4] - quad[:, k], quad[:, (k + 2) % 4] - quad[:, (k + 1) % 4]) for k in range(4)], axis=1)
@@ -153,6 +154,12 @@ def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: flo
     partner[first[take]] = second[take]
     partner[second[take]] = first[take]
     quads = quad[take]
+    # a slightly warped quad is flattened onto its mean plane: the ray caster sees two triangles, and
+    # sample points on a warped (bilinear) surface could fall behind them
+    mean_normal = normal[first[take]] + normal[second[take]]
+    mean_normal /= np.linalg.norm(mean_normal, axis=1, keepdims=True)
+    centre = quads.mean(axis=1, keepdims=True)
+    quads = quads - ((quads - centre) * mean_normal[:, None]).sum(axis=2, keepdims=True) * mean_normal[:, None]
     singles = np.flatnonzero(partner < 0)
     tris = np.concatenate([p[singles], p[singles][:, 2:3]], axis=1)
     corners = np.concatenate([quads, tris]) if len(tris) else quads

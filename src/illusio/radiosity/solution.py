@@ -76,16 +76,20 @@ class Radiosity:
         h = self.hierarchy
         return h.exitance * self.lamp_scale[self.polygons.group[h.polygon]][:, None]
 
-    def _ambient_estimate(self) -> np.ndarray:
-        """A first B for the criterion before any solve: E plus ρ times the ambient irradiance of a
-        closed room of the same power, Φ / (ΣA·(1 − ρ̄)) (the estimate of Loscos eq. 4.2)."""
+    def ambient_irradiance(self) -> np.ndarray:
+        """The ambient irradiance of a closed room of the same power, Φ / (ΣA·(1 − ρ̄)) (RGB, W/m²;
+        the estimate of Loscos eq. 4.2): what the criterion assumes of light not yet solved for."""
         h = self.hierarchy
         roots = h.roots[h.active[h.roots]]
         area = h.area[roots]
         rho = (h.reflectance[roots] * area[:, None]).sum(axis=0) / area.sum()
         power = (h.exitance[roots] * area[:, None]).sum(axis=0)
-        ambient = power / (area.sum() * np.maximum(1 - rho, 1e-3))
-        return h.exitance + h.reflectance * ambient
+        return power / (area.sum() * np.maximum(1 - rho, 1e-3))
+
+    def _ambient_estimate(self) -> np.ndarray:
+        """A first B for the criterion before any solve: E + ρ·(ambient irradiance)."""
+        h = self.hierarchy
+        return h.exitance + h.reflectance * self.ambient_irradiance()
 
     # --- building
     def build(self, tolerance: float = 1e-4, max_iterations: int = 200) -> "Radiosity":

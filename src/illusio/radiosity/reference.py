@@ -1,0 +1,89 @@
+"""The algorithms stated plainly, loop by loop: the specification the vectorised engine and the GPU
+display are tested against (tests/radiosity/)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..scene.camera import View
+
+__all__ = ["point_polygon_form_factor", "gather", "push_pull", "solve_dense", "display"]
+
+
+def point_polygon_form_factor(x, normal, corners) -> float:
+    """F from the point x (normal n) to the polygon ``corners`` (m, 3), wholly in front of x:
+    (1/2π)·|Σ_e γ_e · n·(R_e × R_{e+1}) / |R_e × R_{e+1}||, R_e = corner_e − x."""
+    x, normal = np.asarray(x, float), np.asarray(normal, float)
+    total = 0.0
+    m = len(corners)
+    for e in range(m):
+        a = np.asarray(corners[e], float) - x
+        b = np.asarray(corners[(e + 1) % m], float) - x
+        c = np.cross(a, b)
+        norm = float(np.linalg.norm(c))
+        if norm < 1e-300:
+            continue
+        gamma = math.atan2(norm, float(a @ b))
+        total += gamma * float(normal @ c) / norm
+    return min(abs(total) / (2 * math.pi), 1.0)
+
+
+def gather(receivers, sources, form_factors, visibilities, radiosity, n: int) -> np.ndarray:
+    """H_i = Σ over links j → i of F_ij·V_ij·B_j, one link at a time."""
+    h = np.zeros((n, 3))
+    for i, j, f, v in zip(receivers, sources, form_factors, visibilities):
+        h[i] += f * v * radiosity[j]
+    return h
+
+
+def push_pull(parent, children, area, reflectance, exitance, irradiance, roots) -> np.ndarray:
+    """B of every element, recursively from each root: push the irradiance gathered above down to the
+    leaves, B = E + ρ·H there, and pull the area-weighted mean of the children's B up."""
+    b = np.zeros((len(parent), 3))
+
+    def visit(e, above):
+        total = above + irradiance[e]
+        kids = children[e]
+        if not kids:
+            b[e] = exitance[e] + reflectance[e] * total
+        else:
+            b[e] = sum(area[c] * visit(c, total) for c in kids) / area[e]
+        return b[e]
+
+    for r in roots:
+        visit(r, np.zeros(3))
+    return b
+
+
+def solve_dense(exitance, reflectance, kernel) -> np.ndarray:
+    """The radiosity equation on one level of elements, B = E + ρ·(K B), solved exactly:
+    (I − diag(ρ) K) B = E per channel. ``kernel``: K[i, j] = F_ij·V_ij (n, n)."""
+    n = len(exitance)
+    out = np.zeros((n, 3))
+    for c in range(3):
+        out[:, c] = np.linalg.solve(np.eye(n) - reflectance[:, c, None] * kernel, exitance[:, c])
+    return out
+
+
+def display(positions, radiance, faces, view: View, size) -> tuple[np.ndarray, np.ndarray]:
+    """The leaf mesh seen through the pixel centres: (radiance image (H, W, 3) interpolated with the
+    barycentric coordinates of each hit, face index (H, W), −1 off the mesh). Rays cast with Embree."""
+    from embreex import rtcore_scene
+    from embreex.mesh_construction import TriangleMesh
+
+    scene = rtcore_scene.EmbreeScene()
+    TriangleMesh(scene, np.asarray(positions, np.float32)[np.asarray(faces)])
+    w, h = size
+    directions = view.ray_directions((w, h)).reshape(-1, 3).astype(np.float32)
+    origins = np.repeat(np.asarray(view.pose.position, np.float32)[None], len(directions), axis=0)
+    hit = scene.run(origins, directions, output=1)
+    face = np.asarray(hit["primID"]).reshape(-1)
+    u, v = np.asarray(hit["u"]), np.asarray(hit["v"])
+    image = np.zeros((w * h, 3), np.float32)
+    ok = face >= 0
+    f = np.asarray(faces)[face[ok]]
+    rad = np.asarray(radiance)
+    image[ok] = (1 - u[ok] - v[ok])[:, None] * rad[f[:, 0]] + u[ok][:, None] * rad[f[:, 1]] + v[ok][:, None] * rad[f[:, 2]]
+    return image.reshape(h, w, 3), face.reshape(h, w)
