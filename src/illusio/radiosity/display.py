@@ -5,7 +5,8 @@ and the links an element receives as lines (shaders/links.glsl). The reference i
 Smooth display (the chapter's, radiosity interpolated from the vertices): the radiosity at each leaf
 corner is gathered at that point, B(x) = E + ρ·Σ F_x→j·V_ij·B_j over the links the leaf and its
 ancestors receive, with the exact point-to-polygon form factor at x and the link's visibility; the
-values of the leaves of one polygon meeting at a point are averaged. (The usual mean of the
+values of the leaves of one polygon meeting at a point are averaged, leaves that see nothing (under a
+block, behind a door) all but left out so their black does not bleed out. (The usual mean of the
 neighbouring elements' B flattens every gradient toward a polygon's border: on the Cornell box's
 back wall it renders the direct light 2.8 % too dark where the element values themselves are within
 0.8 %.) Flat display (the element mesh): every leaf keeps its own B and its outline is drawn.
@@ -78,6 +79,18 @@ def corner_gather(h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.n
     return exitance[leaves][:, None] + h.reflectance[leaves][:, None] * irradiance
 
 
+def exposure_weights(h: Hierarchy, links: Links, leaves: np.ndarray) -> np.ndarray:
+    """1 for a leaf that sees something (Σ F·V over its links and its ancestors' above 1 % of Σ F), a
+    tiny weight for one that sees nothing (under a block, behind a door): its black must not bleed
+    into the visible neighbours it shares corners with."""
+    seen = np.bincount(links.receiver, weights=links.form_factor * links.visibility, minlength=len(h))
+    total = np.bincount(links.receiver, weights=links.form_factor, minlength=len(h))
+    for lv in h.by_level()[1:]:
+        seen[lv] += seen[h.parent[lv]]
+        total[lv] += total[h.parent[lv]]
+    return np.where(seen[leaves] > 0.01 * total[leaves], 1.0, 1e-6)
+
+
 def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = None,
                      exitance: np.ndarray | None = None) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3): gathered at the corners (with ``links`` and
@@ -91,11 +104,12 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
     _, vertex = np.unique(key, axis=0, return_inverse=True)
     vertex = vertex.reshape(-1)
     b = (corner_gather(h, links, leaves, exitance) if links is not None else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)).reshape(-1, 3)
+    w = np.repeat(exposure_weights(h, links, leaves) if links is not None else np.ones(len(leaves)), 4)
     total = np.zeros((vertex.max() + 1, 3))
     count = np.zeros(vertex.max() + 1)
-    np.add.at(total, vertex[corner_of_tri], b[corner_of_tri])
-    np.add.at(count, vertex[corner_of_tri], 1)
-    return (total / np.maximum(count, 1)[:, None])[vertex].reshape(-1, 4, 3)
+    np.add.at(total, vertex[corner_of_tri], (w[:, None] * b)[corner_of_tri])
+    np.add.at(count, vertex[corner_of_tri], w[corner_of_tri])
+    return (total / np.maximum(count, 1e-300)[:, None])[vertex].reshape(-1, 4, 3)
 
 
 def leaf_mesh(h: Hierarchy, links: Links | None = None, exitance: np.ndarray | None = None,

@@ -73,7 +73,7 @@ def _relink_shafts(sol, boxes, skip: np.ndarray) -> int:
         hit |= shaft_meets_box(lo_i, hi_i, lo_j, hi_j, box_lo, box_hi)
     hit &= ~skip
     gone = L.remove(hit)
-    refine(h, sol.visibility, gone.receiver, gone.source, sol.threshold, sol.params.min_area,
+    refine(h, sol.visibility, gone.receiver, gone.source, sol.threshold, sol.min_area,
            sol.params.criterion, links=L)
     return len(gone)
 
@@ -85,7 +85,7 @@ def _link_object(sol, roots: np.ndarray) -> None:
     recv = np.r_[np.repeat(roots, len(others)), np.repeat(others, len(roots))]
     src = np.r_[np.tile(others, len(roots)), np.tile(roots, len(others))]
     pair = np.unique(np.c_[recv, src], axis=0)
-    refine(h, sol.visibility, pair[:, 0], pair[:, 1], sol.threshold, sol.params.min_area, sol.params.criterion,
+    refine(h, sol.visibility, pair[:, 0], pair[:, 1], sol.threshold, sol.min_area, sol.params.criterion,
            links=sol.links)
 
 
@@ -131,7 +131,7 @@ def _link_lamp(sol, roots) -> None:
     leaves = leaves[h.reflectance[leaves].max(axis=1) > 0]
     recv = np.repeat(leaves, len(roots))
     src = np.tile(roots, len(leaves))
-    refine(h, sol.visibility, recv, src, sol.threshold, sol.params.min_area, sol.params.criterion, links=sol.links)
+    refine(h, sol.visibility, recv, src, sol.threshold, sol.min_area, sol.params.criterion, links=sol.links)
 
 
 def add_lamp(sol, centre, edge_u, edge_v, exitance, name: str, tolerance: float = 1e-4, max_iterations: int = 200):

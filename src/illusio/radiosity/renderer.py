@@ -74,6 +74,24 @@ class RadiosityRenderer(Renderer):
         return colour
 
 
+    def radiance(self, frame: Frame, params: RadiosityParams | None = None, supersample: int = 1):
+        """(radiance × exposure, float32 (H, W, 3), unclipped; emitter mask (H, W) bool) of the frame,
+        each pixel the box-filtered mean of supersample² samples (as a path tracer's box filter)."""
+        params = self._params(params)
+        k = int(supersample)
+        w, h = frame.size
+        big = Frame(frame.view, (w * k, h * k), frame.time, frame.index)
+        tex = self.render_texture(big, params)
+        try:
+            image = self.ctx.readback_image(tex, 3, clip=False)
+        finally:
+            self.ctx.release(tex)
+        element = self.ctx.readback_image(self._maps["element"], 1, clip=False)[..., 0].astype(np.int64)
+        emitter = (element >= 0) & (self.solution.exitance()[np.maximum(element, 0)].max(axis=-1) > 0)
+        image = image.reshape(h, k, w, k, 3).mean(axis=(1, 3))
+        return image, emitter.reshape(h, k, w, k).any(axis=(1, 3))
+
+
 def default_element(solution: Radiosity) -> int:
     """The receiver with the most links (the links view's default)."""
     counts = np.bincount(solution.links.receiver, minlength=len(solution.hierarchy))

@@ -21,7 +21,10 @@ from .refine import needs_refinement, refine, transfer_estimate
 from .solve import SolveResult, solve
 from .visibility import Visibility
 
-__all__ = ["Radiosity", "Stats"]
+__all__ = ["Radiosity", "Stats", "AUTO_MIN_AREA"]
+
+#: the automatic minimum element area, as a fraction of the scene's total surface area
+AUTO_MIN_AREA = 3e-5
 
 
 @dataclass
@@ -68,6 +71,16 @@ class Radiosity:
         return float((h.exitance[roots] * h.area[roots, None]).sum(axis=0).max())
 
     @property
+    def min_area(self) -> float:
+        """A_ε in m² (params.min_area, or 3·10⁻⁵ of the total area of the input when that is 0)."""
+        if self.params.min_area > 0:
+            return self.params.min_area
+        if not hasattr(self, "_auto_min_area"):
+            h = self.hierarchy
+            self._auto_min_area = AUTO_MIN_AREA * float(h.area[h.roots].sum())
+        return self._auto_min_area
+
+    @property
     def threshold(self) -> float:
         return self.params.epsilon * max(self.power, 1e-300)
 
@@ -100,7 +113,7 @@ class Radiosity:
         recv, src = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
         t = time.perf_counter()
         h.radiosity[:] = self._ambient_estimate()      # children inherit it as they are made
-        refine(h, self.visibility, recv, src, self.threshold, self.params.min_area, self.params.criterion,
+        refine(h, self.visibility, recv, src, self.threshold, self.min_area, self.params.criterion,
                links=self.links)
         self.stats.add_time("refine", time.perf_counter() - t)
         self.solve(tolerance, max_iterations)
@@ -121,7 +134,7 @@ class Radiosity:
         h, L = self.hierarchy, self.links
         transfer = transfer_estimate(h, L.receiver, L.source, L.form_factor)
         fail = needs_refinement(transfer, L.visibility, self.threshold, self.params.criterion)
-        fail &= (h.area[L.receiver] / 4 >= self.params.min_area) | (h.area[L.source] / 4 >= self.params.min_area)
+        fail &= (h.area[L.receiver] / 4 >= self.min_area) | (h.area[L.source] / 4 >= self.min_area)
         if links is not None:
             fail &= links
         gone = L.remove(fail)
@@ -134,14 +147,14 @@ class Radiosity:
 
     def _split_and_refine(self, recv, src) -> None:
         h = self.hierarchy
-        split_src = (h.area[src] >= h.area[recv]) & (h.area[src] / 4 >= self.params.min_area)
-        split_src |= h.area[recv] / 4 < self.params.min_area
+        split_src = (h.area[src] >= h.area[recv]) & (h.area[src] / 4 >= self.min_area)
+        split_src |= h.area[recv] / 4 < self.min_area
         first_s = h.subdivide(src[split_src])
         first_r = h.subdivide(recv[~split_src])
         quad = np.arange(4)
         r = np.r_[np.repeat(recv[split_src], 4), (first_r[:, None] + quad).reshape(-1)]
         s = np.r_[(first_s[:, None] + quad).reshape(-1), np.repeat(src[~split_src], 4)]
-        refine(h, self.visibility, r, s, self.threshold, self.params.min_area, self.params.criterion, links=self.links)
+        refine(h, self.visibility, r, s, self.threshold, self.min_area, self.params.criterion, links=self.links)
 
     def lights_to_leaves(self) -> None:
         """Replace every link from an emitter by links from the same source to each leaf under its

@@ -6,8 +6,12 @@ ray does not hit its own ends); the rays are cast with Embree (embreex).
 
 - F_ij: the exact point-to-polygon form factor (:func:`formfactor.point_polygon`) averaged over the
   first ``form_factor_points`` of the x_s: quadrature over the receiver, exact over the source;
-- V_ij: the fraction of the rays x_s → y_s no polygon blocks; its type (VISIBLE, PARTIAL,
-  INVISIBLE): all rays clear, some, none.
+- V_ij: the fraction of the rays x_s → y_s no polygon blocks, among the rays whose start x_s is
+  exposed: a probe ray along the normal meets nothing within ``contact`` = 0.2 % of the scene's
+  extent and does not meet the back of a face (the point is then inside a closed object). The part of
+  an element under a board or behind a door in contact with it is not part of the surface anyone
+  sees, and counting it would darken the whole element. Its type (VISIBLE, PARTIAL, INVISIBLE): all counted rays clear,
+  some, none.
 """
 
 from __future__ import annotations
@@ -67,6 +71,7 @@ class Visibility:
         tris = np.concatenate([c[:, [0, 1, 2]], c[~tri][:, [0, 2, 3]]])
         extent = np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max() if len(h.roots) else 1.0
         self.offset = 1e-5 * max(float(extent), 1e-6)
+        self.contact = 2e-3 * max(float(extent), 1e-6)
         self.scene = rtcore_scene.EmbreeScene()
         if len(tris):
             TriangleMesh(self.scene, tris.astype(np.float32))
@@ -89,8 +94,21 @@ class Visibility:
         d = (b - a).reshape(-1, 3)
         length = np.linalg.norm(d, axis=1)
         direction = d / np.maximum(length, 1e-300)[:, None]
-        hit = self.scene.run(a.reshape(-1, 3).astype(np.float32), direction.astype(np.float32),
+        origins = a.reshape(-1, 3).astype(np.float32)
+        hit = self.scene.run(origins, direction.astype(np.float32),
                              dists=np.maximum(length - self.offset, 0).astype(np.float32), query="OCCLUDED")
-        self.rays += n * k
-        visibility = (np.asarray(hit).reshape(n, k) < 0).mean(axis=1)
+        # a sample point with something right above it (under a board on a wall, behind a door in
+        # contact) is not part of the surface anyone sees: a probe along the normal finds it
+        # contact, or inside a closed object (the probe meets the back of a face: under a door that
+        # stands on the wall, the points are inside the door)
+        up = np.repeat(h.normal[receivers], k, axis=0).astype(np.float32)
+        probe = self.scene.run(origins, up, output=1)
+        met = np.asarray(probe["primID"]) >= 0
+        back = (np.asarray(probe["Ng"]) * up).sum(axis=1) > 0
+        covered = (met & ((np.asarray(probe["tfar"]) < self.contact) | back)).reshape(n, k)
+        self.rays += 2 * n * k
+        clear = np.asarray(hit).reshape(n, k) < 0
+        exposed = ~covered
+        count = exposed.sum(axis=1)
+        visibility = np.where(count > 0, (clear & exposed).sum(axis=1) / np.maximum(count, 1), 0.0)
         return form_factor, visibility

@@ -1,0 +1,104 @@
+"""illusio radiosity: a hierarchical radiosity solution of a scene, its element mesh or links, and
+the Mitsuba ground truth of the same polygons for comparison."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from ..core.errors import InputError
+from ..core.images import check_output_path, write_image
+from ..radiosity.params import CRITERIA, SHOW, HierarchyParams, RadiosityParams
+from .common import parse_size, resolve_scene, scene_inputs
+
+_H = HierarchyParams()
+_P = RadiosityParams()
+
+
+def parse_lamps(values: list[str]) -> tuple:
+    """['lamp-0=0.5', ...] -> (('lamp-0', 0.5), ...)."""
+    out = []
+    for text in values or ():
+        name, sep, value = text.partition("=")
+        try:
+            scale = float(value)
+        except ValueError:
+            scale = -1.0
+        if not sep or not name or not scale >= 0:
+            raise InputError(f"--set-lamp takes NAME=SCALE with SCALE ≥ 0, got {text!r}")
+        out.append((name, scale))
+    return tuple(out)
+
+
+def radiosity(
+    scene: str = typer.Argument(..., help="built-in scene (cornell-box, office, living-room, ...) or a .yaml scene"),
+    output: Path = typer.Option(..., "-o", "--output", help="image to write (.png sRGB, .npy/.exr linear)"),
+    epsilon: float = typer.Option(_H.epsilon, "--epsilon", help="refinement ε, a fraction of the total emitted power"),
+    min_area: float = typer.Option(_H.min_area, "--min-area", help="smallest element area, m² (0: 3e-5 of the scene's total area)"),
+    criterion: str = typer.Option(_H.criterion, "--criterion", help=f"refinement criterion: {' | '.join(CRITERIA)}"),
+    lights_to_leaves: bool = typer.Option(_H.lights_to_leaves, "--lights-to-leaves/--no-lights-to-leaves",
+                                          help="push the lamps' links down to the leaves (Loscos Fig. 4.6b)"),
+    show: str = typer.Option(_P.show, "--show", help=f"what to draw: {' | '.join(SHOW)}"),
+    element: int = typer.Option(-1, "--element", help="--show links: the receiving element (default: the most linked)"),
+    set_lamp: list[str] = typer.Option(None, "--set-lamp", help="NAME=SCALE, the lamp's exitance × SCALE (repeatable)"),
+    exposure: float = typer.Option(_P.exposure, "--exposure", help="scale on the radiance B/π before encoding"),
+    size: str = typer.Option("640x480", "--size", help="WIDTHxHEIGHT of both images"),
+    camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
+    reference: Path = typer.Option(None, "--reference", help="also path-trace the same polygons with Mitsuba to this image"),
+    spp: int = typer.Option(256, "--spp", help="--reference: paths per pixel"),
+    supersample: int = typer.Option(0, "--supersample", help="samples per pixel side of the radiosity image (0: 4 with --reference, else 1)"),
+    stats: bool = typer.Option(False, "--stats", help="print elements, links, rays and the time of each phase"),
+    seed: int = typer.Option(_H.seed, "--seed", help="visibility rays and path tracer"),
+) -> None:
+    """Solve SCENE by hierarchical radiosity (Hanrahan et al. 1991, as in Loscos 1999, ch. 4) and
+    draw it; with --reference, score it against a Mitsuba 3 path tracing of the same polygons."""
+    import numpy as np
+
+    from ..core.context import Context
+    from ..core.renderer import Frame
+    from ..radiosity.renderer import RadiosityRenderer
+
+    out = check_output_path(output, scene_inputs(scene))
+    ref_out = check_output_path(reference, scene_inputs(scene) + [str(out)]) if reference is not None else None
+    if ref_out is not None and ref_out.resolve() == out.resolve():
+        raise InputError("--reference must name a different file than -o")
+    if not 1 <= spp <= 1 << 20:
+        raise InputError(f"--spp must be in 1..{1 << 20}, got {spp}")
+    if not 0 <= supersample <= 8:
+        raise InputError(f"--supersample must be in 0..8, got {supersample}")
+    k = supersample or (4 if reference is not None else 1)
+    w, h = parse_size(size)
+    parse_size(f"{w * k}x{h * k}")
+    params = RadiosityParams(
+        HierarchyParams(epsilon=epsilon, min_area=min_area, criterion=criterion, lights_to_leaves=lights_to_leaves, seed=seed),
+        show=show, exposure=exposure, element=element, lamp_scales=parse_lamps(set_lamp))
+    sc = resolve_scene(scene)
+    view = sc.camera(camera)
+    renderer = RadiosityRenderer(Context())
+    renderer.prepare(sc)
+    solution = renderer.solve(params)
+    if element >= len(solution.hierarchy):
+        raise InputError(f"--element {element}: the solution has {len(solution.hierarchy)} elements")
+    image, emitter = renderer.radiance(Frame(view, (w, h)), params, k)
+    ref = None
+    if ref_out is not None:
+        from ..radiosity.mitsuba import render_mitsuba, score
+
+        scaled = renderer.polygons
+        scales = dict(params.lamp_scales)
+        if scales:
+            import dataclasses
+            factor = np.array([scales.get(n, 1.0) for n in scaled.names])[scaled.group]
+            scaled = dataclasses.replace(scaled, exitance=scaled.exitance * factor[:, None])
+        ref = render_mitsuba(scaled, view, (w, h), spp, seed) * exposure
+    write_image(out, image)
+    typer.echo(f"wrote {out} ({w}×{h})")
+    if ref is not None:
+        write_image(ref_out, ref)
+        s = score(image, ref, ~emitter)
+        typer.echo(f"wrote {ref_out}: mean relative error {100 * s.mean_relative_error:.1f} % over {s.pixels} "
+                   f"non-emitter pixels, PSNR {s.psnr:.1f} dB")
+    if stats:
+        for line in solution.stats.lines():
+            typer.echo(line)
