@@ -156,3 +156,21 @@ def test_params_that_cannot_be_drawn_give_way_to_the_last_that_could(ctx):
     viewer.step()
     assert viewer.mode.params.host == "tv-screen" and "aquarium" in viewer.last_error
     viewer.release()
+
+
+def test_radiosity_links_follow_the_pointer(ctx):
+    """In the links view the element under the pointer is the one whose links are drawn: two places
+    on the floor pick two elements and two pictures."""
+    viewer = Viewer(ctx, "radiosity", "cornell-box", "links", size=SIZE)
+    pictures, picked = [], []
+    for pointer in ((0.3, 0.9), (0.75, 0.2)):
+        viewer.pointer = pointer
+        viewer.step()          # the element map of this view
+        viewer.step()          # drawn with the element under the pointer
+        pictures.append(viewer.image())
+        picked.append(viewer.mode.params.element)
+        element = viewer.ctx.readback(viewer.mode.renderer.maps()["element"])[..., 0]
+        h, w = element.shape
+        assert picked[-1] == int(element[int(pointer[1] * h), int(pointer[0] * w)])
+    assert picked[0] != picked[1]
+    assert np.abs(pictures[0] - pictures[1]).mean() > 1e-3

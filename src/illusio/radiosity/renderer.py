@@ -1,7 +1,8 @@
 """``RadiosityRenderer``: the Renderer protocol over the engine. The subject is a Scene (or
 Polygons); the solution is built on the first frame for the params' ``hierarchy`` and kept — a
 frame whose params change only the lamp scales re-solves with the links kept (Loscos 4.4.2), one
-that changes only the display draws again. Maps: ``element`` (R32F, the leaf index under each pixel,
+that changes only the display draws again. ``show="links"`` draws the links lighting the chosen
+element: those it receives and those its ancestors receive (pushed down to it). Maps: ``element`` (R32F, the leaf index under each pixel,
 −1 off the geometry)."""
 
 from __future__ import annotations
@@ -69,7 +70,7 @@ class RadiosityRenderer(Renderer):
         colour, element = self.display(view, frame.size, params.exposure, edges=params.show == "mesh")
         if params.show == "links":
             chosen = params.element if params.element >= 0 else default_element(solution)
-            self.display.links(colour, view, solution.hierarchy, solution.links.received_by(chosen))
+            self.display.links(colour, view, solution.hierarchy, lighting(solution, chosen))
         self._keep_maps({"element": element})
         return colour
 
@@ -90,6 +91,15 @@ class RadiosityRenderer(Renderer):
         emitter = (element >= 0) & (self.solution.exitance()[np.maximum(element, 0)].max(axis=-1) > 0)
         image = image.reshape(h, k, w, k, 3).mean(axis=(1, 3))
         return image, emitter.reshape(h, k, w, k).any(axis=(1, 3))
+
+
+def lighting(solution: Radiosity, element: int):
+    """The links that light ``element``: those it receives and those its ancestors receive."""
+    h = solution.hierarchy
+    chain = [int(element)]
+    while h.parent[chain[-1]] >= 0:
+        chain.append(int(h.parent[chain[-1]]))
+    return solution.links.take(np.isin(solution.links.receiver, chain))
 
 
 def default_element(solution: Radiosity) -> int:

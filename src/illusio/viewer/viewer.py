@@ -37,6 +37,8 @@ class Viewer:
         self.display = DisplayPass(ctx)
         self.sources: dict[str, str | None] = {name: None for name in MODES}
         self.mode: Mode | None = None
+        #: the pointer over the window, (x, y) in [0, 1]² from the top left (None: outside)
+        self.pointer: tuple[float, float] | None = None
         self.keys: set[str] = set()
         self.time = 0.0
         self.index = 0
@@ -143,6 +145,7 @@ class Viewer:
         if self.recorder is not None and view is not None:
             self.recorder.add(self.time, view)
         frame = Frame(view, self.mode.image_size(self.size), self.time, self.index)
+        self.mode.pointer = self.pointer
         try:
             image = self.mode.render(frame)
         except IllusioError as exc:

@@ -74,7 +74,7 @@ class ViewerWindow:
         w.key_event_func = self.on_key
         w.mouse_drag_event_func = self.on_drag
         w.mouse_scroll_event_func = self.on_scroll
-        w.mouse_position_event_func = self.gui.mouse_position_event
+        w.mouse_position_event_func = self.on_pointer
         w.mouse_press_event_func = self.gui.mouse_press_event
         w.mouse_release_event_func = self.gui.mouse_release_event
         w.unicode_char_entered_func = self.gui.unicode_char_entered
@@ -102,6 +102,11 @@ class ViewerWindow:
             self.viewer.home()
         elif key == keys.P:
             self.screenshot()
+
+    def on_pointer(self, x, y, dx, dy) -> None:
+        self.gui.mouse_position_event(x, y, dx, dy)
+        w, h = self.window.size
+        self.viewer.pointer = (x / max(w, 1), y / max(h, 1)) if 0 <= x < w and 0 <= y < h else None
 
     def on_drag(self, x, y, dx, dy) -> None:
         self.gui.mouse_drag_event(x, y, dx, dy)

@@ -5,9 +5,10 @@ from .dof import DofMode
 from .ibr import IbrMode
 from .lines import LinesMode
 from .plain import PlainMode
+from .radiosity import RadiosityMode
 from .sis import SisMode
 
 #: technique name -> mode class, in the order the viewer cycles through them
-MODES: dict[str, type[Mode]] = {m.name: m for m in (PlainMode, SisMode, LinesMode, DofMode, IbrMode)}
+MODES: dict[str, type[Mode]] = {m.name: m for m in (PlainMode, SisMode, LinesMode, DofMode, IbrMode, RadiosityMode)}
 
-__all__ = ["Mode", "MODES", "PlainMode", "SisMode", "LinesMode", "DofMode", "IbrMode"]
+__all__ = ["Mode", "MODES", "PlainMode", "SisMode", "LinesMode", "DofMode", "IbrMode", "RadiosityMode"]

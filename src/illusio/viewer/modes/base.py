@@ -46,6 +46,8 @@ class Mode:
         self.source = source
         self.renderer: Renderer | None = None
         self.params = None
+        #: where the pointer is over the image, (x, y) in [0, 1]² from the top left, or None
+        self.pointer: tuple[float, float] | None = None
 
     # -- for the viewer -------------------------------------------------------------------------
     def navigation(self) -> WalkCamera | OrbitCamera | FixedCamera:
