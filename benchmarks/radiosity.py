@@ -37,7 +37,7 @@ def _seconds(fn) -> tuple[float, object]:
 
 def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
     cases = {"cornell-box": ((48, 48), 128) if quick else ((128, 128), 4096),
-             "office": ((64, 48), 64) if quick else ((160, 120), 2048)}
+             "office": ((64, 48), 64) if quick else ((160, 120), 4096)}
     renderer = RadiosityRenderer(ctx)
     for name, (size, spp) in cases.items():
         scene = load_scene(name)

@@ -61,8 +61,6 @@ def radiosity(
 
     out = check_output_path(output, scene_inputs(scene))
     ref_out = check_output_path(reference, scene_inputs(scene) + [str(out)]) if reference is not None else None
-    if ref_out is not None and ref_out.resolve() == out.resolve():
-        raise InputError("--reference must name a different file than -o")
     if not 1 <= spp <= 1 << 20:
         raise InputError(f"--spp must be in 1..{1 << 20}, got {spp}")
     if not 0 <= supersample <= 8:

@@ -16,7 +16,7 @@ from .common import parse_size, resolve_scene, scene_inputs
 
 
 def render(
-    scene: str = typer.Argument(..., help="built-in scene (living-room, office, museum, turntable), a .yaml scene, a mesh file or a built-in shape"),
+    scene: str = typer.Argument(..., help="built-in scene (cornell-box, living-room, office, museum, turntable), a .yaml scene, a mesh file or a built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write: .png (8-bit sRGB; 16-bit with --bit-depth 16), .jpg, .npy or .exr (linear float)"),
     camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
     size: str = typer.Option("x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT in pixels"),

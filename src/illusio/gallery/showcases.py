@@ -15,6 +15,7 @@ from .html import Item, Section
 from .dof import dof_showcase
 from .ibr import ibr_showcase
 from .lines import lines_showcase
+from .radiosity import radiosity_showcase
 from .sis import sis_showcase
 from .viewer import viewer_showcase
 
@@ -65,5 +66,6 @@ SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]]
     ("lines", lines_showcase),
     ("dof", dof_showcase),
     ("ibr", ibr_showcase),
+    ("radiosity", radiosity_showcase),
     ("viewer", viewer_showcase),
 ]

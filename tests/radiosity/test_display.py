@@ -1,0 +1,129 @@
+"""The radiosity display and renderer: the GPU pass against rays cast through the pixel centres, the
+corner gather against the element values, the Renderer protocol (re-solve without rebuilding), the
+Mitsuba ground truth and the command."""
+
+import numpy as np
+import pytest
+
+from illusio.core.images import read_image
+from illusio.core.renderer import Frame
+from illusio.radiosity import HierarchyParams, Radiosity, RadiosityParams, RadiosityRenderer, scene_polygons
+from illusio.radiosity import reference
+from illusio.radiosity.display import DisplayPass, leaf_mesh
+from illusio.scene import load_scene
+from tests.conftest import call_cli
+
+SIZE = (96, 96)
+COARSE = HierarchyParams(epsilon=3e-4)
+
+
+@pytest.fixture(scope="module")
+def cornell():
+    scene = load_scene("cornell-box")
+    return scene, Radiosity(scene_polygons(scene), COARSE).build()
+
+
+@pytest.mark.parametrize("smooth", [True, False])
+def test_display_pass_matches_ray_cast_reference(ctx, cornell, rng, smooth):
+    """Every pixel whose 3×3 neighbourhood hits one leaf (no element edge within a pixel) has the
+    radiance interpolated at the ray's hit; the exposure is a random factor."""
+    scene, sol = cornell
+    mesh = leaf_mesh(sol.hierarchy, sol.links, sol.exitance(), smooth=smooth)
+    exposure = float(rng.uniform(0.5, 2.0))
+    display = DisplayPass(ctx)
+    display.load(mesh)
+    size = (192, 192)
+    colour, element = display(scene.camera("main"), size, exposure)
+    got = ctx.readback_image(colour, 3, clip=False)
+    got_element = ctx.readback_image(element, 1, clip=False)[..., 0]
+    ctx.release(colour, element)
+    display.release()
+    want, face = reference.display(mesh.positions, mesh.radiance * exposure, mesh.faces, scene.camera("main"), size)
+    from scipy import ndimage
+    leaf = np.where(face >= 0, mesh.face_element[np.maximum(face, 0)], -1)
+    inner = (face >= 0) & (ndimage.maximum_filter(leaf, 3) == ndimage.minimum_filter(leaf, 3))
+    assert inner.mean() > 0.2
+    np.testing.assert_allclose(got[inner], want[inner], rtol=2e-3, atol=2e-4)   # rasterised vs ray-cast hit points
+    assert (got_element[inner] == mesh.face_element[face[inner]]).all()
+    assert (got_element[face < 0] == -1).all()
+
+
+def test_corner_gather_of_a_constant_field(cornell):
+    """Where B is the same everywhere the corners gather E + ρ Σ F V B = the element's own B, up to
+    the form factors' quadrature; on the back wall's leaves the corners agree with the leaves within 5 %."""
+    scene, sol = cornell
+    h = sol.hierarchy
+    from illusio.radiosity.display import corner_gather
+    leaves = h.leaves()
+    wall = leaves[h.polygon[leaves] == sol.polygons.names.index("back-wall")]
+    corners = corner_gather(h, sol.links, wall, sol.exitance())
+    ratio = corners.mean(axis=1)[:, 0] / h.radiosity[wall, 0]
+    assert np.median(np.abs(ratio - 1)) < 0.05
+
+
+def test_renderer_protocol_and_lamp_resolves(ctx):
+    scene = load_scene("cornell-box")
+    renderer = RadiosityRenderer(ctx)
+    assert renderer.prepare(scene)
+    assert not renderer.prepare(load_scene("cornell-box"))              # the same scene by value
+    bright = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE))
+    built = renderer.solution
+    dim = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE, lamp_scales=(("lamp", 0.5),)))
+    assert renderer.solution is built                                    # links kept: re-solved, not rebuilt
+    lit = bright.max(axis=-1) > 0.02
+    ratio = dim[lit & (bright < 0.99).all(axis=-1)] / bright[lit & (bright < 0.99).all(axis=-1)]
+    assert np.median(ratio) == pytest.approx(0.5, abs=0.02)              # B is linear in the lamp's exitance
+    mesh = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE, show="mesh"))
+    links = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE, show="links"))
+    assert np.abs(mesh - bright).mean() > 1e-3 and np.abs(links - bright).mean() > 1e-3
+    element = ctx.readback_image(renderer.maps()["element"], 1, clip=False)[..., 0]
+    assert (element >= 0).mean() > 0.8 and element.max() < len(renderer.solution.hierarchy)
+    renderer.release()
+
+
+def test_score_against_mitsuba(ctx):
+    """The Cornell box's radiosity against Mitsuba at few paths a pixel: within the noise of so few
+    paths (the benchmark measures at converged sampling)."""
+    pytest.importorskip("mitsuba", reason="the photo extra (pip install mitsuba)")
+    from illusio.radiosity.mitsuba import render_mitsuba, score
+
+    scene = load_scene("cornell-box")
+    renderer = RadiosityRenderer(ctx)
+    renderer.prepare(scene)
+    image, emitter = renderer.radiance(Frame(scene.camera("main"), (48, 48)), RadiosityParams(), 4)
+    ref = render_mitsuba(renderer.polygons, scene.camera("main"), (48, 48), 128, seed=3)
+    s = score(image, ref, ~emitter)
+    assert s.mean_relative_error < 0.2 and s.psnr > 20
+    assert emitter.sum() > 0 and s.pixels > 0.8 * (48 * 48)
+    # and a wrong lamp power is seen
+    worse = score(image * 1.3, ref, ~emitter)
+    assert worse.mean_relative_error > s.mean_relative_error + 0.1
+    renderer.release()
+
+
+def test_command(tmp_path, capsys):
+    out = tmp_path / "cb.png"
+    code, cap = call_cli(["radiosity", "cornell-box", "-o", str(out), "--size", "64x64", "--epsilon", "3e-4",
+                          "--set-lamp", "lamp=0.5", "--stats"], capsys)
+    assert code == 0, cap.err
+    assert read_image(out).shape == (64, 64, 3)
+    assert "elements" in cap.out and "links" in cap.out and "refine" in cap.out
+    mesh = tmp_path / "mesh.png"
+    assert call_cli(["radiosity", "cornell-box", "-o", str(mesh), "--size", "64x64", "--epsilon", "3e-4", "--show", "mesh"], capsys)[0] == 0
+    assert np.abs(read_image(mesh) - read_image(out)).mean() > 0.01
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--set-lamp", "lamp-9=1"], "no lamp named"),
+    (["--set-lamp", "lamp"], "NAME=SCALE"),
+    (["--criterion", "bff"], "criterion"),
+    (["--epsilon", "0"], "ε"),
+    (["--show", "wires"], "show"),
+    (["--reference", "SAME"], "choose another output path"),
+])
+def test_command_refuses_bad_input_and_writes_nothing(tmp_path, capsys, args, message):
+    out = tmp_path / "x.png"
+    args = [str(out) if a == "SAME" else a for a in args]
+    code, cap = call_cli(["radiosity", "cornell-box", "-o", str(out), "--size", "32x32", "--epsilon", "3e-4"] + args, capsys)
+    assert code == 2 and message in cap.err and "Traceback" not in cap.err
+    assert not out.exists()
