@@ -62,16 +62,25 @@ def _object_box(sol, elements) -> tuple[np.ndarray, np.ndarray]:
     return c.min(axis=0) - margin, c.max(axis=0) + margin
 
 
-def _relink_shafts(sol, boxes, skip: np.ndarray) -> int:
-    """Take out the links (not in ``skip``) whose shaft meets any of ``boxes`` and refine their pairs
-    again. Returns how many were redone."""
+def _detach(sol, name: str):
+    """(group, elements, box) of object ``name``, its links taken out."""
+    group = sol.polygons.group_of(name)
+    elements = _object_elements(sol, group)
+    box = _object_box(sol, elements)
+    L = sol.links
+    L.remove(np.isin(L.receiver, elements) | np.isin(L.source, elements))
+    return group, elements, box
+
+
+def _relink_shafts(sol, boxes) -> int:
+    """Take out the links whose shaft meets any of ``boxes`` and refine their pairs again. Returns
+    how many were redone."""
     h, L = sol.hierarchy, sol.links
     lo, hi = element_boxes(h, np.arange(len(h)))          # once per element, then per link end
     lo_i, hi_i, lo_j, hi_j = lo[L.receiver], hi[L.receiver], lo[L.source], hi[L.source]
     hit = np.zeros(len(L), bool)
     for box_lo, box_hi in boxes:
         hit |= shaft_meets_box(lo_i, hi_i, lo_j, hi_j, box_lo, box_hi)
-    hit &= ~skip
     gone = L.remove(hit)
     refine(h, sol.visibility, gone.receiver, gone.source, sol.threshold, sol.min_area,
            sol.params.criterion, links=L)
@@ -115,7 +124,7 @@ def add_object(sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_
     sol.hierarchy.radiosity[roots] = polygons.exitance + polygons.reflectance * sol.ambient_irradiance()
     sol.visibility.rebuild()
     box = _object_box(sol, roots)
-    _relink_shafts(sol, [box], np.zeros(len(sol.links), bool))
+    _relink_shafts(sol, [box])
     if lamp:
         _link_lamp(sol, roots)
     else:
@@ -144,29 +153,21 @@ def add_lamp(sol, centre, edge_u, edge_v, exitance, name: str, tolerance: float 
 def remove_object(sol, name: str, tolerance: float = 1e-4, max_iterations: int = 200):
     """Remove object ``name``: its elements go inactive, its links go, the shafts it blocked are redone."""
     t = time.perf_counter()
-    group = sol.polygons.group_of(name)
-    h, L = sol.hierarchy, sol.links
-    elements = _object_elements(sol, group)
-    box = _object_box(sol, elements)
-    mine = np.isin(L.receiver, elements) | np.isin(L.source, elements)
-    L.remove(mine)
+    h = sol.hierarchy
+    _, elements, box = _detach(sol, name)
     h.active[elements] = False
     h.radiosity[elements] = 0
     h.irradiance[elements] = 0
     sol.visibility.rebuild()
-    _relink_shafts(sol, [box], np.zeros(len(L), bool))
+    _relink_shafts(sol, [box])
     return _finish(sol, t, "remove", tolerance, max_iterations)
 
 
 def move_object(sol, name: str, matrix: np.ndarray, tolerance: float = 1e-4, max_iterations: int = 200):
     """Move object ``name`` by the 4×4 world ``matrix`` (applied to where it is now)."""
     t = time.perf_counter()
-    group = sol.polygons.group_of(name)
-    h, L = sol.hierarchy, sol.links
-    elements = _object_elements(sol, group)
-    old_box = _object_box(sol, elements)
-    mine = np.isin(L.receiver, elements) | np.isin(L.source, elements)
-    L.remove(mine)
+    h = sol.hierarchy
+    group, elements, old_box = _detach(sol, name)
     h.transform(elements, matrix)
     corners = sol.polygons.corners.copy()
     rows = np.flatnonzero(sol.polygons.group == group)
@@ -175,7 +176,7 @@ def move_object(sol, name: str, matrix: np.ndarray, tolerance: float = 1e-4, max
     sol.hierarchy.polygons = sol.polygons
     sol.visibility.rebuild()
     new_box = _object_box(sol, elements)
-    _relink_shafts(sol, [old_box, new_box], np.zeros(len(L), bool))
+    _relink_shafts(sol, [old_box, new_box])
     roots = h.roots[sol.polygons.group[h.polygon[h.roots]] == group]
     _link_object(sol, roots)
     return _finish(sol, t, "move", tolerance, max_iterations, h.descendants(roots))
