@@ -91,7 +91,7 @@ def scale(quick: bool, timings: list, ratios: dict) -> None:
     timings.append(Timing("office/rebuild with the seat moved", 1, rebuild_s * 1000, rebuild_s * 1000, rebuild_s * 1000))
     ratios["moved object update / full rebuild time (goal <= 1/10 = 0.1)"] = move_s / rebuild_s
 
-    growth = [3e-4, 1e-4, 4e-5] if quick else [3e-4, 1e-4, 4e-5, 1.5e-5, 5e-6]
+    growth = [3e-4, 1e-4, 4e-5] if quick else [6e-4, 1e-4, 4e-5, 1.5e-5, 5e-6, 2e-6]
     counts, seconds = [], []
     for eps in growth:
         s, sol = _seconds(lambda: Radiosity(polygons, HierarchyParams(epsilon=eps, min_area=2e-4)).build())

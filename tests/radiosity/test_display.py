@@ -127,3 +127,47 @@ def test_command_refuses_bad_input_and_writes_nothing(tmp_path, capsys, args, me
     code, cap = call_cli(["radiosity", "cornell-box", "-o", str(out), "--size", "32x32", "--epsilon", "3e-4"] + args, capsys)
     assert code == 2 and message in cap.err and "Traceback" not in cap.err
     assert not out.exists()
+
+
+BOX_ROOM = """
+name: box-room
+cameras:
+  main: {{position: [0, 1, 2.5], target: [0, 1, 0], fov: 60}}
+nodes:
+  - name: floor
+    shape: plane
+    params: {{size: [4, 4]}}
+    material: {{colour: {colour}}}
+  - name: block
+    shape: box
+    position: [0, 0.25, 0]
+    scale: 0.5
+lights:
+  - {{type: area, centre: [0, 2, 0], edge_u: [0.5, 0, 0], edge_v: [0, 0, -0.5], radiance: {radiance}}}
+"""
+
+
+@pytest.mark.parametrize("colour, radiance, shape, message", [
+    ("[1.0, 0.5, 0.5]", 5, "box", "reflectance"),          # ρ = 1 would make energy grow
+    ("[0.5, 0.5, 0.5]", 5, "sphere", "at most 4000 input polygons"),
+])
+def test_command_refuses_scenes_radiosity_cannot_take(tmp_path, capsys, colour, radiance, shape, message):
+    scene = tmp_path / "room.yaml"
+    text = BOX_ROOM.format(colour=colour, radiance=radiance)
+    if shape == "sphere":
+        text = text.replace("shape: box", "shape: sphere\n    params: {segments: 128, rings: 64}")
+    scene.write_text(text)
+    out = tmp_path / "x.png"
+    code, cap = call_cli(["radiosity", str(scene), "-o", str(out), "--size", "32x32"], capsys)
+    assert code == 2 and message in cap.err and "Traceback" not in cap.err
+    assert not out.exists()
+
+
+def test_a_yaml_scene_solves(tmp_path, capsys):
+    scene = tmp_path / "room.yaml"
+    scene.write_text(BOX_ROOM.format(colour="[0.6, 0.6, 0.6]", radiance=5))
+    out = tmp_path / "room.png"
+    code, cap = call_cli(["radiosity", str(scene), "-o", str(out), "--size", "64x48", "--epsilon", "3e-4"], capsys)
+    assert code == 0, cap.err
+    image = read_image(out)
+    assert image.max() > 0.2 and image.shape == (48, 64, 3)

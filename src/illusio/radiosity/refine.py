@@ -23,7 +23,10 @@ from .hierarchy import Hierarchy
 from .links import Links
 from .visibility import Visibility
 
-__all__ = ["refine", "transfer_estimate", "needs_refinement"]
+__all__ = ["refine", "transfer_estimate", "needs_refinement", "CHUNK"]
+
+#: pairs evaluated in one batch at most
+CHUNK = 200_000
 
 
 def transfer_estimate(h: Hierarchy, receiver, source, form_factor, radiosity=None) -> np.ndarray:
@@ -45,8 +48,46 @@ def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: 
     """Refine the candidate pairs into links (appended to ``links``, which is returned). ``radiosity``:
     the B estimate of the criterion (default: the hierarchy's). Elements are created as needed."""
     links = Links() if links is None else links
-    recv = np.asarray(receivers, np.int64)
-    src = np.asarray(sources, np.int64)
+    accepted = []
+    queue = [(np.asarray(receivers, np.int64), np.asarray(sources, np.int64))]
+    while queue:
+        recv, src = queue.pop()
+        if len(recv) > CHUNK:       # bounded memory: a round holds k samples × 3 coordinates per pair
+            queue.append((recv[CHUNK:], src[CHUNK:]))
+            recv, src = recv[:CHUNK], src[:CHUNK]
+        useful = (h.polygon[recv] != h.polygon[src]) & (h.reflectance[recv].max(axis=1) > 0)
+        recv, src = recv[useful], src[useful]
+        some, every = facing(h.corners[recv], h.normal[recv], h.centre[recv],
+                             h.corners[src], h.normal[src], h.centre[src])
+        recv, src, every = recv[some], src[some], every[some]
+        if not len(recv):
+            continue
+        ff, vis = visibility(recv, src)
+        transfer = transfer_estimate(h, recv, src, ff, radiosity)
+        split = needs_refinement(transfer, vis, threshold, criterion)
+        straddle = ~every & (vis > 0)
+        if straddle.any():
+            d2 = ((h.centre[src[straddle]] - h.centre[recv[straddle]]) ** 2).sum(axis=1)
+            a_s = h.area[src[straddle]]
+            point_bound = a_s / (np.pi * d2 + a_s)
+            b = (h.radiosity if radiosity is None else radiosity)[src[straddle]].max(axis=1)
+            split[straddle] |= b * point_bound * h.area[recv[straddle]] > threshold
+        area_r, area_s = h.area[recv], h.area[src]
+        can_r, can_s = area_r / 4 >= min_area, area_s / 4 >= min_area
+        split_src = split & can_s & ((area_s >= area_r) | ~can_r)
+        split_recv = split & ~split_src & can_r
+        accept = ~(split_src | split_recv)
+        accepted.append((recv[accept], src[accept], ff[accept], vis[accept]))
+        first_s = h.subdivide(src[split_src])
+        first_r = h.subdivide(recv[split_recv])
+        quad = np.arange(4)
+        new_recv = np.r_[np.repeat(recv[split_src], 4), (first_r[:, None] + quad).reshape(-1)]
+        new_src = np.r_[(first_s[:, None] + quad).reshape(-1), np.repeat(src[split_recv], 4)]
+        if len(new_recv):
+            queue.append((new_recv, new_src))
+    if accepted:
+        links.extend(*(np.concatenate(part) for part in zip(*accepted)))
+    return links
     while len(recv):
         useful = (h.polygon[recv] != h.polygon[src]) & (h.reflectance[recv].max(axis=1) > 0)
         recv, src = recv[useful], src[useful]

@@ -21,10 +21,13 @@ from .refine import needs_refinement, refine, transfer_estimate
 from .solve import SolveResult, solve
 from .visibility import Visibility
 
-__all__ = ["Radiosity", "Stats", "AUTO_MIN_AREA"]
+__all__ = ["Radiosity", "Stats", "AUTO_MIN_AREA", "MAX_POLYGONS"]
 
 #: the automatic minimum element area, as a fraction of the scene's total surface area
 AUTO_MIN_AREA = 3e-5
+#: the most input polygons a solution takes: every pair of roots that see each other is at least one
+#: link (there is no clustering of small polygons), so the links grow with the square of this
+MAX_POLYGONS = 4000
 
 
 @dataclass
@@ -51,6 +54,12 @@ class Radiosity:
     """Hierarchical radiosity over ``polygons`` with ``params`` (HierarchyParams)."""
 
     def __init__(self, polygons: Polygons, params: HierarchyParams = HierarchyParams()):
+        if len(polygons) > MAX_POLYGONS:
+            counts = np.bincount(polygons.group, minlength=len(polygons.names))
+            worst = int(counts.argmax())
+            raise InputError(f"radiosity takes at most {MAX_POLYGONS} input polygons (it does not cluster small ones); "
+                             f"this scene has {len(polygons)}, {counts[worst]} of them in {polygons.names[worst]!r}: "
+                             "use coarser meshes for curved objects")
         self.polygons = polygons
         self.params = params
         self.hierarchy = Hierarchy(polygons)
