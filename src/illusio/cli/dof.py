@@ -42,7 +42,7 @@ def dof(
                                                     "or planes (each pixel's plane in grey levels, Figure 8)"),
 ) -> None:
     """Render SCENE with depth of field from a thin-lens eye (one focus for both eyes in stereo)."""
-    from ..core.context import Context
+    from ..core.context import default_context
     from ..core.renderer import Frame
     from ..dof.focus import object_distance
     from ..dof.renderer import DofRenderer
@@ -71,7 +71,7 @@ def dof(
     if debug:  # the maps of the first eye; planes need the planes method, the others any blur method
         params = replace(params, method="planes" if debug == "planes" else
                          (params.method if params.method != "accumulation" else "gather"), stereo="none")
-    renderer = DofRenderer(Context())
+    renderer = default_context().kept(DofRenderer)
     if scenario is not None:
         _play(renderer, sc, view, (w, h), params, scenario, out, video, fps, duration)
         return

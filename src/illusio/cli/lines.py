@@ -45,7 +45,7 @@ def lines(
     debug: str = typer.Option(None, "--debug", help="write a debug view instead: q1, t1 or curvature"),
 ) -> None:
     """Draw MESH with apparent ridges and the classic line types."""
-    from ..core.context import Context
+    from ..core.context import default_context
     from ..core.renderer import Frame
     from ..lines import compare as cmp
     from ..lines.debug import DEBUG_VIEWS, debug_view
@@ -73,7 +73,7 @@ def lines(
     else:
         az_el = _floats(view, (2,), "--view")
         v = framing_view(m, az_el[0], az_el[1])
-    renderer = LineRenderer(Context())
+    renderer = default_context().kept(LineRenderer)
     renderer.prepare(m)
     if grid:
         from ..lines.tuning import parameter_grid

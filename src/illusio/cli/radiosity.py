@@ -55,7 +55,7 @@ def radiosity(
     draw it; with --reference, score it against a Mitsuba 3 path tracing of the same polygons."""
     import numpy as np
 
-    from ..core.context import Context
+    from ..core.context import default_context
     from ..core.renderer import Frame
     from ..radiosity.renderer import RadiosityRenderer
 
@@ -73,7 +73,7 @@ def radiosity(
         show=show, exposure=exposure, element=element, lamp_scales=parse_lamps(set_lamp))
     sc = resolve_scene(scene)
     view = sc.camera(camera)
-    renderer = RadiosityRenderer(Context())
+    renderer = default_context().kept(RadiosityRenderer)
     renderer.prepare(sc)
     solution = renderer.solve(params)
     if element >= len(solution.hierarchy):

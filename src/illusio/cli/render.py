@@ -25,7 +25,7 @@ def render(
     bit_depth: int = typer.Option(8, "--bit-depth", help="8 or 16 for PNG"),
 ) -> None:
     """Render SCENE to an image."""
-    from ..core.context import Context
+    from ..core.context import default_context
     from ..passes.scene_renderer import render_scene
 
     out = check_output_path(output, scene_inputs(scene))
@@ -34,6 +34,6 @@ def render(
         raise InputError(f"--exposure must be positive, got {exposure}")
     sc = resolve_scene(scene)
     view = sc.camera(camera)
-    img = render_scene(sc, view, (w, h), Context(), RenderSettings(shadows=shadows, exposure=exposure))
+    img = render_scene(sc, view, (w, h), default_context(), RenderSettings(shadows=shadows, exposure=exposure))
     write_image(out, img, bit_depth=bit_depth)
     typer.echo(f"wrote {out} ({w}×{h})")

@@ -145,11 +145,12 @@ def sis_scene(
     spin: float = typer.Option(_MULTI.spin, "--spin", help="degrees per frame the hidden scene turns"),
     size: str = typer.Option(f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"),
     frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
+    frame: int = typer.Option(0, "--frame", help="index of the first frame (its snow and spin; 24 frames a second)"),
     video: Path = typer.Option(None, "--video", help="write the frames as a video (.mp4 or .gif)"),
     seed: int = typer.Option(_MULTI.stereogram.seed, "--seed", help="seed of the pattern"),
 ) -> None:
     """Render SCENE with a stereogram on its host surface hiding another shape (Figure 22)."""
-    from ..core.context import Context
+    from ..core.context import default_context
     from ..sis.depth import hidden_scene
     from ..core.renderer import Frame
     from ..sis.multiscene import MultiSceneRenderer, MultiSceneSubject
@@ -162,6 +163,8 @@ def sis_scene(
             raise InputError(f"--video must end in .mp4 or .gif, got {video.name}")
     if frames < 1:
         raise InputError("--frames must be at least 1")
+    if frame < 0:
+        raise InputError(f"--frame must be ≥ 0, got {frame}")
     w, h = parse_size(size)
     main = resolve_scene(scene)
     view = main.camera(camera if camera in main.cameras else None)
@@ -169,11 +172,11 @@ def sis_scene(
     params = MultiSceneParams(host=host, stereogram=StereogramParams(algorithm=algorithm, pattern=pattern, strip_width=strip_width,
                                                                      depth_factor=depth_factor, seed=seed),
                               emission=emission, interactive=interactive, spin=spin)
-    renderer = MultiSceneRenderer(Context())
+    renderer = default_context().kept(MultiSceneRenderer)     # warm between the tasks of a batch
     renderer.prepare(MultiSceneSubject(main, hidden_scene(hidden_mesh)))
     images = []
     with progress(frames, "rendering frames") as advance:
-        for f in range(frames):
+        for f in range(frame, frame + frames):
             images.append(renderer.render(Frame(view, (w, h), f / 24, f), params))
             advance()
     write_image(out, images[0])

@@ -234,6 +234,8 @@ def _create_headless(backend: str | None) -> moderngl.Context:
     kwargs = {"standalone": True, "require": REQUIRED_GL}
     if backend and backend != "default":
         kwargs["backend"] = backend
+    if backend == "egl" and os.environ.get("ILLUSIO_EGL_DEVICE"):
+        kwargs["device_index"] = int(os.environ["ILLUSIO_EGL_DEVICE"])    # a batch worker's GPU
     try:
         return moderngl.create_context(**kwargs)
     except Exception as exc:  # glcontext raises plain Exception/OSError on missing libraries

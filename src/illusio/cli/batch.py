@@ -1,0 +1,49 @@
+"""illusio batch: run a job file (many frames, many runs) here, in local workers or on Ray."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+from ..core.errors import InputError
+
+
+def batch(
+    job: Path = typer.Argument(..., help="the job file (YAML: tasks with command, inputs, options, sweep, frames, output, video)"),
+    out: Path = typer.Option(..., "--out", help="folder for the outputs and the manifest (manifest.jsonl)"),
+    workers: int = typer.Option(0, "--workers", help="local worker processes (0: run in this process); with --ray, actors"),
+    ray: bool = typer.Option(False, "--ray/--no-ray", help="run on a Ray cluster (pip install 'illusio[cluster]')"),
+    ray_address: str = typer.Option(None, "--ray-address", help="the cluster: 'auto', HOST:PORT; none starts a local one"),
+    retries: int = typer.Option(1, "--retries", help="tries again after a task fails, before reporting it"),
+) -> None:
+    """Run JOB: every task through the illusio command it names, in workers that stay warm; a rerun
+    skips what the manifest lists as done and redoes what is missing or changed."""
+    import sys
+
+    from ..batch import Interrupted, load_job, run_job
+    from .common import progress
+
+    if workers < 0 or retries < 0:
+        raise InputError("--workers and --retries must be ≥ 0")
+    if ray_address and not ray:
+        raise InputError("--ray-address needs --ray")
+    spec = load_job(job)
+    if out.resolve() == job.resolve().parent and any((out / t.output).resolve() == job.resolve() for t in spec.tasks):
+        raise InputError("an output of the job would replace the job file")
+    with progress(len(spec.tasks), "tasks") as advance:
+        try:
+            report = run_job(spec, out, workers, retries, ray, ray_address, advance)
+        except Interrupted as stop:
+            r = stop.report
+            typer.echo(f"illusio: interrupted: {r.ran} tasks finished, the manifest lists them; run again to resume",
+                       err=True)
+            raise typer.Exit(130)
+    typer.echo(f"{report.ran} ran, {report.skipped} already done, {len(report.failed)} failed"
+               f"{f', {report.retried} retried' if report.retried else ''}"
+               f"{f', {report.restarted} given to another worker' if report.restarted else ''}"
+               f"{f', videos: ' + ', '.join(report.videos) if report.videos else ''}")
+    for output, message in report.failed.items():
+        print(f"illusio: failed: {output}: {message}", file=sys.stderr)
+    if report.failed:
+        raise typer.Exit(1)
