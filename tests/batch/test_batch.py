@@ -3,17 +3,14 @@ workers that lose nothing, and the same bytes from every backend."""
 
 import json
 import os
-import shutil
 import threading
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from illusio.batch import load_job, run_job
 from illusio.batch.worker import run_task
-from illusio.core.errors import InputError
 from illusio.scene.builtin import shapes
 from tests.conftest import call_cli
 
@@ -178,3 +175,10 @@ def test_interrupt_leaves_a_valid_manifest(job_dir):
     assert not [p for p in (job_dir / "out").rglob("*") if p.name.startswith(".") or p.suffix == ".tmp"]
     rest = run_job(job, job_dir / "out")
     assert rest.skipped == 2 and rest.ran == 6
+
+
+def test_ray_missing_gives_the_install_hint(job_dir, capsys, monkeypatch):
+    import sys
+    monkeypatch.setitem(sys.modules, "ray", None)          # import ray now fails as if not installed
+    code, cap = call_cli(["batch", str(job_dir / "job.yaml"), "--out", str(job_dir / "out"), "--ray"], capsys)
+    assert code == 2 and "pip install 'illusio[cluster]'" in cap.err and "Traceback" not in cap.err

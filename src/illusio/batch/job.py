@@ -5,6 +5,7 @@ A job is YAML with a list of ``tasks``; each entry expands to one or more concre
     tasks:
       - command: lines                  # any illusio command that writes one file (-o)
         inputs: ["meshes/*.ply"]        # optional globs, relative to the job file: each match is the first argument
+        arguments: [torus-knot, gear]   # or: first arguments as given (built-in scenes and shapes)
         options: {size: 512x512}        # options as on the command line, without --
         sweep: {tau: [0.5, 1.0, 2.0]}   # optional: the cartesian product of every key's values
         output: "{input_stem}-tau{tau}.png"   # relative to --out; {input_stem}, {frame} and sweep keys
@@ -30,7 +31,7 @@ from ..core.errors import InputError
 
 __all__ = ["Task", "Job", "load_job", "command_table"]
 
-_FIELDS = {"command", "inputs", "options", "sweep", "output", "frames", "video", "fps"}
+_FIELDS = {"command", "inputs", "arguments", "options", "sweep", "output", "frames", "video", "fps"}
 
 
 @dataclass(frozen=True)
@@ -153,6 +154,13 @@ def load_job(path) -> Job:
                 if not found:
                     raise InputError(f"task {entry}: inputs: {pat!r} matches no file (relative to {path.parent})")
                 inputs += found
+        if "arguments" in spec:
+            if "inputs" in spec:
+                raise InputError(f"task {entry}: give inputs or arguments, not both")
+            given = spec["arguments"]
+            if not isinstance(given, list) or not given or not all(isinstance(a, (str, int, float)) for a in given):
+                raise InputError(f"task {entry}: arguments: a non-empty list of names, got {given!r}")
+            inputs = [str(a) for a in given]
         frames = [None]
         if "frames" in spec:
             rng = spec["frames"]

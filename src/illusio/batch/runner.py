@@ -151,10 +151,13 @@ def _ray(books: _Books, workers: int, address: str | None, on_start: Callable | 
     except ImportError:
         raise InputError("--ray needs Ray: pip install 'illusio[cluster]'") from None
     if not ray.is_initialized():
+        import logging
+
+        quiet = {"log_to_driver": False, "logging_level": logging.ERROR}
         if address:
-            ray.init(address=address, log_to_driver=False)
+            ray.init(address=address, **quiet)
         else:
-            ray.init(num_cpus=max(workers, 1), log_to_driver=False, include_dashboard=False)
+            ray.init(num_cpus=max(workers, 1), include_dashboard=False, **quiet)
     gpus = ray.cluster_resources().get("GPU", 0)
     actor_class = ray.remote(num_cpus=1, num_gpus=1 if gpus >= 1 else 0, max_restarts=0)(_Actor)
     count = workers or max(1, int(gpus) if gpus >= 1 else int(ray.cluster_resources().get("CPU", 1)))
