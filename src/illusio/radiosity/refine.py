@@ -88,33 +88,3 @@ def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: 
     if accepted:
         links.extend(*(np.concatenate(part) for part in zip(*accepted)))
     return links
-    while len(recv):
-        useful = (h.polygon[recv] != h.polygon[src]) & (h.reflectance[recv].max(axis=1) > 0)
-        recv, src = recv[useful], src[useful]
-        some, every = facing(h.corners[recv], h.normal[recv], h.centre[recv],
-                             h.corners[src], h.normal[src], h.centre[src])
-        recv, src, every = recv[some], src[some], every[some]
-        if not len(recv):
-            break
-        ff, vis = visibility(recv, src)
-        transfer = transfer_estimate(h, recv, src, ff, radiosity)
-        split = needs_refinement(transfer, vis, threshold, criterion)
-        straddle = ~every & (vis > 0)
-        if straddle.any():
-            d2 = ((h.centre[src[straddle]] - h.centre[recv[straddle]]) ** 2).sum(axis=1)
-            a_s = h.area[src[straddle]]
-            point_bound = a_s / (np.pi * d2 + a_s)
-            b = (h.radiosity if radiosity is None else radiosity)[src[straddle]].max(axis=1)
-            split[straddle] |= b * point_bound * h.area[recv[straddle]] > threshold
-        area_r, area_s = h.area[recv], h.area[src]
-        can_r, can_s = area_r / 4 >= min_area, area_s / 4 >= min_area
-        split_src = split & can_s & ((area_s >= area_r) | ~can_r)
-        split_recv = split & ~split_src & can_r
-        accept = ~(split_src | split_recv)
-        links.extend(recv[accept], src[accept], ff[accept], vis[accept])
-        first_s = h.subdivide(src[split_src])
-        first_r = h.subdivide(recv[split_recv])
-        quad = np.arange(4)
-        recv = np.r_[np.repeat(recv[split_src], 4), (first_r[:, None] + quad).reshape(-1)]
-        src = np.r_[(first_s[:, None] + quad).reshape(-1), np.repeat(src[split_recv], 4)]
-    return links
