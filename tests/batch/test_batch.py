@@ -182,3 +182,10 @@ def test_ray_missing_gives_the_install_hint(job_dir, capsys, monkeypatch):
     monkeypatch.setitem(sys.modules, "ray", None)          # import ray now fails as if not installed
     code, cap = call_cli(["batch", str(job_dir / "job.yaml"), "--out", str(job_dir / "out"), "--ray"], capsys)
     assert code == 2 and "pip install 'illusio[cluster]'" in cap.err and "Traceback" not in cap.err
+
+
+def test_ray_takes_an_optional_address():
+    from illusio.cli.batch import optional_values
+    assert optional_values(["batch", "j.yaml", "--ray", "--workers", "2"]) == ["batch", "j.yaml", "--ray", "local", "--workers", "2"]
+    assert optional_values(["batch", "j.yaml", "--ray"]) == ["batch", "j.yaml", "--ray", "local"]
+    assert optional_values(["batch", "j.yaml", "--ray", "auto"]) == ["batch", "j.yaml", "--ray", "auto"]

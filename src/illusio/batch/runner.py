@@ -154,10 +154,14 @@ def _ray(books: _Books, workers: int, address: str | None, on_start: Callable | 
         import logging
 
         quiet = {"log_to_driver": False, "logging_level": logging.ERROR}
-        if address:
-            ray.init(address=address, **quiet)
-        else:
-            ray.init(num_cpus=max(workers, 1), include_dashboard=False, **quiet)
+        try:
+            if address:
+                ray.init(address=address, **quiet)
+            else:
+                ray.init(num_cpus=max(workers, 1), include_dashboard=False, **quiet)
+        except (ConnectionError, RuntimeError, ValueError) as exc:
+            where = f"the Ray cluster at {address}" if address else "a local Ray cluster"
+            raise InputError(f"cannot start or join {where}: {' '.join(str(exc).split())[:200]}") from None
     gpus = ray.cluster_resources().get("GPU", 0)
     actor_class = ray.remote(num_cpus=1, num_gpus=1 if gpus >= 1 else 0, max_restarts=0)(_Actor)
     count = workers or max(1, int(gpus) if gpus >= 1 else int(ray.cluster_resources().get("CPU", 1)))

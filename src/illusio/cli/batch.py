@@ -1,4 +1,7 @@
-"""illusio batch: run a job file (many frames, many runs) here, in local workers or on Ray."""
+"""illusio batch: run a job file (many frames, many runs) here, in local workers or on Ray.
+
+``--ray`` takes an optional value: :func:`optional_values` gives a bare ``--ray`` the value
+``local`` before the command line is parsed (click's optional values swallow the next option)."""
 
 from __future__ import annotations
 
@@ -9,12 +12,27 @@ import typer
 from ..core.errors import InputError
 
 
+#: options whose value may be left out, and the value they then take
+OPTIONAL_VALUES = {"--ray": "local"}
+
+
+def optional_values(argv: list[str]) -> list[str]:
+    """``[..., "--ray", "--workers", "2"]`` → ``[..., "--ray", "local", "--workers", "2"]``."""
+    out = []
+    for k, word in enumerate(argv):
+        out.append(word)
+        if word in OPTIONAL_VALUES and (k + 1 == len(argv) or argv[k + 1].startswith("-")):
+            out.append(OPTIONAL_VALUES[word])
+    return out
+
+
 def batch(
     job: Path = typer.Argument(..., help="the job file (YAML: tasks with command, inputs, options, sweep, frames, output, video)"),
     out: Path = typer.Option(..., "--out", help="folder for the outputs and the manifest (manifest.jsonl)"),
     workers: int = typer.Option(0, "--workers", help="local worker processes (0: run in this process); with --ray, actors"),
-    ray: bool = typer.Option(False, "--ray/--no-ray", help="run on a Ray cluster (pip install 'illusio[cluster]')"),
-    ray_address: str = typer.Option(None, "--ray-address", help="the cluster: 'auto', HOST:PORT; none starts a local one"),
+    ray: str = typer.Option(None, "--ray", metavar="[ADDRESS]",
+                            help="run on Ray (pip install 'illusio[cluster]'): --ray alone starts a local cluster; "
+                                 "--ray auto or --ray HOST:PORT joins one"),
     retries: int = typer.Option(1, "--retries", help="tries again after a task fails, before reporting it"),
 ) -> None:
     """Run JOB: every task through the illusio command it names, in workers that stay warm; a rerun
@@ -26,14 +44,12 @@ def batch(
 
     if workers < 0 or retries < 0:
         raise InputError("--workers and --retries must be ≥ 0")
-    if ray_address and not ray:
-        raise InputError("--ray-address needs --ray")
     spec = load_job(job)
     if out.resolve() == job.resolve().parent and any((out / t.output).resolve() == job.resolve() for t in spec.tasks):
         raise InputError("an output of the job would replace the job file")
     with progress(len(spec.tasks), "tasks") as advance:
         try:
-            report = run_job(spec, out, workers, retries, ray, ray_address, advance)
+            report = run_job(spec, out, workers, retries, ray is not None, None if ray in (None, "local") else ray, advance)
         except Interrupted as stop:
             r = stop.report
             typer.echo(f"illusio: interrupted: {r.ran} tasks finished, the manifest lists them; run again to resume",

@@ -38,6 +38,7 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 def run(argv: list[str] | None = None) -> None:
     """Console-script entry point."""
     warnings.showwarning = _show_warning
+    argv = batch.optional_values(list(sys.argv[1:] if argv is None else argv))
     try:
         app(args=argv, standalone_mode=True)
     except IllusioError as exc:
