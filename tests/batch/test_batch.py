@@ -189,3 +189,20 @@ def test_ray_takes_an_optional_address():
     assert optional_values(["batch", "j.yaml", "--ray", "--workers", "2"]) == ["batch", "j.yaml", "--ray", "local", "--workers", "2"]
     assert optional_values(["batch", "j.yaml", "--ray"]) == ["batch", "j.yaml", "--ray", "local"]
     assert optional_values(["batch", "j.yaml", "--ray", "auto"]) == ["batch", "j.yaml", "--ray", "auto"]
+
+
+def test_a_group_command_writing_a_folder(tmp_path):
+    """IBR captures along a sweep: 'ibr capture' by its two words, its output a folder; a file
+    changed inside the folder makes it run again."""
+    (tmp_path / "job.yaml").write_text(
+        "tasks:\n  - command: ibr capture\n    arguments: [office]\n    options: {size: 64x48}\n"
+        "    sweep: {views: [2, 3]}\n    output: refs-{views}\n")
+    job = load_job(tmp_path / "job.yaml")
+    assert job.tasks[0].argv[:3] == ("ibr", "capture", "office")
+    out = tmp_path / "out"
+    assert run_job(job, out).ran == 2
+    assert len(list((out / "refs-3").glob("view-*.npz"))) == 3
+    assert run_job(job, out).ran == 0
+    (out / "refs-2" / "references.json").write_text("{}")
+    again = run_job(job, out)
+    assert again.ran == 1 and again.skipped == 1

@@ -3,7 +3,8 @@
 A job is YAML with a list of ``tasks``; each entry expands to one or more concrete tasks:
 
     tasks:
-      - command: lines                  # any illusio command that writes one file (-o)
+      - command: lines                  # any illusio command that writes one file or folder (-o);
+                                        # a group's by its two words: "ibr capture"
         inputs: ["meshes/*.ply"]        # optional globs, relative to the job file: each match is the first argument
         arguments: [torus-knot, gear]   # or: first arguments as given (built-in scenes and shapes)
         options: {size: 512x512}        # options as on the command line, without --
@@ -67,8 +68,11 @@ def command_table() -> dict:
     group = typer.main.get_command(app)
     out = {}
     for name, command in group.commands.items():
-        if any("--output" in p.opts for p in command.params if hasattr(p, "opts")):
-            out[name] = command
+        subcommands = getattr(command, "commands", None)
+        pairs = [(f"{name} {sub}", c) for sub, c in subcommands.items()] if subcommands else [(name, command)]
+        for full, c in pairs:       # "ibr capture", "ibr render": a group's commands by their two words
+            if any("--output" in p.opts for p in c.params if hasattr(p, "opts")):
+                out[full] = c
     return out
 
 
@@ -191,7 +195,7 @@ def load_job(path) -> Job:
                 raise InputError(f"task {entry}: output: {output!r} is also the output of task {seen[output]}; "
                                  "add a sweep key, {input_stem} or {frame} to the pattern")
             seen[output] = entry
-            argv = [name] + ([source] if source else []) + fixed
+            argv = name.split() + ([source] if source else []) + fixed
             argv += [w for k, v in fields.items() if k in sweep for w in _option_args(entry, command, k, v)]
             if frame is not None:
                 argv += ["--frame", str(frame)]

@@ -14,10 +14,16 @@ __all__ = ["Manifest", "file_hash"]
 
 
 def file_hash(path: Path) -> str:
+    """SHA-256 of a file's bytes; of a folder, of its files' relative paths and bytes in order."""
+    path = Path(path)
     h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
+    files = sorted(p for p in path.rglob("*") if p.is_file()) if path.is_dir() else [path]
+    for p in files:
+        if path.is_dir():
+            h.update(str(p.relative_to(path)).encode() + b"\0")
+        with open(p, "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                h.update(block)
     return h.hexdigest()
 
 
@@ -36,7 +42,7 @@ class Manifest:
     def done(self, key: str, output: Path) -> bool:
         """Is the task finished: recorded, its output present with the recorded bytes?"""
         row = self.entries.get(key)
-        return row is not None and output.is_file() and file_hash(output) == row["sha256"]
+        return row is not None and output.exists() and file_hash(output) == row["sha256"]
 
     def record(self, key: str, output: Path, rel: str, seconds: float, worker: str) -> None:
         row = {"task": key, "output": rel, "sha256": file_hash(output), "seconds": round(seconds, 4),

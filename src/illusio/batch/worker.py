@@ -44,6 +44,6 @@ def run_task(task: Task, out_dir: str) -> tuple[str, float, str]:
     except Exception as exc:  # a usage error (typer's click), or a bug in a command: reported, the batch goes on
         message = exc.format_message() if hasattr(exc, "format_message") else f"{type(exc).__name__}: {exc}"
         raise TaskFailed(" ".join(message.split())) from None
-    if not output.is_file():
-        raise TaskFailed(f"{task.argv[0]} wrote no {task.output}")
+    if not output.exists():
+        raise TaskFailed(f"{' '.join(task.argv[:2])} wrote no {task.output}")
     return str(output), time.perf_counter() - start, worker_name()
