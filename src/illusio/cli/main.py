@@ -12,7 +12,7 @@ import warnings
 import typer
 
 from ..core.errors import IllusioError
-from . import batch, demo, dof, ibr, info, lines, radiosity, render, sis, view
+from . import batch, demo, dof, ibr, info, lines, radiosity, relight, render, sis, view
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="illusio: perception-driven rendering on a headless OpenGL core.")
@@ -29,6 +29,7 @@ app.command("dof")(dof.dof)
 app.add_typer(ibr.app, name="ibr")
 app.command("radiosity")(radiosity.radiosity)
 app.command("batch")(batch.batch)
+app.command("relight")(relight.relight)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

@@ -8,6 +8,7 @@ Gouraud display on the GPU and path-traced ground truth from Mitsuba 3.
     solution.set_lamps({"lamp-0": 0.0})          # links kept, re-solved
 """
 
+from .display import DisplayPass, LeafMesh, leaf_mesh
 from .params import CRITERIA, SHOW, HierarchyParams, RadiosityParams
 from .polygons import Polygons, scene_polygons
 from .renderer import RadiosityRenderer
@@ -15,7 +16,8 @@ from .solution import Radiosity, Stats
 from .visibility import INVISIBLE, PARTIAL, VISIBLE
 
 __all__ = ["Radiosity", "RadiosityRenderer", "RadiosityParams", "HierarchyParams", "Polygons", "scene_polygons",
-           "Stats", "CRITERIA", "SHOW", "VISIBLE", "PARTIAL", "INVISIBLE", "radiosity_image"]
+           "Stats", "CRITERIA", "SHOW", "VISIBLE", "PARTIAL", "INVISIBLE", "radiosity_image",
+           "DisplayPass", "LeafMesh", "leaf_mesh"]
 
 
 def radiosity_image(scene, size=(640, 480), params: RadiosityParams = RadiosityParams(), view=None, ctx=None):

@@ -1,0 +1,31 @@
+"""Every knob of relighting a real scene (Loscos 1999, ch. 4), with units and ranges."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..core.params import check_ranges, param
+from ..radiosity.params import HierarchyParams
+
+__all__ = ["RelightParams", "METHODS"]
+
+#: baseline: the system as initialised in 4.2.1 (textures of the photograph modulated by B/D, eq. 4.3):
+#: a lamp switched off leaves its photographed shadows (the limitation of 4.2.2). The chapter's
+#: texture correction (4.3, "loscos") and a per-pixel variant are the next steps of issue 16.
+METHODS = ("baseline",)
+
+
+@dataclass(frozen=True)
+class RelightParams:
+    """method: one of METHODS. mean_reflectance: ρ̂ of eq. (4.1), the user's first guess of the scene's
+    mean reflectance (re-estimated from the photograph afterwards). hierarchy: the radiosity solution's
+    refinement. lamp_scales: (lamp name, factor on its estimated exitance) pairs. exposure: factor on
+    the displayed radiance."""
+
+    method: str = param("baseline", choices=METHODS)
+    mean_reflectance: float = param(0.5, range=(0.01, 0.95), label="mean reflectance ρ̂ (first guess)")
+    hierarchy: HierarchyParams = param(default_factory=HierarchyParams)
+    lamp_scales: tuple = param((), panel=False)
+    exposure: float = param(1.0, range=(1e-6, 1e6), log=True)
+
+    __post_init__ = check_ranges

@@ -1,0 +1,133 @@
+"""A relighting session: the real scene prepared once (estimates, hierarchy, display factor), then
+edits that each return the new image.
+
+Preparation (Loscos 4.2.1): the polygon under each pixel of the photograph gives B̂_i (mean pixel of
+polygon i) and B̂_A (mean over every non-lamp pixel); eq. (4.1) with the user's ρ̂, ρ̂ re-estimated as
+the area-weighted mean, eq. (4.1) again; polygons the photograph does not see get ρ̂. Eq. (4.2) gives
+every lamp the same exitance. The hierarchy is built and solved; each leaf the photograph sees then
+takes its own ρ from eq. (4.1) with its pixels (the chapter's update at subdivision), inner elements
+the area-weighted mean of their children's, and the solution is solved again. The display factor D
+is that B, kept at the leaves' corners.
+
+Display, eq. (4.3): (B/D)·T per pixel, with B and D interpolated from the corners (smooth, as the
+chapter does) and T the photograph itself (view-dependent textures: the model is seen from the
+photograph's camera only). The ratio is drawn in a float framebuffer, so no multi-pass brightening
+is needed where B > D (the chapter's annex A did that on 1999 hardware).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..core.context import Context, default_context
+from ..core.errors import InputError
+from ..core.renderer import Frame
+from ..radiosity import DisplayPass, Polygons, RadiosityParams, RadiosityRenderer, leaf_mesh
+from . import estimate
+from .params import RelightParams
+from .photograph import RealScene, polygon_ids
+
+__all__ = ["RelightSession"]
+
+
+class RelightSession:
+    def __init__(self, real: RealScene, params: RelightParams = RelightParams(), ctx: Context | None = None):
+        self.real, self.params = real, params
+        self.ctx = ctx or default_context()
+        self.times: dict[str, float] = {}
+        start = time.perf_counter()
+        self.model, self.mean_reflectance = self._estimate()
+        self.renderer = RadiosityRenderer(self.ctx)
+        self.renderer.prepare(self.model)
+        self.solution = self.renderer.solve(RadiosityParams(params.hierarchy))
+        self._textures_to_leaves()
+        self.display_factor = leaf_mesh(self.solution.hierarchy, self.solution.links, self.solution.exitance())
+        self.display = DisplayPass(self.ctx)
+        self.times["prepare"] = time.perf_counter() - start
+        self.scales: dict[str, float] = {}
+
+    # --- preparation ---------------------------------------------------------------------------
+    def _estimate(self) -> tuple[Polygons, np.ndarray]:
+        p, photo = self.real.polygons, self.real.photograph.astype(np.float64)
+        ids = polygon_ids(p, self.real.view, self.real.size)
+        self.pixel_polygon = ids
+        lamp = np.isin(p.group, p.lamps)
+        seen = ids >= 0
+        surface = seen & ~lamp[np.maximum(ids, 0)]
+        if not surface.any():
+            raise InputError("the camera sees none of the scene's (non-lamp) geometry")
+        mean_scene = photo[surface].mean(axis=0)                                   # B̂_A (radiance)
+        count = np.bincount(ids[surface], minlength=len(p))
+        total = np.stack([np.bincount(ids[surface], weights=photo[surface][:, c], minlength=len(p)) for c in range(3)], axis=1)
+        visible = (count > 0) & ~lamp
+        from ..radiosity.polygons import polygon_areas
+        areas = polygon_areas(p.corners, p.triangle)
+        rho = np.zeros((len(p), 3))
+        rho_visible, rho_hat = estimate.reestimated_reflectance(total[visible] / count[visible, None], mean_scene,
+                                                               self.params.mean_reflectance, areas[visible])
+        rho[visible] = rho_visible
+        rho[~visible & ~lamp] = rho_hat
+        exitance = np.zeros((len(p), 3))
+        exitance[lamp] = estimate.lamp_exitance(rho_hat, mean_scene, float(areas[~lamp].sum()), float(areas[lamp].sum()))
+        self.mean_scene = mean_scene
+        return Polygons(p.corners, p.triangle, rho, exitance, p.group, list(p.names), list(p.lamps)), rho_hat
+
+    def _textures_to_leaves(self) -> None:
+        """Each seen leaf's ρ from its own pixels (eq. 4.1), pulled up the tree, then solved again."""
+        sol = self.solution
+        h = sol.hierarchy
+        tex = self.renderer.render_texture(Frame(self.real.view, self.real.size), RadiosityParams(self.params.hierarchy))
+        self.ctx.release(tex)
+        element = self.ctx.readback_image(self.renderer.maps()["element"], 1, clip=False)[..., 0].astype(np.int64)
+        self.pixel_element = element
+        photo = self.real.photograph.astype(np.float64)
+        seen = (element >= 0) & (h.exitance[np.maximum(element, 0)].max(axis=-1) == 0)
+        count = np.bincount(element[seen], minlength=len(h))
+        total = np.stack([np.bincount(element[seen], weights=photo[seen][:, c], minlength=len(h)) for c in range(3)], axis=1)
+        leaves = h.leaves()
+        lit = leaves[count[leaves] > 0]
+        h.reflectance[lit] = estimate.reflectance_from_photograph(total[lit] / count[lit, None], self.mean_scene,
+                                                                  self.mean_reflectance)
+        levels = h.by_level()
+        for lv in levels[-2::-1]:
+            inner = lv[h.child[lv] >= 0]
+            if len(inner):
+                c = h.child[inner][:, None] + np.arange(4)
+                h.reflectance[inner] = (h.area[c][..., None] * h.reflectance[c]).sum(axis=1) / h.area[inner][:, None]
+        sol.solve()
+
+    # --- edits -----------------------------------------------------------------------------------
+    @property
+    def lamp_names(self) -> list[str]:
+        return self.solution.lamp_names
+
+    def set_lamp(self, name: str, scale: float) -> np.ndarray:
+        """Scale one real lamp's estimated exitance; returns the new image."""
+        self.scales[name] = float(scale)
+        return self.image()
+
+    def image(self, scales: dict | None = None) -> np.ndarray:
+        """The scene under ``scales`` (default: the session's), float32 (H, W, 3) radiance × exposure,
+        unclipped: eq. (4.3) over the photograph."""
+        if scales is not None:
+            self.scales = dict(scales)
+        start = time.perf_counter()
+        sol = self.solution
+        sol.set_lamps(self.scales)
+        now = leaf_mesh(sol.hierarchy, sol.links, sol.exitance())
+        d = self.display_factor.radiance
+        ratio = np.where(d > 0, now.radiance / np.where(d > 0, d, 1), 0.0).astype(np.float32)
+        now.radiance = ratio
+        self.display.load(now)
+        colour, element = self.display(self.real.view, self.real.size)
+        out = self.ctx.readback_image(colour, 3, clip=False)
+        self.ctx.release(colour, element)
+        image = estimate.displayed(out, 1.0, self.real.photograph) * self.params.exposure
+        self.times["edit"] = time.perf_counter() - start
+        return image.astype(np.float32)
+
+    def release(self) -> None:
+        self.display.release()
+        self.renderer.release()
