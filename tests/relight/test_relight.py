@@ -93,3 +93,43 @@ def test_command(tmp_path, capsys):
     assert out.exists() and (tmp_path / "photo.png").exists()
     code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--set", "lamp-7=0"], capsys)
     assert code == 2 and "no lamp named" in cap.err
+
+
+def test_eq_4_4_colour_distance_in_lab():
+    from illusio.relight.textures import colour_distance, srgb_to_lab
+    lab = srgb_to_lab(np.array([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0], [0.18, 0.18, 0.18]]))
+    assert np.allclose(lab[0], [100, 0, 0], atol=0.05) and np.allclose(lab[1], 0, atol=1e-9)
+    assert lab[2, 0] == pytest.approx(49.5, abs=0.2) and np.allclose(lab[2, 1:], 0, atol=0.05)   # 18 % grey
+    assert colour_distance(np.array([[0.5, 0.5, 0.5]]), np.array([[0.5, 0.5, 0.5]]))[0] == 0
+    red, grey = np.array([[0.5, 0.05, 0.05]]), np.array([[0.2, 0.2, 0.2]])
+    assert colour_distance(red, grey)[0] > 40 > colour_distance(grey, grey * 1.1)[0]
+
+
+@pytest.fixture(scope="module")
+def loscos(ctx):
+    pytest.importorskip("mitsuba", reason="the built-in photograph is rendered by Mitsuba (photo extra)")
+    real = builtin_real_scene("office", (96, 72), samples=16)
+    s = RelightSession(real, RelightParams(method="loscos", hierarchy=HierarchyParams(epsilon=3e-4)), ctx)
+    yield s
+    s.release()
+
+
+def test_loscos_textures(loscos):
+    """Eq. (4.6)/(4.9): the shadowed leaves' textures are brightened (the blocked light added), the
+    fully lit ones are left as they were; every reference is a lit frontier leaf of the same object;
+    with nothing changed the shadows are re-projected: the photograph comes back within a few per cent
+    (Loscos 4.3.3, Figure 4.14)."""
+    s = loscos
+    h = s.solution.hierarchy
+    leaves, ref = s.references
+    factor = s.texture_factor[leaves].mean(axis=1)
+    assert s.shadowed.any() and (~s.shadowed).any()
+    assert np.median(factor[s.shadowed]) > 1.0 and np.allclose(factor[~s.shadowed], 1.0, atol=0.02)
+    chosen = ref[ref >= 0]
+    assert len(chosen) and not s.shadowed[chosen].any()
+    group = s.model.group[h.polygon[leaves]]
+    assert (group[ref >= 0] == group[chosen]).all()
+    same = s.image({})
+    seen = s.pixel_polygon >= 0
+    rel = np.abs(same - s.real.photograph).mean(axis=-1)[seen] / np.maximum(s.real.photograph.mean(axis=-1)[seen], 1e-3)
+    assert np.median(rel) < 0.03

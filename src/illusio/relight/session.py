@@ -17,6 +17,7 @@ is needed where B > D (the chapter's annex A did that on 1999 hardware).
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -25,7 +26,7 @@ from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.renderer import Frame
 from ..radiosity import DisplayPass, Polygons, RadiosityParams, RadiosityRenderer, leaf_mesh
-from . import estimate
+from . import estimate, textures
 from .params import RelightParams
 from .photograph import RealScene, polygon_ids
 
@@ -41,9 +42,16 @@ class RelightSession:
         self.model, self.mean_reflectance = self._estimate()
         self.renderer = RadiosityRenderer(self.ctx)
         self.renderer.prepare(self.model)
-        self.solution = self.renderer.solve(RadiosityParams(params.hierarchy))
+        self.hierarchy_params = params.hierarchy
+        if params.method == "loscos":
+            self.hierarchy_params = dataclasses.replace(params.hierarchy, lights_to_leaves=True)
+        self.solution = self.renderer.solve(RadiosityParams(self.hierarchy_params))
         self._textures_to_leaves()
         self.display_factor = leaf_mesh(self.solution.hierarchy, self.solution.links, self.solution.exitance())
+        self.texture_factor = np.ones((len(self.solution.hierarchy), 3))
+        if params.method == "loscos":
+            self._visibility_independent_textures()
+        self.texture = (self.real.photograph * self.texture_factor[np.maximum(self.pixel_element, 0)]).astype(np.float32)
         self.display = DisplayPass(self.ctx)
         self.times["prepare"] = time.perf_counter() - start
         self.scales: dict[str, float] = {}
@@ -78,7 +86,7 @@ class RelightSession:
         """Each seen leaf's ρ from its own pixels (eq. 4.1), pulled up the tree, then solved again."""
         sol = self.solution
         h = sol.hierarchy
-        tex = self.renderer.render_texture(Frame(self.real.view, self.real.size), RadiosityParams(self.params.hierarchy))
+        tex = self.renderer.render_texture(Frame(self.real.view, self.real.size), RadiosityParams(self.hierarchy_params))
         self.ctx.release(tex)
         element = self.ctx.readback_image(self.renderer.maps()["element"], 1, clip=False)[..., 0].astype(np.int64)
         self.pixel_element = element
@@ -90,13 +98,49 @@ class RelightSession:
         lit = leaves[count[leaves] > 0]
         h.reflectance[lit] = estimate.reflectance_from_photograph(total[lit] / count[lit, None], self.mean_scene,
                                                                   self.mean_reflectance)
-        levels = h.by_level()
-        for lv in levels[-2::-1]:
+        self._pull_reflectance()
+        sol.solve()
+
+    def _pull_reflectance(self) -> None:
+        h = self.solution.hierarchy
+        for lv in h.by_level()[-2::-1]:
             inner = lv[h.child[lv] >= 0]
             if len(inner):
                 c = h.child[inner][:, None] + np.arange(4)
                 h.reflectance[inner] = (h.area[c][..., None] * h.reflectance[c]).sum(axis=1) / h.area[inner][:, None]
+
+    def _visibility_independent_textures(self) -> None:
+        """Loscos 4.3.2 (relight.textures): per-leaf texture factors, the final reflectances, the new
+        solution and its display factor D = B + ρĒ at the leaves' corners."""
+        sol = self.solution
+        h = sol.hierarchy
+        leaves = h.leaves()
+        rho = h.reflectance[leaves].copy()
+        b_orig = h.radiosity[leaves]
+        _, blocked, free, lit, shadowed = textures.lamp_transfer(h, sol.links, leaves)
+        inter = np.where(b_orig > 0, (b_orig + rho * blocked) / np.where(b_orig > 0, b_orig, 1), 1.0)   # eq. 4.6
+        rho_inter = np.clip(rho * inter, 0, estimate.MAX_REFLECTANCE)
+        seen = np.bincount(self.pixel_element[self.pixel_element >= 0], minlength=len(h))[leaves] > 0
+        near = textures.neighbours(h, leaves)
+        frontier = lit & seen & np.array([bool(len(n)) and shadowed[n].any() for n in near])
+        group = self.model.group[h.polygon[leaves]]
+        ref = textures.references(h, leaves, shadowed, frontier, group, rho_inter, self.params.colour_threshold)
+        factor = inter.copy()
+        fix = ref >= 0
+        r = ref[fix]
+        ratio = free[fix].sum(axis=1) / np.maximum(free[r].sum(axis=1), 1e-300)
+        rho_corr = rho_inter[r] * ratio[:, None]                                                         # eq. 4.8
+        factor[fix] = inter[fix] * rho_corr / np.maximum(rho_inter[fix], 1e-6)                          # eq. 4.9
+        self.references = (leaves, ref)
+        self.shadowed = shadowed
+        h.reflectance[leaves] = np.clip(rho * factor, 0, estimate.MAX_REFLECTANCE)
+        self._pull_reflectance()
         sol.solve()
+        final = leaf_mesh(h, sol.links, sol.exitance())
+        _, blocked, _, _, _ = textures.lamp_transfer(h, sol.links, leaves)
+        final.radiance = final.radiance + np.repeat(h.reflectance[leaves] * blocked / np.pi, 4, axis=0).astype(np.float32)
+        self.display_factor = final
+        self.texture_factor[leaves] = factor
 
     # --- edits -----------------------------------------------------------------------------------
     @property
@@ -124,7 +168,7 @@ class RelightSession:
         colour, element = self.display(self.real.view, self.real.size)
         out = self.ctx.readback_image(colour, 3, clip=False)
         self.ctx.release(colour, element)
-        image = estimate.displayed(out, 1.0, self.real.photograph) * self.params.exposure
+        image = estimate.displayed(out, 1.0, self.texture) * self.params.exposure
         self.times["edit"] = time.perf_counter() - start
         return image.astype(np.float32)
 
