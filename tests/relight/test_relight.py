@@ -133,3 +133,27 @@ def test_loscos_textures(loscos):
     seen = s.pixel_polygon >= 0
     rel = np.abs(same - s.real.photograph).mean(axis=-1)[seen] / np.maximum(s.real.photograph.mean(axis=-1)[seen], 1e-3)
     assert np.median(rel) < 0.03
+
+
+@pytest.fixture(scope="module")
+def per_pixel(ctx):
+    pytest.importorskip("mitsuba", reason="the built-in photograph is rendered by Mitsuba (photo extra)")
+    real = builtin_real_scene("office", (96, 72), samples=16)
+    s = RelightSession(real, RelightParams(method="per-pixel", hierarchy=HierarchyParams(epsilon=3e-4)), ctx)
+    yield s
+    s.release()
+
+
+def test_per_pixel_method(per_pixel):
+    """Unchanged lamps give the photograph back exactly; each lamp's share is removed pixel by pixel:
+    switching every lamp off leaves no direct light (only what the solution's indirect field, now
+    dark too, gives: nothing), and the lamps' pixels go dark with them."""
+    s = per_pixel
+    same = s.image({})
+    assert np.abs(same - s.real.photograph).max() < 1e-3 * s.real.photograph.max()     # up to the re-solve's tolerance
+    dark = s.image({n: 0.0 for n in s.lamp_names})
+    assert dark.max() < 1e-6
+    one = s.image({n: (1.0 if n == "lamp-3" else 0.0) for n in s.lamp_names})
+    share = s.pixel_lamp[:, list(s.lamp_rows).index(int(np.flatnonzero(s.model.group == s.model.names.index("lamp-3"))[0]))]
+    lit_by_it = share.sum(axis=1) > 0
+    assert (one[s.pixel_seen][lit_by_it].sum(axis=1) > 0).mean() > 0.95

@@ -9,6 +9,7 @@ Gouraud display on the GPU and path-traced ground truth from Mitsuba 3.
 """
 
 from .display import DisplayPass, LeafMesh, leaf_mesh
+from .formfactor import point_polygon
 from .params import CRITERIA, SHOW, HierarchyParams, RadiosityParams
 from .polygons import Polygons, scene_polygons
 from .renderer import RadiosityRenderer
@@ -17,7 +18,7 @@ from .visibility import INVISIBLE, PARTIAL, VISIBLE
 
 __all__ = ["Radiosity", "RadiosityRenderer", "RadiosityParams", "HierarchyParams", "Polygons", "scene_polygons",
            "Stats", "CRITERIA", "SHOW", "VISIBLE", "PARTIAL", "INVISIBLE", "radiosity_image",
-           "DisplayPass", "LeafMesh", "leaf_mesh"]
+           "DisplayPass", "LeafMesh", "leaf_mesh", "point_polygon"]
 
 
 def radiosity_image(scene, size=(640, 480), params: RadiosityParams = RadiosityParams(), view=None, ctx=None):

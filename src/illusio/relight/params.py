@@ -14,7 +14,9 @@ __all__ = ["RelightParams", "METHODS"]
 #: textures of 4.3.2 (blocked energy added, shadowed elements corrected from a lit reference), shown
 #: with D = B + ρĒ; without the texture-driven refinement of 4.3.1 yet (the BFV mesh with the lamps'
 #: links at the leaves is used).
-METHODS = ("baseline", "loscos")
+#: per-pixel: the photograph scaled at each pixel by the change of its irradiance, lamp by lamp with
+#: per-pixel visibility (the chapter's conclusion; relight.per_pixel).
+METHODS = ("baseline", "loscos", "per-pixel")
 
 
 @dataclass(frozen=True)

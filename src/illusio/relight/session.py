@@ -51,6 +51,8 @@ class RelightSession:
         self.texture_factor = np.ones((len(self.solution.hierarchy), 3))
         if params.method == "loscos":
             self._visibility_independent_textures()
+        if params.method == "per-pixel":
+            self._per_pixel_prepare()
         self.texture = (self.real.photograph * self.texture_factor[np.maximum(self.pixel_element, 0)]).astype(np.float32)
         self.display = DisplayPass(self.ctx)
         self.times["prepare"] = time.perf_counter() - start
@@ -142,6 +144,46 @@ class RelightSession:
         self.display_factor = final
         self.texture_factor[leaves] = factor
 
+    def _indirect(self) -> np.ndarray:
+        """I per leaf (n_leaves, 3): the irradiance the solution gathers, less the lamps' direct part."""
+        sol = self.solution
+        h = sol.hierarchy
+        lamp = sol.exitance()[sol.links.source].max(axis=1) > 0
+        direct = np.zeros((len(h), 3))
+        weight = sol.links.form_factor * sol.links.visibility
+        b = h.radiosity[sol.links.source]
+        for c in range(3):
+            direct[:, c] = np.bincount(sol.links.receiver[lamp], weights=(weight * b[:, c])[lamp], minlength=len(h))
+        total, lamps = h.irradiance.copy(), direct
+        for lv in h.by_level()[1:]:
+            total[lv] += total[h.parent[lv]]
+            lamps[lv] += lamps[h.parent[lv]]
+        return np.clip(total - lamps, 0, None)
+
+    def _per_pixel_prepare(self) -> None:
+        from .per_pixel import lamp_irradiance, surface_points
+
+        m = self.model
+        points, normals, polygon = surface_points(m, self.real.view, self.real.size)
+        lamp_rows = np.flatnonzero(np.isin(m.group, m.lamps))
+        self.pixel_seen = (polygon >= 0) & ~np.isin(m.group[np.maximum(polygon, 0)], m.lamps) & (self.pixel_element >= 0)
+        self.lamp_rows = lamp_rows
+        self.pixel_lamp = lamp_irradiance(m, lamp_rows, m.exitance[lamp_rows], points, normals, self.pixel_seen,
+                                          seed=self.params.hierarchy.seed)
+        self.pixel_indirect = self._indirect()[self.pixel_element[self.pixel_seen]]
+
+    def _per_pixel_image(self) -> np.ndarray:
+        m = self.model
+        scale = np.array([self.scales.get(m.names[m.group[r]], 1.0) for r in self.lamp_rows])
+        before = self.pixel_lamp.sum(axis=1) + self.pixel_indirect
+        after = (self.pixel_lamp * scale[None, :, None]).sum(axis=1) + self._indirect()[self.pixel_element[self.pixel_seen]]
+        image = self.real.photograph.astype(np.float64).copy()
+        image[self.pixel_seen] *= np.where(before > 0, after / np.where(before > 0, before, 1), 0)
+        lamps = (self.pixel_polygon >= 0) & np.isin(m.group[np.maximum(self.pixel_polygon, 0)], m.lamps)
+        lamp_scale = {m.names[g]: self.scales.get(m.names[g], 1.0) for g in m.lamps}
+        image[lamps] *= np.array([lamp_scale[m.names[m.group[r]]] for r in self.pixel_polygon[lamps]])[:, None]
+        return image
+
     # --- edits -----------------------------------------------------------------------------------
     @property
     def lamp_names(self) -> list[str]:
@@ -160,6 +202,10 @@ class RelightSession:
         start = time.perf_counter()
         sol = self.solution
         sol.set_lamps(self.scales)
+        if self.params.method == "per-pixel":
+            image = self._per_pixel_image() * self.params.exposure
+            self.times["edit"] = time.perf_counter() - start
+            return image.astype(np.float32)
         now = leaf_mesh(sol.hierarchy, sol.links, sol.exitance())
         d = self.display_factor.radiance
         ratio = np.where(d > 0, now.radiance / np.where(d > 0, d, 1), 0.0).astype(np.float32)
