@@ -16,6 +16,7 @@ from .dof import dof_showcase
 from .ibr import ibr_showcase
 from .lines import lines_showcase
 from .radiosity import radiosity_showcase
+from .relight import relight_showcase
 from .sis import sis_showcase
 from .viewer import viewer_showcase
 
@@ -67,5 +68,6 @@ SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]]
     ("dof", dof_showcase),
     ("ibr", ibr_showcase),
     ("radiosity", radiosity_showcase),
+    ("relight", relight_showcase),
     ("viewer", viewer_showcase),
 ]
