@@ -18,6 +18,8 @@ import time
 
 import numpy as np
 
+from ..core.errors import InputError
+
 from .polygons import Polygons, _rect
 from .refine import refine
 
@@ -116,6 +118,10 @@ def add_object(sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_
     """Add ``polygons`` as a new object ``name``: its links, and the links whose shafts it enters."""
     t = time.perf_counter()
     first = len(sol.polygons)
+    from .solution import MAX_POLYGONS
+    if first + len(polygons) > MAX_POLYGONS:
+        raise InputError(f"{name!r} has {len(polygons)} polygons: with the scene's {first} that is past the "
+                         f"{MAX_POLYGONS} radiosity takes (no clustering); use a coarser mesh")
     sol.polygons = sol.polygons.extended(polygons, name, lamp)
     sol.hierarchy.polygons = sol.polygons
     sol.lamp_scale = np.r_[sol.lamp_scale, 1.0]

@@ -54,6 +54,8 @@ class RelightSession:
         if params.method == "per-pixel":
             self._per_pixel_prepare()
         self.texture = (self.real.photograph * self.texture_factor[np.maximum(self.pixel_element, 0)]).astype(np.float32)
+        self._store_display_factor()
+        self.virtual_groups: set[int] = set()
         self.display = DisplayPass(self.ctx)
         self.times["prepare"] = time.perf_counter() - start
         self.scales: dict[str, float] = {}
@@ -184,6 +186,86 @@ class RelightSession:
         image[lamps] *= np.array([lamp_scale[m.names[m.group[r]]] for r in self.pixel_polygon[lamps]])[:, None]
         return image
 
+    def _store_display_factor(self) -> None:
+        """D at the corners of every element (n_elements, 4, 3): the leaves' from the display factor
+        mesh, so that leaves made later (a virtual object's new shadows) inherit theirs."""
+        h = self.solution.hierarchy
+        leaves = h.leaves()
+        self.corner_d = np.zeros((len(h), 4, 3), np.float32)
+        self.corner_d[leaves] = self.display_factor.radiance.reshape(-1, 4, 3)
+        self.has_d = np.zeros(len(h), bool)
+        self.has_d[leaves] = True
+
+    _CHILD_UV = np.array([[(0, 0), (.5, 0), (.5, .5), (0, .5)], [(.5, 0), (1, 0), (1, .5), (.5, .5)],
+                          [(.5, .5), (1, .5), (1, 1), (.5, 1)], [(0, .5), (.5, .5), (.5, 1), (0, 1)]])
+    _CHILD_BARY = np.array([[(0, 0), (.5, 0), (0, .5), (0, .5)], [(.5, 0), (1, 0), (.5, .5), (.5, .5)],
+                            [(0, .5), (.5, .5), (0, 1), (0, 1)], [(.5, 0), (.5, .5), (0, .5), (0, .5)]])
+
+    def _inherit_display_factor(self) -> None:
+        """Elements made since preparation take D interpolated from their parent's corners (bilinear on
+        quads, barycentric on triangles); a virtual object's elements have none (shown by B/π)."""
+        h = self.solution.hierarchy
+        n = len(h)
+        if n > len(self.corner_d):
+            self.corner_d = np.concatenate([self.corner_d, np.zeros((n - len(self.corner_d), 4, 3), np.float32)])
+            self.has_d = np.r_[self.has_d, np.zeros(n - len(self.has_d), bool)]
+        for lv in h.by_level()[1:]:
+            todo = lv[~self.has_d[lv] & self.has_d[h.parent[lv]]]
+            if not len(todo):
+                continue
+            parent = h.parent[todo]
+            k = todo - h.child[parent]                      # which child
+            d = self.corner_d[parent]                       # (m, 4, 3)
+            tri = h.triangle[todo]
+            uv = np.where(tri[:, None, None], self._CHILD_BARY[k], self._CHILD_UV[k])     # (m, 4, 2)
+            u, v = uv[..., :1], uv[..., 1:]
+            quad = (1 - u) * (1 - v) * d[:, None, 0] + u * (1 - v) * d[:, None, 1] + u * v * d[:, None, 2] + (1 - u) * v * d[:, None, 3]
+            bary = (1 - u - v) * d[:, None, 0] + u * d[:, None, 1] + v * d[:, None, 2]
+            self.corner_d[todo] = np.where(tri[:, None, None], bary, quad)
+            self.has_d[todo] = True
+
+    def _element_method(self, what: str) -> None:
+        if self.params.method == "per-pixel":
+            raise InputError(f"{what} is not available with the per-pixel method yet; use baseline or loscos")
+
+    def add_lamp(self, centre, size: float = 0.4, exitance=(30.0, 30.0, 30.0), name: str = "virtual-lamp") -> np.ndarray:
+        """A virtual rectangular lamp (size × size m, facing down, exitance W/m² RGB) linked at the
+        leaves (Loscos 4.4.1); returns the new image."""
+        self._element_method("a virtual lamp")
+        start = time.perf_counter()
+        self.solution.add_lamp(centre, (size, 0, 0), (0, 0, size), exitance, name)
+        self.virtual_groups.add(self.solution.polygons.names.index(name))
+        self.times["add lamp"] = time.perf_counter() - start
+        return self.image()
+
+    def add_object(self, mesh, name: str, at=(0.0, 0.0, 0.0), reflectance=(0.6, 0.6, 0.6)) -> np.ndarray:
+        """A virtual object (a Mesh, its triangles paired into quads where they can be) placed at
+        ``at`` (metres); it casts shadows and is shown by its own radiosity; returns the new image."""
+        from ..radiosity.polygons import quads_from_triangles
+
+        self._element_method("a virtual object")
+        start = time.perf_counter()
+        corners, triangle = quads_from_triangles(np.asarray(mesh.vertices, np.float64) + np.asarray(at, np.float64), mesh.faces)
+        n = len(corners)
+        polygons = Polygons(corners, triangle, np.repeat(np.asarray(reflectance, np.float64)[None], n, axis=0),
+                            np.zeros((n, 3)), np.zeros(n, int), [name])
+        self.solution.add_object(polygons, name)
+        self.virtual_groups.add(self.solution.polygons.names.index(name))
+        self.times["add object"] = time.perf_counter() - start
+        return self.image()
+
+    def move_object(self, name: str, offset) -> np.ndarray:
+        """Move a virtual object by ``offset`` (metres); returns the new image."""
+        self._element_method("moving an object")
+        if name not in self.solution.polygons.names or self.solution.polygons.names.index(name) not in self.virtual_groups:
+            raise InputError(f"no virtual object named {name!r}")
+        start = time.perf_counter()
+        move = np.eye(4)
+        move[:3, 3] = offset
+        self.solution.move_object(name, move)
+        self.times["move object"] = time.perf_counter() - start
+        return self.image()
+
     # --- edits -----------------------------------------------------------------------------------
     @property
     def lamp_names(self) -> list[str]:
@@ -206,15 +288,22 @@ class RelightSession:
             image = self._per_pixel_image() * self.params.exposure
             self.times["edit"] = time.perf_counter() - start
             return image.astype(np.float32)
-        now = leaf_mesh(sol.hierarchy, sol.links, sol.exitance())
-        d = self.display_factor.radiance
-        ratio = np.where(d > 0, now.radiance / np.where(d > 0, d, 1), 0.0).astype(np.float32)
-        now.radiance = ratio
+        self._inherit_display_factor()
+        h = sol.hierarchy
+        now = leaf_mesh(h, sol.links, sol.exitance())
+        leaves = h.leaves()
+        d = self.corner_d[leaves].reshape(-1, 3)
+        virtual = np.isin(sol.polygons.group[h.polygon[leaves]], list(self.virtual_groups))
+        ratio = np.where(d > 0, now.radiance / np.where(d > 0, d, 1), 0.0)
+        # a virtual object is not in the photograph: its own radiance B/π, marked by a negative sign
+        radiance = np.where(np.repeat(virtual, 4)[:, None], -now.radiance, ratio).astype(np.float32)
+        now.radiance = radiance
         self.display.load(now)
         colour, element = self.display(self.real.view, self.real.size)
         out = self.ctx.readback_image(colour, 3, clip=False)
         self.ctx.release(colour, element)
-        image = estimate.displayed(out, 1.0, self.texture) * self.params.exposure
+        own = out[..., :1] < 0
+        image = np.where(own, -out, estimate.displayed(out, 1.0, self.texture)) * self.params.exposure
         self.times["edit"] = time.perf_counter() - start
         return image.astype(np.float32)
 
