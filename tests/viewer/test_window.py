@@ -73,7 +73,7 @@ def test_walking_looking_switching_and_screenshots(window, tmp_path):
     # every technique and view, a screenshot of each (P), all different
     shots = []
     for number, technique in ((glfw.KEY_1, "plain"), (glfw.KEY_2, "sis"), (glfw.KEY_3, "lines"), (glfw.KEY_4, "dof"),
-                              (glfw.KEY_5, "ibr"), (glfw.KEY_6, "radiosity")):
+                              (glfw.KEY_5, "ibr"), (glfw.KEY_6, "radiosity"), (glfw.KEY_7, "relight")):
         tap(w, number)
         for _ in w.viewer.mode.variants:
             w.frame(1 / 30)
@@ -82,7 +82,7 @@ def test_walking_looking_switching_and_screenshots(window, tmp_path):
             tap(w, glfw.KEY_V)
         assert w.viewer.mode.name == technique
     files = sorted(tmp_path.glob("illusio-*.png"))
-    assert len(files) == len(shots) == 1 + 4 + 4 + 2 + 3 + 3
+    assert len(files) == len(shots) == 1 + 4 + 4 + 2 + 3 + 3 + 3
     assert w.viewer.pointer is not None          # the mouse moves above told the viewer where it is
     images = [read_image(f) for f in files]
     for i in range(len(images) - 1):

@@ -11,6 +11,7 @@ eq. (4.3). The texture corrections of 4.3 are the rest of issue 16.
 
 from .params import METHODS, RelightParams
 from .photograph import RealScene, builtin_real_scene, polygon_ids
+from .renderer import RelightRenderer
 from .session import RelightSession
 
-__all__ = ["RelightSession", "RelightParams", "RealScene", "builtin_real_scene", "polygon_ids", "METHODS"]
+__all__ = ["RelightSession", "RelightRenderer", "RelightParams", "RealScene", "builtin_real_scene", "polygon_ids", "METHODS"]

@@ -6,9 +6,10 @@ from .ibr import IbrMode
 from .lines import LinesMode
 from .plain import PlainMode
 from .radiosity import RadiosityMode
+from .relight import RelightMode
 from .sis import SisMode
 
 #: technique name -> mode class, in the order the viewer cycles through them
-MODES: dict[str, type[Mode]] = {m.name: m for m in (PlainMode, SisMode, LinesMode, DofMode, IbrMode, RadiosityMode)}
+MODES: dict[str, type[Mode]] = {m.name: m for m in (PlainMode, SisMode, LinesMode, DofMode, IbrMode, RadiosityMode, RelightMode)}
 
-__all__ = ["Mode", "MODES", "PlainMode", "SisMode", "LinesMode", "DofMode", "IbrMode", "RadiosityMode"]
+__all__ = ["Mode", "MODES", "PlainMode", "SisMode", "LinesMode", "DofMode", "IbrMode", "RadiosityMode", "RelightMode"]
