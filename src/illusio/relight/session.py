@@ -57,8 +57,10 @@ class RelightSession:
         self._store_display_factor()
         self.virtual_groups: set[int] = set()
         self.display = DisplayPass(self.ctx)
-        self.times["prepare"] = time.perf_counter() - start
         self.scales: dict[str, float] = {}
+        if params.method != "per-pixel":
+            self._corner_radiosity()        # the lamps' basis: part of the preparation
+        self.times["prepare"] = time.perf_counter() - start
 
     # --- preparation ---------------------------------------------------------------------------
     def _estimate(self) -> tuple[Polygons, np.ndarray]:
@@ -283,14 +285,17 @@ class RelightSession:
             self.scales = dict(scales)
         start = time.perf_counter()
         sol = self.solution
-        sol.set_lamps(self.scales)
+        unknown = sorted(set(self.scales) - set(self.lamp_names))
+        if unknown:
+            raise InputError(f"no lamp named {unknown[0]!r}; lamps: {', '.join(self.lamp_names) or 'none'}")
         if self.params.method == "per-pixel":
+            sol.set_lamps(self.scales)
             image = self._per_pixel_image() * self.params.exposure
             self.times["edit"] = time.perf_counter() - start
             return image.astype(np.float32)
         self._inherit_display_factor()
         h = sol.hierarchy
-        now = leaf_mesh(h, sol.links, sol.exitance())
+        now = self._corner_radiosity()
         leaves = h.leaves()
         d = self.corner_d[leaves].reshape(-1, 3)
         virtual = np.isin(sol.polygons.group[h.polygon[leaves]], list(self.virtual_groups))
@@ -306,6 +311,31 @@ class RelightSession:
         image = np.where(own, -out, estimate.displayed(out, 1.0, self.texture)) * self.params.exposure
         self.times["edit"] = time.perf_counter() - start
         return image.astype(np.float32)
+
+    def _corner_radiosity(self):
+        """The leaf mesh with B at the corners under ``self.scales``. With the links kept, B is linear in
+        the lamps' exitances, so the corners' B are gathered once per lamp (and once with every lamp
+        off, for the other emitters) and an edit is their weighted sum; a change of geometry (a
+        virtual object or lamp) makes the basis again."""
+        sol = self.solution
+        h = sol.hierarchy
+        key = (len(h), len(sol.links), tuple(self.lamp_names))
+        if getattr(self, "_basis_key", None) != key:
+            t = time.perf_counter()
+            off = {n: 0.0 for n in self.lamp_names}
+            sol.set_lamps(off)
+            base = leaf_mesh(h, sol.links, sol.exitance())
+            basis = []
+            for name in self.lamp_names:
+                sol.set_lamps({**off, name: 1.0})
+                basis.append(leaf_mesh(h, sol.links, sol.exitance()).radiance - base.radiance)
+            self._basis, self._basis_mesh, self._basis_key = basis, base, key
+            self.times["lamp basis"] = time.perf_counter() - t
+        sol.set_lamps(self.scales)     # the solution's state follows the edit (cheap: links kept)
+        radiance = self._basis_mesh.radiance.copy()
+        for name, response in zip(self.lamp_names, self._basis):
+            radiance += float(self.scales.get(name, 1.0)) * response
+        return dataclasses.replace(self._basis_mesh, radiance=radiance)
 
     def release(self) -> None:
         self.display.release()
