@@ -59,6 +59,7 @@ class RelightSession:
         self.display = DisplayPass(self.ctx)
         self.scales: dict[str, float] = {}
         if params.method != "per-pixel":
+            self._geometry_key = (len(self.solution.hierarchy), len(self.solution.links), tuple(self.lamp_names))
             self._corner_radiosity()        # the lamps' basis: part of the preparation
         self.times["prepare"] = time.perf_counter() - start
 
@@ -315,11 +316,17 @@ class RelightSession:
     def _corner_radiosity(self):
         """The leaf mesh with B at the corners under ``self.scales``. With the links kept, B is linear in
         the lamps' exitances, so the corners' B are gathered once per lamp (and once with every lamp
-        off, for the other emitters) and an edit is their weighted sum; a change of geometry (a
-        virtual object or lamp) makes the basis again."""
+        off, for the other emitters) and an edit is their weighted sum; after a change of geometry (a
+        virtual object or lamp) the first edit gathers directly and the next makes the basis again."""
         sol = self.solution
         h = sol.hierarchy
         key = (len(h), len(sol.links), tuple(self.lamp_names))
+        if getattr(self, "_basis_key", None) != key and getattr(self, "_geometry_key", None) != key:
+            # the geometry just changed (a virtual object moved): one gather now; the basis waits for
+            # a second edit of the same geometry, so dragging an object does not pay for it each step
+            self._geometry_key = key
+            sol.set_lamps(self.scales)
+            return leaf_mesh(h, sol.links, sol.exitance())
         if getattr(self, "_basis_key", None) != key:
             t = time.perf_counter()
             off = {n: 0.0 for n in self.lamp_names}
