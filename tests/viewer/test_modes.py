@@ -174,3 +174,17 @@ def test_radiosity_links_follow_the_pointer(ctx):
         assert picked[-1] == int(element[int(pointer[1] * h), int(pointer[0] * w)])
     assert picked[0] != picked[1]
     assert np.abs(pictures[0] - pictures[1]).mean() > 1e-3
+
+
+def test_lamp_sliders_set_the_lamp_scales(ctx):
+    """The radiosity and relight panels' lamp sliders write (name, factor) pairs into the params."""
+    from illusio.viewer.modes import RadiosityMode
+
+    class Imgui:
+        def slider_float(self, label, value, lo, hi):
+            return (label.startswith("lamp##"), 0.25) if label.startswith("lamp##") else (False, value)
+
+    mode = RadiosityMode(ctx, "cornell-box")
+    mode.lamp_sliders(Imgui(), ["lamp"])
+    assert mode.params.lamp_scales == (("lamp", 0.25),)
+    mode.release()

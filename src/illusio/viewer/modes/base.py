@@ -4,6 +4,7 @@ the technique's Renderer through the protocol (illusio.core.renderer)."""
 
 from __future__ import annotations
 
+import dataclasses
 from typing import ClassVar
 
 import moderngl
@@ -76,6 +77,19 @@ class Mode:
 
     def panel(self, imgui, viewer) -> None:
         """Widgets of the mode's own beyond its Params (a timeline scrubber...); none by default."""
+
+    def lamp_sliders(self, imgui, names, largest: float = 4.0) -> None:
+        """A slider per lamp for params with ``lamp_scales`` ((name, factor) pairs): the radiosity and
+        relight modes' panels."""
+        scales = dict(self.params.lamp_scales)
+        changed_any = False
+        for name in names:
+            changed, value = imgui.slider_float(f"{name}##lamp-{self.name}", float(scales.get(name, 1.0)), 0.0, largest)
+            if changed:
+                scales[name] = value
+                changed_any = True
+        if changed_any:
+            self.params = dataclasses.replace(self.params, lamp_scales=tuple(sorted(scales.items())))
 
     def set_param(self, name: str, value) -> None:
         """Change one field of ``params`` (dotted for nested Params); raises InputError if refused."""

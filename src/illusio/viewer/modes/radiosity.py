@@ -61,14 +61,6 @@ class RadiosityMode(Mode):
             return
         st = solution.stats
         imgui.text(f"{st.elements} elements, {st.links} links, {st.iterations} iterations")
-        scales = dict(self.params.lamp_scales)
-        changed_any = False
-        for name in solution.lamp_names:
-            changed, value = imgui.slider_float(f"{name}##lamp", float(scales.get(name, 1.0)), 0.0, 4.0)
-            if changed:
-                scales[name] = value
-                changed_any = True
-        if changed_any:
-            self.params = replace(self.params, lamp_scales=tuple(sorted(scales.items())))
+        self.lamp_sliders(imgui, solution.lamp_names)
         if self.variant == "links":
             imgui.text(f"links lighting element {self.params.element} (green visible, yellow partial, red invisible)")

@@ -54,13 +54,5 @@ class RelightMode(Mode):
         session = self.renderer.session
         if session is None:
             return
-        scales = dict(self.params.lamp_scales)
-        changed_any = False
-        for name in session.lamp_names:
-            changed, value = imgui.slider_float(f"{name}##relight", float(scales.get(name, 1.0)), 0.0, 3.0)
-            if changed:
-                scales[name] = value
-                changed_any = True
-        if changed_any:
-            self.params = replace(self.params, lamp_scales=tuple(sorted(scales.items())))
+        self.lamp_sliders(imgui, session.lamp_names, 3.0)
         imgui.text(f"prepared in {session.times['prepare']:.1f} s; last edit {session.times.get('edit', 0) * 1000:.0f} ms")
