@@ -104,6 +104,23 @@ def test_command(tmp_path, capsys):
     assert out.exists() and (tmp_path / "photo.png").exists()
     code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--set", "lamp-7=0"], capsys)
     assert code == 2 and "no lamp named" in cap.err
+    # prepare once, then edit from the saved session: the same image as preparing in the same command
+    saved = tmp_path / "office.npz"
+    code, cap = call_cli(["relight", "prepare", "office", "-o", str(saved), "--size", "64x48", "--samples", "8",
+                          "--method", "loscos"], capsys)
+    assert code == 0, cap.err
+    direct, again = tmp_path / "direct.npy", tmp_path / "again.npy"
+    assert call_cli(["relight", "office", "-o", str(direct), "--size", "64x48", "--samples", "8", "--method", "loscos",
+                     "--set", "lamp-2=0.5"], capsys)[0] == 0
+    code, cap = call_cli(["relight", str(saved), "-o", str(again), "--set", "lamp-2=0.5"], capsys)
+    assert code == 0 and "loaded in" in cap.out
+    assert np.allclose(np.load(again), np.load(direct), atol=1e-5)
+    code, cap = call_cli(["relight", str(saved), "-o", str(tmp_path / "mesh.png"), "--show", "mesh"], capsys)
+    assert code == 0 and (tmp_path / "mesh.png").exists()
+    code, cap = call_cli(["relight", str(saved), "-o", str(saved)], capsys)
+    assert code == 2 and saved.stat().st_size > 0
+    code, cap = call_cli(["relight", str(saved), "-o", str(out), "--show", "normals"], capsys)
+    assert code == 2 and "--show" in cap.err
 
 
 def test_eq_4_4_colour_distance_in_lab():
@@ -153,13 +170,19 @@ def per_pixel(ctx, photograph):
 
 def test_per_pixel_method(per_pixel):
     """Unchanged lamps give the photograph back exactly; each lamp's share is removed pixel by pixel:
-    switching every lamp off leaves no direct light (only what the solution's indirect field, now
-    dark too, gives: nothing), and the lamps' pixels go dark with them."""
+    switching every lamp off leaves no direct light (only what the solution's indirect field gives:
+    the monitors' light, they shine by themselves), the lamps' pixels go dark with them and the
+    screens keep their photographed colour."""
     s = per_pixel
     same = s.image({})
     assert np.abs(same - s.real.photograph).max() < 1e-3 * s.real.photograph.max()     # up to the re-solve's tolerance
     dark = s.image({n: 0.0 for n in s.lamp_names})
-    assert dark.max() < 1e-6
+    m = s.model
+    polygon = np.maximum(s.pixel_polygon, 0)
+    screen = (s.pixel_polygon >= 0) & np.isin(m.group[polygon], [m.names.index(n) for n in ("monitor-0-screen", "monitor-1-screen")])
+    lamp = (s.pixel_polygon >= 0) & np.isin(m.group[polygon], m.lamps)
+    assert screen.any() and np.allclose(dark[screen], s.real.photograph[screen])
+    assert dark[lamp].max() == 0 and np.median(dark[s.pixel_seen]) < 0.02 * np.median(same[s.pixel_seen])
     one = s.image({n: (1.0 if n == "lamp-3" else 0.0) for n in s.lamp_names})
     share = s.pixel_lamp[:, list(s.lamp_rows).index(int(np.flatnonzero(s.model.group == s.model.names.index("lamp-3"))[0]))]
     lit_by_it = share.sum(axis=1) > 0

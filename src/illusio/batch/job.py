@@ -63,7 +63,7 @@ def command_table() -> dict:
     """illusio command name → its click command (those that take -o/--output)."""
     import typer
 
-    from ..cli.main import app
+    from ..cli.main import ALIASES, app
 
     group = typer.main.get_command(app)
     out = {}
@@ -73,6 +73,9 @@ def command_table() -> dict:
         for full, c in pairs:       # "ibr capture", "ibr render": a group's commands by their two words
             if any("--output" in p.opts for p in c.params if hasattr(p, "opts")):
                 out[full] = c
+    for words, target in ALIASES.items():        # "relight prepare" for the hidden "relight-prepare"
+        if target in out:
+            out[" ".join(words)] = out.pop(target)
     return out
 
 

@@ -29,11 +29,11 @@ def run_task(task: Task, out_dir: str) -> tuple[str, float, str]:
     """Run ``task`` writing into ``out_dir``; returns (output path, seconds, worker). Raises TaskFailed."""
     import typer
 
-    from ..cli.main import app
+    from ..cli.main import app, expand
 
     output = Path(out_dir) / task.output
     output.parent.mkdir(parents=True, exist_ok=True)
-    argv = list(task.argv) + ["-o", str(output)]
+    argv = expand(list(task.argv) + ["-o", str(output)])
     start = time.perf_counter()
     quiet = io.StringIO()
     try:

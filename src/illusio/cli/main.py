@@ -30,6 +30,19 @@ app.add_typer(ibr.app, name="ibr")
 app.command("radiosity")(radiosity.radiosity)
 app.command("batch")(batch.batch)
 app.command("relight")(relight.relight)
+app.command("relight-prepare", hidden=True)(relight.relight_prepare)
+
+#: two-word commands that are not groups: ``illusio relight prepare`` runs ``relight-prepare``
+ALIASES = {("relight", "prepare"): "relight-prepare"}
+
+
+def expand(argv: list[str]) -> list[str]:
+    """The command line as the app reads it: two-word aliases joined, options with an optional value
+    given their default (``--ray`` alone)."""
+    argv = list(argv)
+    if len(argv) >= 2 and (argv[0], argv[1]) in ALIASES:
+        argv = [ALIASES[(argv[0], argv[1])]] + argv[2:]
+    return batch.optional_values(argv)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
@@ -39,7 +52,7 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 def run(argv: list[str] | None = None) -> None:
     """Console-script entry point."""
     warnings.showwarning = _show_warning
-    argv = batch.optional_values(list(sys.argv[1:] if argv is None else argv))
+    argv = expand(sys.argv[1:] if argv is None else argv)
     try:
         app(args=argv, standalone_mode=True)
     except IllusioError as exc:

@@ -1,16 +1,16 @@
-"""illusio relight: relight the built-in real scene (a photograph of the office) — first landing:
-the baseline method of Loscos 4.2 (estimates from the photograph, display by eq. 4.3)."""
+"""illusio relight: relight the built-in real scene (a photograph of the office) by Loscos' chapter 4
+(estimates from the photograph, then baseline, loscos or per-pixel display of the edits)."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import typer
 
 from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
-from ..radiosity.params import HierarchyParams
-from ..relight.params import METHODS, RelightParams
+from ..relight.params import INITIAL_HIERARCHY, METHODS, SHOW, RelightParams
 from .common import parse_size
 from .radiosity import parse_lamps
 
@@ -50,33 +50,74 @@ def _parse_object(text: str):
     return mesh, (at[0], at[1] - float(lo[1]), at[2])
 
 
-def relight(
+def _real_scene(scene: str, size: str, samples: int):
+    from ..relight import builtin_real_scene
+
+    if not 1 <= samples <= 1 << 16:
+        raise InputError(f"--samples must be in 1..65536, got {samples}")
+    return builtin_real_scene(scene, parse_size(size), samples)
+
+
+def relight_prepare(
     scene: str = typer.Argument("office", help="the built-in real scene (its photograph is path-traced: the photo extra)"),
+    output: Path = typer.Option(..., "-o", "--output", help="the prepared session (.npz)"),
+    method: str = typer.Option(_P.method, "--method", help=f"one of {', '.join(METHODS)}"),
+    size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
+    samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
+    epsilon: float = typer.Option(INITIAL_HIERARCHY.epsilon, "--epsilon", help="ε of the initial BF radiosity solution (× total power)"),
+    mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1)"),
+) -> None:
+    """Prepare SCENE once (estimates, refinement, textures, the lamps' basis) and save it, so that
+    `illusio relight FILE.npz --set ...` starts at once."""
+    from ..relight import RelightSession
+
+    out = check_output_path(output)
+    if out.suffix.lower() != ".npz":
+        raise InputError(f"-o: a prepared session is saved as .npz, got {out.name}")
+    params = RelightParams(method=method, mean_reflectance=mean_reflectance,
+                           hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon))
+    session = RelightSession(_real_scene(scene, size, samples), params)
+    session.save(out)
+    typer.echo(f"wrote {out}: {session.solution.stats.leaves} leaves, prepared in {session.times['prepare']:.1f} s")
+
+
+def relight(
+    scene: str = typer.Argument("office", help="the built-in real scene (its photograph is path-traced: the photo "
+                                               "extra), or a session saved by `illusio relight prepare` (.npz)"),
     output: Path = typer.Option(..., "-o", "--output", help="the relit image (.png sRGB, .npy/.exr linear)"),
     set_lamp: list[str] = typer.Option(None, "--set", help="NAME=SCALE: a real lamp's estimated exitance × SCALE (repeatable)"),
     method: str = typer.Option(_P.method, "--method", help=f"one of {', '.join(METHODS)}"),
     size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
-    epsilon: float = typer.Option(HierarchyParams().epsilon, "--epsilon", help="radiosity refinement ε"),
+    epsilon: float = typer.Option(INITIAL_HIERARCHY.epsilon, "--epsilon", help="ε of the initial BF radiosity solution (× total power)"),
     mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1)"),
     add_lamp: list[str] = typer.Option(None, "--add-lamp", help="X,Y,Z:EXITANCE — a virtual 40 cm lamp facing down at X,Y,Z (m), W/m² (repeatable)"),
     add_object: list[str] = typer.Option(None, "--add-object", help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)"),
     photograph: Path = typer.Option(None, "--photograph", help="also write the photograph used"),
+    show: str = typer.Option("image", "--show", help="image, textures (what the method displays), mesh (leaf outlines) or display-factor"),
 ) -> None:
     """Relight SCENE from one photograph (Loscos 1999, ch. 4): reflectances and lamp powers estimated
-    from the photograph, then the lamps changed (--set)."""
-    from ..relight import RelightSession, builtin_real_scene
+    from the photograph, then the lamps changed (--set). `illusio relight prepare SCENE -o S.npz`
+    saves the preparation; `illusio relight S.npz ...` starts from it (its own method and size)."""
+    from ..relight import RelightSession
 
-    out = check_output_path(output)
+    saved = scene.lower().endswith(".npz")
+    out = check_output_path(output, [scene] if saved else [])
     photo_out = check_output_path(photograph, [str(out)]) if photograph is not None else None
     if not 1 <= samples <= 1 << 16:
         raise InputError(f"--samples must be in 1..65536, got {samples}")
-    params = RelightParams(method=method, mean_reflectance=mean_reflectance, hierarchy=HierarchyParams(epsilon=epsilon))
+    if show not in SHOW:
+        raise InputError(f"--show must be one of {', '.join(SHOW)}, got {show!r}")
+    params = RelightParams(method=method, mean_reflectance=mean_reflectance,
+                           hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon))
     scales = dict(parse_lamps(set_lamp))
     lamps = [_parse_lamp(t) for t in add_lamp or ()]           # every option checked before the photograph
     objects = [_parse_object(t) for t in add_object or ()]
-    real = builtin_real_scene(scene, parse_size(size), samples)
-    session = RelightSession(real, params)
+    if saved:
+        session = RelightSession.load(scene)
+    else:
+        session = RelightSession(_real_scene(scene, size, samples), params)
+    real = session.real
     unknown = sorted(set(scales) - set(session.lamp_names))
     if unknown:
         raise InputError(f"no lamp named {unknown[0]!r}; lamps: {', '.join(session.lamp_names)}")
@@ -85,7 +126,10 @@ def relight(
     for k, (mesh, at) in enumerate(objects):
         session.add_object(mesh, f"virtual-object-{k}", at)
     image = session.image(scales)
+    if show != "image":
+        image = session.show(show)
     write_image(out, image)
     if photo_out is not None:
         write_image(photo_out, real.photograph)
-    typer.echo(f"wrote {out}: prepared in {session.times['prepare']:.1f} s, the edit in {session.times['edit']:.2f} s")
+    start = f"loaded in {session.times['load']:.2f} s" if saved else f"prepared in {session.times['prepare']:.1f} s"
+    typer.echo(f"wrote {out}: {start}, the edit in {session.times['edit']:.2f} s")

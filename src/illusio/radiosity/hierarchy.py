@@ -41,6 +41,29 @@ class Hierarchy:
     def __len__(self) -> int:
         return self.size
 
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every field (first ``len(self)`` rows) and the roots: what :meth:`from_arrays` takes back."""
+        out = {name: getattr(self, name).copy() for name in _FIELDS}
+        out["roots"] = np.asarray(self.roots, np.int64)
+        return out
+
+    @classmethod
+    def from_arrays(cls, polygons: Polygons, arrays: dict[str, np.ndarray]) -> "Hierarchy":
+        """A hierarchy saved by :meth:`arrays` (a saved relighting session)."""
+        from ..core.errors import InputError
+
+        h = cls.__new__(cls)
+        h.polygons = polygons
+        n = len(arrays["active"])
+        for name, (shape, dtype) in _FIELDS.items():
+            a = np.asarray(arrays[name])
+            if a.shape != (n,) + shape:
+                raise InputError(f"saved hierarchy: field {name} has shape {a.shape}, expected {(n,) + shape}")
+            setattr(h, "_" + name, a.astype(dtype, copy=True))
+        h.size = h._capacity = n
+        h.roots = np.asarray(arrays["roots"], np.int64)
+        return h
+
     def add_roots(self, polygons: Polygons, first_polygon: int) -> np.ndarray:
         """New roots for ``polygons``, which are rows ``first_polygon``… of the (extended) input."""
         roots = self._append(polygons.corners, polygons.triangle, first_polygon + np.arange(len(polygons)),
@@ -125,6 +148,16 @@ class Hierarchy:
                 arr = getattr(self, "_" + name)
                 arr[np.repeat(first, 4) + np.tile(np.arange(4), n)] = arr[rep]
         return self._child[elements]
+
+    def collapse(self, elements: np.ndarray) -> None:
+        """Undo the subdivision of ``elements``: their descendants go inactive and each is a leaf again
+        (Loscos Figure 4.7's undo; the caller moves any links the descendants held)."""
+        elements = np.asarray(elements, np.int64)
+        inner = elements[self._child[elements] >= 0]
+        if len(inner):
+            below = self.descendants(inner)
+            self._active[below[~np.isin(below, inner)]] = False
+            self._child[inner] = -1
 
     def children(self, elements: np.ndarray) -> np.ndarray:
         """(n, 4) children of elements that have them."""

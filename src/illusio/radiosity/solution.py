@@ -71,6 +71,19 @@ class Radiosity:
         self._matrix = None
         self.built = False
 
+    @classmethod
+    def from_state(cls, polygons: Polygons, params: HierarchyParams, hierarchy: Hierarchy, links: Links,
+                   lamp_scale: np.ndarray) -> "Radiosity":
+        """A built solution from its saved parts (the ray-casting scene is made again; its jitter
+        starts over from ``params.seed``)."""
+        sol = cls.__new__(cls)
+        sol.polygons, sol.params, sol.hierarchy, sol.links = polygons, params, hierarchy, links
+        sol.visibility = Visibility(hierarchy, params.visibility_samples, params.seed)
+        sol.lamp_scale = np.asarray(lamp_scale, np.float64)
+        sol.stats, sol.result, sol._matrix, sol.built = Stats(), None, None, True
+        sol._update_stats()
+        return sol
+
     # --- what the criterion measures against
     @property
     def power(self) -> float:

@@ -4,9 +4,12 @@
     session = RelightSession(builtin_real_scene("office"))
     image = session.set_lamp("lamp-0", 0.0)
 
-This first landing is the initialisation of 4.2.1 and its limitation of 4.2.2 (the ``baseline``
-method): reflectances and lamp exitances estimated from the photograph, the display factor, and
-eq. (4.3). The texture corrections of 4.3 are the rest of issue 16.
+Preparation estimates the reflectances and lamp exitances from the photograph (4.2.1) and solves;
+then, by method: ``baseline`` displays the photograph modulated by B/D (eq. 4.3; its photographed
+shadows stay when a lamp goes off, 4.2.2); ``loscos`` refines the mesh along the photographed
+shadows (4.3.1, ``shadow_refine``) and makes textures free of them (4.3.2, ``textures``);
+``per-pixel`` does the texture work per pixel (the chapter's conclusion). Edits: lamp scales, a
+virtual lamp, a virtual object added and moved (4.4). ``tone`` fits the gain/γ step of Figure 4.21.
 """
 
 from .params import METHODS, RelightParams

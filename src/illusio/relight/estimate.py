@@ -31,11 +31,15 @@ def reestimated_reflectance(mean_pixels, mean_scene, mean_reflectance, areas) ->
     return reflectance_from_photograph(mean_pixels, mean_scene, rho_hat), rho_hat
 
 
-def lamp_exitance(mean_reflectance, mean_scene_radiance, total_area: float, lamp_area: float) -> np.ndarray:
-    """Eq. (4.2) with every lamp of the same exitance: Σ_lamps E·A_lamp = (1 − ρ̂)·B̂_A·Σ_i A_i, so
-    E = (1 − ρ̂)·π·L̂_A·ΣA / ΣA_lamps (W/m², RGB), L̂_A the photograph's mean radiance."""
+def lamp_exitance(mean_reflectance, mean_scene_radiance, total_area: float, lamp_area: float,
+                  other_power=0.0) -> np.ndarray:
+    """Eq. (4.2) with every lamp of the same exitance: Σ_emitters E·A = (1 − ρ̂)·B̂_A·Σ_i A_i, so
+    E = ((1 − ρ̂)·π·L̂_A·ΣA − P_other) / ΣA_lamps (W/m², RGB), L̂_A the photograph's mean radiance and
+    P_other the power (W, RGB) of emitters whose exitance is already known (self-luminous surfaces),
+    clipped at 0."""
     rho = np.asarray(mean_reflectance, np.float64)
-    return (1 - rho) * np.pi * np.asarray(mean_scene_radiance, np.float64) * total_area / lamp_area
+    total = (1 - rho) * np.pi * np.asarray(mean_scene_radiance, np.float64) * total_area
+    return np.maximum(total - np.asarray(other_power, np.float64), 0.0) / lamp_area
 
 
 def displayed(radiosity, display_factor, texture) -> np.ndarray:

@@ -7,30 +7,44 @@ from dataclasses import dataclass
 from ..core.params import check_ranges, param
 from ..radiosity.params import HierarchyParams
 
-__all__ = ["RelightParams", "METHODS"]
+__all__ = ["RelightParams", "METHODS", "SHOW", "INITIAL_HIERARCHY"]
+
+#: what RelightSession.show draws (``illusio relight --show``)
+SHOW = ("image", "textures", "mesh", "display-factor")
 
 #: baseline: the system as initialised in 4.2.1 (textures of the photograph modulated by B/D, eq. 4.3):
-#: a lamp switched off leaves its photographed shadows (the limitation of 4.2.2). loscos: the
-#: textures of 4.3.2 (blocked energy added, shadowed elements corrected from a lit reference), shown
-#: with D = B + ρĒ; without the texture-driven refinement of 4.3.1 yet (the BFV mesh with the lamps'
-#: links at the leaves is used).
+#: a lamp switched off leaves its photographed shadows (the limitation of 4.2.2). loscos: the mesh
+#: refined along the photographed shadows (4.3.1, relight.shadow_refine), then the textures of 4.3.2
+#: (blocked energy added, shadowed elements corrected from a lit reference), shown with D = B + ρĒ.
 #: per-pixel: the photograph scaled at each pixel by the change of its irradiance, lamp by lamp with
 #: per-pixel visibility (the chapter's conclusion; relight.per_pixel).
 METHODS = ("baseline", "loscos", "per-pixel")
+
+#: the initial solution of 4.2.1: "la subdivision initiale, obtenue avec un critère de raffinement BF,
+#: est grossière" (Figure 4.6a) — BF, at a coarser ε than a radiosity frame's default
+INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3)
 
 
 @dataclass(frozen=True)
 class RelightParams:
     """method: one of METHODS. mean_reflectance: ρ̂ of eq. (4.1), the user's first guess of the scene's
-    mean reflectance (re-estimated from the photograph afterwards). hierarchy: the radiosity solution's
-    refinement (with loscos, the lamps' links are pushed to the leaves). colour_threshold: ε of Figure
-    4.11, the largest L*a*b* distance between a shadowed element and its reference. lamp_scales: (lamp name, factor on its estimated exitance) pairs. exposure: factor on
-    the displayed radiance."""
+    mean reflectance (re-estimated from the photograph afterwards). colour_threshold: the largest
+    CIE L*a*b* distance (eq. 4.4) between two colours called similar — neighbours in Figure 4.7, a
+    shadowed element and its reference in Figure 4.11. visibility_threshold: the largest difference of
+    a lamp's visibility V between two elements called similar (Figure 4.7; the types must match too).
+    texture_refinement: loscos runs 4.3.1 (off: the initial mesh is kept, for comparison). min_pixels:
+    4.3.1 splits only elements covering at least this many photograph pixels. hierarchy: the initial
+    radiosity solution (default: BF at ε 3e-3, the chapter's coarse start, Figure 4.6a; with loscos the
+    lamps' links are pushed to the leaves). lamp_scales: (lamp name, factor on its estimated
+    exitance) pairs. exposure: factor on the displayed radiance."""
 
     method: str = param("baseline", choices=METHODS)
     mean_reflectance: float = param(0.5, range=(0.01, 0.95), label="mean reflectance ρ̂ (first guess)")
-    colour_threshold: float = param(20.0, range=(0.0, 200.0), label="colour similarity ε (CIE L*a*b*, Fig. 4.11)")
-    hierarchy: HierarchyParams = param(default_factory=HierarchyParams)
+    colour_threshold: float = param(20.0, range=(0.0, 200.0), label="colour similarity ε (CIE L*a*b*, Fig. 4.7, 4.11)")
+    visibility_threshold: float = param(0.3, range=(0.0, 1.0), label="visibility similarity (Fig. 4.7)")
+    texture_refinement: bool = param(True, help="loscos: split leaves along the photographed shadows (4.3.1)")
+    min_pixels: int = param(4, range=(1, 10000), step=1, help="4.3.1 splits only leaves covering this many pixels")
+    hierarchy: HierarchyParams = param(default_factory=lambda: INITIAL_HIERARCHY)
     lamp_scales: tuple = param((), panel=False)
     exposure: float = param(1.0, range=(1e-6, 1e6), log=True)
 

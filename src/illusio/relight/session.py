@@ -24,10 +24,10 @@ import numpy as np
 
 from ..core.context import Context, default_context
 from ..core.errors import InputError
-from ..core.renderer import Frame
 from ..radiosity import DisplayPass, Polygons, RadiosityParams, RadiosityRenderer, leaf_mesh
 from . import estimate, textures
-from .params import RelightParams
+from .shadow_refine import refine_by_texture
+from .params import SHOW, RelightParams
 from .photograph import RealScene, polygon_ids
 
 __all__ = ["RelightSession"]
@@ -46,6 +46,9 @@ class RelightSession:
         if params.method == "loscos":
             self.hierarchy_params = dataclasses.replace(params.hierarchy, lights_to_leaves=True)
         self.solution = self.renderer.solve(RadiosityParams(self.hierarchy_params))
+        self.display = DisplayPass(self.ctx)
+        if params.method == "loscos" and params.texture_refinement:
+            self._refine_by_texture()
         self._textures_to_leaves()
         self.display_factor = leaf_mesh(self.solution.hierarchy, self.solution.links, self.solution.exitance())
         self.texture_factor = np.ones((len(self.solution.hierarchy), 3))
@@ -56,7 +59,6 @@ class RelightSession:
         self.texture = (self.real.photograph * self.texture_factor[np.maximum(self.pixel_element, 0)]).astype(np.float32)
         self._store_display_factor()
         self.virtual_groups: set[int] = set()
-        self.display = DisplayPass(self.ctx)
         self.scales: dict[str, float] = {}
         if params.method != "per-pixel":
             self._geometry_key = (len(self.solution.hierarchy), len(self.solution.links), tuple(self.lamp_names))
@@ -69,6 +71,9 @@ class RelightSession:
         ids = polygon_ids(p, self.real.view, self.real.size)
         self.pixel_polygon = ids
         lamp = np.isin(p.group, p.lamps)
+        # a surface the model gives an exitance but that is not a lamp (a monitor's screen) shines by
+        # itself: not relit, its exitance taken from the photograph, its reflectance 0
+        glowing = (p.exitance.max(axis=1) > 0) & ~lamp
         seen = ids >= 0
         surface = seen & ~lamp[np.maximum(ids, 0)]
         if not surface.any():
@@ -76,16 +81,21 @@ class RelightSession:
         mean_scene = photo[surface].mean(axis=0)                                   # B̂_A (radiance)
         count = np.bincount(ids[surface], minlength=len(p))
         total = np.stack([np.bincount(ids[surface], weights=photo[surface][:, c], minlength=len(p)) for c in range(3)], axis=1)
-        visible = (count > 0) & ~lamp
+        visible = (count > 0) & ~lamp & ~glowing
         from ..radiosity.polygons import polygon_areas
         areas = polygon_areas(p.corners, p.triangle)
         rho = np.zeros((len(p), 3))
         rho_visible, rho_hat = estimate.reestimated_reflectance(total[visible] / count[visible, None], mean_scene,
                                                                self.params.mean_reflectance, areas[visible])
         rho[visible] = rho_visible
-        rho[~visible & ~lamp] = rho_hat
+        rho[~visible & ~lamp & ~glowing] = rho_hat
         exitance = np.zeros((len(p), 3))
-        exitance[lamp] = estimate.lamp_exitance(rho_hat, mean_scene, float(areas[~lamp].sum()), float(areas[lamp].sum()))
+        seen_glow = glowing & (count > 0)
+        exitance[seen_glow] = np.pi * total[seen_glow] / count[seen_glow, None]
+        exitance[glowing & ~seen_glow] = np.pi * mean_scene
+        glow_power = (exitance[glowing] * areas[glowing, None]).sum(axis=0)
+        exitance[lamp] = estimate.lamp_exitance(rho_hat, mean_scene, float(areas[~lamp].sum()), float(areas[lamp].sum()),
+                                                other_power=glow_power)
         self.mean_scene = mean_scene
         return Polygons(p.corners, p.triangle, rho, exitance, p.group, list(p.names), list(p.lamps)), rho_hat
 
@@ -93,9 +103,7 @@ class RelightSession:
         """Each seen leaf's ρ from its own pixels (eq. 4.1), pulled up the tree, then solved again."""
         sol = self.solution
         h = sol.hierarchy
-        tex = self.renderer.render_texture(Frame(self.real.view, self.real.size), RadiosityParams(self.hierarchy_params))
-        self.ctx.release(tex)
-        element = self.ctx.readback_image(self.renderer.maps()["element"], 1, clip=False)[..., 0].astype(np.int64)
+        element = self._pixel_leaf()
         self.pixel_element = element
         photo = self.real.photograph.astype(np.float64)
         seen = (element >= 0) & (h.exitance[np.maximum(element, 0)].max(axis=-1) == 0)
@@ -107,6 +115,28 @@ class RelightSession:
                                                                   self.mean_reflectance)
         self._pull_reflectance()
         sol.solve()
+
+    def _pixel_leaf(self) -> np.ndarray:
+        """The leaf seen through each pixel of the photograph (H, W) int, −1 where none."""
+        self.display.load(leaf_mesh(self.solution.hierarchy, smooth=False))
+        colour, element = self.display(self.real.view, self.real.size)
+        out = self.ctx.readback_image(element, 1, clip=False)[..., 0].astype(np.int64)
+        self.ctx.release(colour, element)
+        return out
+
+    def _refine_by_texture(self) -> None:
+        """Loscos 4.3.1 (relight.shadow_refine), then the solution solved on the new leaves."""
+        t = time.perf_counter()
+        photo = self.real.photograph
+        surface = self.pixel_polygon >= 0
+        surface &= self.model.exitance[np.maximum(self.pixel_polygon, 0)].max(axis=-1) == 0
+        luminance = photo[surface] @ np.array([0.2126, 0.7152, 0.0722]) if surface.any() else np.ones(1)
+        white = float(np.percentile(luminance, 99))
+        p = self.params
+        self.refine_stats = refine_by_texture(self.solution, self._pixel_leaf, photo, white, p.colour_threshold,
+                                              p.visibility_threshold, p.min_pixels)
+        self.solution.solve()
+        self.times["texture refinement"] = time.perf_counter() - t
 
     def _pull_reflectance(self) -> None:
         h = self.solution.hierarchy
@@ -125,6 +155,7 @@ class RelightSession:
         rho = h.reflectance[leaves].copy()
         b_orig = h.radiosity[leaves]
         _, blocked, free, lit, shadowed = textures.lamp_transfer(h, sol.links, leaves)
+        shadowed &= h.exitance[leaves].max(axis=1) == 0          # a self-luminous leaf keeps its texture
         inter = np.where(b_orig > 0, (b_orig + rho * blocked) / np.where(b_orig > 0, b_orig, 1), 1.0)   # eq. 4.6
         rho_inter = np.clip(rho * inter, 0, estimate.MAX_REFLECTANCE)
         seen = np.bincount(self.pixel_element[self.pixel_element >= 0], minlength=len(h))[leaves] > 0
@@ -135,7 +166,10 @@ class RelightSession:
         factor = inter.copy()
         fix = ref >= 0
         r = ref[fix]
-        ratio = free[fix].sum(axis=1) / np.maximum(free[r].sum(axis=1), 1e-300)
+        # eq. 4.8 with the indirect irradiance I in both sums: the texture holds indirect light too, and
+        # with the lamps' form factors alone a leaf nearer a lamp than its reference came out too bright
+        unoccluded = free + self._indirect()[leaves]
+        ratio = unoccluded[fix].sum(axis=1) / np.maximum(unoccluded[r].sum(axis=1), 1e-300)
         rho_corr = rho_inter[r] * ratio[:, None]                                                         # eq. 4.8
         factor[fix] = inter[fix] * rho_corr / np.maximum(rho_inter[fix], 1e-6)                          # eq. 4.9
         self.references = (leaves, ref)
@@ -171,7 +205,8 @@ class RelightSession:
         m = self.model
         points, normals, polygon = surface_points(m, self.real.view, self.real.size)
         lamp_rows = np.flatnonzero(np.isin(m.group, m.lamps))
-        self.pixel_seen = (polygon >= 0) & ~np.isin(m.group[np.maximum(polygon, 0)], m.lamps) & (self.pixel_element >= 0)
+        emitting = m.exitance.max(axis=1) > 0           # lamps (scaled below) and self-luminous (kept)
+        self.pixel_seen = (polygon >= 0) & ~emitting[np.maximum(polygon, 0)] & (self.pixel_element >= 0)
         self.lamp_rows = lamp_rows
         self.pixel_lamp = lamp_irradiance(m, lamp_rows, m.exitance[lamp_rows], points, normals, self.pixel_seen,
                                           seed=self.params.hierarchy.seed)
@@ -313,6 +348,31 @@ class RelightSession:
         self.times["edit"] = time.perf_counter() - start
         return image.astype(np.float32)
 
+    def show(self, what: str = "image") -> np.ndarray:
+        """One of SHOW under the session's lamps, float32 (H, W, 3), × exposure: ``image`` the relit
+        photograph; ``textures`` the textures the method displays (the photograph for baseline and
+        per-pixel, T_final of eq. 4.9 for loscos); ``mesh`` the relit image with the leaves' outlines
+        (Figure 4.8b); ``display-factor`` D/π at the leaves' corners (Figure 4.13b)."""
+        if what not in SHOW:
+            raise InputError(f"show must be one of {', '.join(SHOW)}, got {what!r}")
+        if what == "textures":
+            return (self.texture * self.params.exposure).astype(np.float32)
+        image = self.image() if what == "mesh" else None
+        h = self.solution.hierarchy
+        mesh = leaf_mesh(h, smooth=False)
+        if what == "mesh":
+            mesh.radiance = np.ones_like(mesh.radiance)
+        else:
+            self._inherit_display_factor()
+            mesh.radiance = self.corner_d[h.leaves()].reshape(-1, 3)
+        self.display.load(mesh)
+        colour, element = self.display(self.real.view, self.real.size, edges=what == "mesh")
+        out = self.ctx.readback_image(colour, 3, clip=False)
+        self.ctx.release(colour, element)
+        if what == "mesh":
+            return (image * out).astype(np.float32)
+        return (out * self.params.exposure).astype(np.float32)
+
     def _corner_radiosity(self):
         """The leaf mesh with B at the corners under ``self.scales``. With the links kept, B is linear in
         the lamps' exitances, so the corners' B are gathered once per lamp (and once with every lamp
@@ -344,6 +404,18 @@ class RelightSession:
             radiance += float(self.scales.get(name, 1.0)) * response
         return dataclasses.replace(self._basis_mesh, radiance=radiance)
 
+    def save(self, path) -> None:
+        """Write the prepared session to ``path`` (.npz; relight.state): load it with :meth:`load`."""
+        from .state import save_session
+        save_session(self, path)
+
+    @staticmethod
+    def load(path, ctx: Context | None = None) -> "RelightSession":
+        """A session saved by :meth:`save`, ready for edits."""
+        from .state import load_session
+        return load_session(path, ctx)
+
     def release(self) -> None:
         self.display.release()
-        self.renderer.release()
+        if self.renderer is not None:
+            self.renderer.release()

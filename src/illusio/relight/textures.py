@@ -56,17 +56,23 @@ def lamp_transfer(h, links, leaves: np.ndarray):
 
 
 def neighbours(h, leaves: np.ndarray) -> list[np.ndarray]:
-    """For each leaf, the leaves of the same polygon sharing a corner point with it."""
+    """For each leaf, the rows of the leaves of the same polygon that touch it (their boxes meet
+    within 10⁻⁶ of the scene's extent): edge and corner neighbours, a small leaf beside a large one
+    included (a T-junction shares no corner point)."""
     extent = max(float(np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max()), 1e-9)
-    q = np.round(h.corners[leaves] / (1e-7 * extent)).astype(np.int64)
-    key = np.c_[np.repeat(h.polygon[leaves], 4), q.reshape(-1, 3)]
-    _, vertex = np.unique(key, axis=0, return_inverse=True)
-    vertex = vertex.reshape(-1, 4)
-    owners: dict[int, list[int]] = {}
-    for row, corners in enumerate(vertex):
-        for c in corners:
-            owners.setdefault(int(c), []).append(row)
-    return [np.unique([o for c in corners for o in owners[int(c)] if o != row]) for row, corners in enumerate(vertex)]
+    tol = 1e-6 * extent
+    c = h.corners[leaves]
+    lo, hi = c.min(axis=1) - tol, c.max(axis=1) + tol
+    polygon = h.polygon[leaves]
+    out: list[np.ndarray] = [np.zeros(0, np.int64)] * len(leaves)
+    order = np.argsort(polygon, kind="stable")
+    starts = np.flatnonzero(np.r_[True, polygon[order][1:] != polygon[order][:-1]])
+    for rows in np.split(order, starts[1:]):
+        touch = np.all((lo[rows, None] <= hi[None, rows]) & (lo[None, rows] <= hi[rows, None]), axis=2)
+        np.fill_diagonal(touch, False)
+        for k, row in enumerate(rows):
+            out[row] = rows[touch[k]]
+    return out
 
 
 def references(h, leaves, shadow, frontier, group, reflectance, colour_threshold: float) -> np.ndarray:
