@@ -139,7 +139,7 @@ def speed(ctx, ratios, quick: bool) -> list[Timing]:
 
     size, spp = ((80, 60), 8) if quick else ((320, 240), 32)
     real = builtin_real_scene("office", size, spp)
-    params = RelightParams(method="loscos", hierarchy=HierarchyParams(criterion="bf", epsilon=6e-5))
+    params = RelightParams(method="loscos", hierarchy=HierarchyParams(criterion="bf", epsilon=4e-5))
     session = RelightSession(real, params, ctx)
     leaves = session.solution.stats.leaves
     prepare = session.times["prepare"]

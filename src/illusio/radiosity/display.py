@@ -92,10 +92,11 @@ def exposure_weights(h: Hierarchy, links: Links, leaves: np.ndarray) -> np.ndarr
 
 
 def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = None,
-                     exitance: np.ndarray | None = None) -> np.ndarray:
+                     exitance: np.ndarray | None = None, gather=None) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3): gathered at the corners (with ``links`` and
-    ``exitance``) or each leaf's own B, then averaged over the leaves of the same polygon sharing
-    that corner point."""
+    ``exitance``; by ``gather``, a CornerGather that keeps its form factors between calls, when
+    given) or each leaf's own B, then averaged over the leaves of the same polygon sharing that
+    corner point."""
     corners = h.corners[leaves]                                     # (n, 4, 3)
     extent = max(float(np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max()), 1e-9)
     q = np.round(corners / (1e-7 * extent)).astype(np.int64)
@@ -103,7 +104,7 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
     corner_of_tri = np.tile([True, True, True, False], len(leaves)) | ~np.repeat(h.triangle[leaves], 4)
     _, vertex = np.unique(key, axis=0, return_inverse=True)
     vertex = vertex.reshape(-1)
-    b = (corner_gather(h, links, leaves, exitance) if links is not None else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)).reshape(-1, 3)
+    b = ((gather or corner_gather)(h, links, leaves, exitance) if links is not None else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)).reshape(-1, 3)
     w = np.repeat(exposure_weights(h, links, leaves) if links is not None else np.ones(len(leaves)), 4)
     total = np.zeros((vertex.max() + 1, 3))
     count = np.zeros(vertex.max() + 1)
@@ -113,12 +114,13 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
 
 
 def leaf_mesh(h: Hierarchy, links: Links | None = None, exitance: np.ndarray | None = None,
-              smooth: bool = True) -> LeafMesh:
+              smooth: bool = True, gather=None) -> LeafMesh:
     """The leaves as a triangle mesh for display (see the module docstring). Smooth: gathered at the
-    corners with ``links`` and ``exitance`` (E per element), or averaged from the leaves without."""
+    corners with ``links`` and ``exitance`` (E per element; ``gather``: see vertex_radiosity), or
+    averaged from the leaves without."""
     leaves = h.leaves()
     n = len(leaves)
-    b = vertex_radiosity(h, leaves, links, exitance if exitance is not None else h.exitance) if smooth else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
+    b = vertex_radiosity(h, leaves, links, exitance if exitance is not None else h.exitance, gather) if smooth else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
     tri = h.triangle[leaves]
     base = np.arange(n) * 4
     faces = np.concatenate([np.c_[base, base + 1, base + 2], np.c_[base[~tri], base[~tri] + 2, base[~tri] + 3]])

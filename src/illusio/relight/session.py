@@ -25,6 +25,7 @@ import numpy as np
 from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..radiosity import DisplayPass, Polygons, RadiosityParams, RadiosityRenderer, leaf_mesh
+from ..radiosity.corner_cache import CornerGather
 from . import estimate, textures
 from .shadow_refine import refine_by_texture
 from .params import SHOW, RelightParams
@@ -47,10 +48,11 @@ class RelightSession:
             self.hierarchy_params = dataclasses.replace(params.hierarchy, lights_to_leaves=True)
         self.solution = self.renderer.solve(RadiosityParams(self.hierarchy_params))
         self.display = DisplayPass(self.ctx)
+        self._gather = CornerGather()           # the corners' form factors, kept between edits
         if params.method == "loscos" and params.texture_refinement:
             self._refine_by_texture()
         self._textures_to_leaves()
-        self.display_factor = leaf_mesh(self.solution.hierarchy, self.solution.links, self.solution.exitance())
+        self.display_factor = leaf_mesh(self.solution.hierarchy, self.solution.links, self.solution.exitance(), gather=self._gather)
         self.texture_factor = np.ones((len(self.solution.hierarchy), 3))
         if params.method == "loscos":
             self._visibility_independent_textures()
@@ -177,7 +179,7 @@ class RelightSession:
         h.reflectance[leaves] = np.clip(rho * factor, 0, estimate.MAX_REFLECTANCE)
         self._pull_reflectance()
         sol.solve()
-        final = leaf_mesh(h, sol.links, sol.exitance())
+        final = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
         _, blocked, _, _, _ = textures.lamp_transfer(h, sol.links, leaves)
         final.radiance = final.radiance + np.repeat(h.reflectance[leaves] * blocked / np.pi, 4, axis=0).astype(np.float32)
         self.display_factor = final
@@ -386,16 +388,16 @@ class RelightSession:
             # a second edit of the same geometry, so dragging an object does not pay for it each step
             self._geometry_key = key
             sol.set_lamps(self.scales)
-            return leaf_mesh(h, sol.links, sol.exitance())
+            return leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
         if getattr(self, "_basis_key", None) != key:
             t = time.perf_counter()
             off = {n: 0.0 for n in self.lamp_names}
             sol.set_lamps(off)
-            base = leaf_mesh(h, sol.links, sol.exitance())
+            base = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
             basis = []
             for name in self.lamp_names:
                 sol.set_lamps({**off, name: 1.0})
-                basis.append(leaf_mesh(h, sol.links, sol.exitance()).radiance - base.radiance)
+                basis.append(leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather).radiance - base.radiance)
             self._basis, self._basis_mesh, self._basis_key = basis, base, key
             self.times["lamp basis"] = time.perf_counter() - t
         sol.set_lamps(self.scales)     # the solution's state follows the edit (cheap: links kept)

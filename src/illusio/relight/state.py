@@ -21,6 +21,7 @@ from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.images import atomic_output
 from ..radiosity import DisplayPass, HierarchyParams, Polygons
+from ..radiosity.corner_cache import CornerGather
 from ..radiosity.display import LeafMesh
 from ..radiosity.hierarchy import Hierarchy
 from ..radiosity.links import Links
@@ -130,6 +131,7 @@ def load_session(path, ctx: Context | None = None):
         s.virtual_groups = {int(g) for g in record["virtual_groups"]}
         s.times = {k: float(x) for k, x in record["times"].items()}
         s.display = DisplayPass(s.ctx)
+        s._gather = CornerGather()
         key = (len(hierarchy), len(links), tuple(sol.lamp_names))
         s._geometry_key = key
         if "basis_key" in record:

@@ -1,0 +1,39 @@
+"""The corner gather with its form factors kept (radiosity.corner_cache) equals the plain corner
+gather after every kind of change: lamps rescaled, an object added, moved, and the mesh refined."""
+
+import numpy as np
+
+from illusio.radiosity import HierarchyParams, Radiosity, scene_polygons
+from illusio.radiosity.corner_cache import CornerGather
+from illusio.radiosity.display import corner_gather
+from illusio.radiosity.polygons import Polygons, quads_from_triangles
+from illusio.scene import load_scene
+from illusio.scene.builtin import shapes
+
+
+def test_kept_form_factors_give_the_plain_gather_after_each_change():
+    sol = Radiosity(scene_polygons(load_scene("cornell-box")), HierarchyParams(epsilon=1e-3)).build()
+    gather = CornerGather()
+
+    def check(expect_reuse: bool):
+        h = sol.hierarchy
+        leaves = h.leaves()
+        plain = corner_gather(h, sol.links, leaves, sol.exitance())
+        kept = gather(h, sol.links, leaves, sol.exitance())
+        assert np.allclose(kept, plain, rtol=1e-9, atol=1e-12)
+        assert (gather.reused > 0) == expect_reuse and gather.computed + gather.reused > 0
+
+    check(False)
+    sol.set_lamps({sol.lamp_names[0]: 0.3})          # B changes, links and geometry do not
+    check(True)
+    assert gather.computed == 0
+    corners, triangle = quads_from_triangles(np.asarray(shapes.box((0.1, 0.1, 0.1)).vertices) + [0.25, 0.05, 0.3],
+                                             shapes.box((0.1, 0.1, 0.1)).faces)
+    n = len(corners)
+    sol.add_object(Polygons(corners, triangle, np.full((n, 3), 0.5), np.zeros((n, 3)), np.zeros(n, int), ["crate"]), "crate")
+    check(True)
+    move = np.eye(4)
+    move[0, 3] = -0.1
+    sol.move_object("crate", move)
+    check(True)
+    assert 0 < gather.computed < gather.reused
