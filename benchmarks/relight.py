@@ -8,7 +8,8 @@ chapter's claim depends on — the baseline on the radiosity engine's fine defau
 Per method and edit: mean relative error and PSNR over the non-lamp pixels; the mean relative error
 inside the original shadow regions (pixels where more than 10 % of the true direct light is blocked,
 from the true lamps and geometry: the same pixels for every method); the same after the tone step
-(gain and γ fitted to the truth, relight.tone). The truth's own noise is half the mean relative
+(gain and γ fitted to the truth, relight.tone); and the reflectance error per element (the final
+ρ of the leaves the photograph sees against their polygons' true ρ). The truth's own noise is half the mean relative
 difference of two renders of it with different seeds.
 
 Speed, in one run with the preparation, at ≥ 5k leaves (a 320×240 photograph and a finer initial
@@ -104,6 +105,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
                               f"{session.solution.stats.leaves} leaves, {size[0]}x{size[1]} photograph"))
         for name, edit in EDITS.items():
             record(ratios, f"{method}, {name}", session.image(edit), truths[name], geometry, shadow)
+        ratios[f"{method}: reflectance error per element"] = reflectance_error(session)
         t = session.times["edit"]
         timings.append(Timing(f"relight/{method}/lamp change with display", 1, t * 1000, t * 1000, t * 1000))
         ratios[f"{method}: lamp change / preparation time (goal <= 1/20)"] = session.times["edit"] / session.times["prepare"]
@@ -122,6 +124,20 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         session.release()
     timings += speed(ctx, ratios, quick)
     return timings, ratios
+
+
+def reflectance_error(session) -> float:
+    """Mean relative error of the leaves' reflectances against their polygons' true ones, area-
+    weighted over the leaves the photograph sees (the lamps and self-luminous surfaces left out)."""
+    h = session.solution.hierarchy
+    leaves = h.leaves()
+    truth = session.real.polygons
+    seen = np.bincount(session.pixel_element[session.pixel_element >= 0], minlength=len(h))[leaves] > 0
+    seen &= truth.exitance[h.polygon[leaves]].max(axis=1) == 0
+    leaves = leaves[seen]
+    true = truth.reflectance[h.polygon[leaves]]
+    error = np.abs(h.reflectance[leaves] - true).mean(axis=1) / np.maximum(true.mean(axis=1), 1e-3)
+    return float((error * h.area[leaves]).sum() / h.area[leaves].sum())
 
 
 def record(ratios, key, image, truth, geometry, shadow) -> None:

@@ -188,3 +188,38 @@ def test_lamp_sliders_set_the_lamp_scales(ctx):
     mode.lamp_sliders(Imgui(), ["lamp"])
     assert mode.params.lamp_scales == (("lamp", 0.25),)
     mode.release()
+
+
+def test_relight_lamp_and_crate_follow_the_pointer(ctx):
+    """Loscos 4.4 live: O stands a crate on the floor under the pointer (its shadow darkens the
+    floor), a drag moves it to the new floor point under the pointer, L hangs a virtual lamp under
+    the ceiling above the pointer (the room gets brighter); the per-pixel view says it shows none."""
+    pytest.importorskip("mitsuba", reason="the relight mode's photograph is path-traced (photo extra)")
+    viewer = Viewer(ctx, "relight", "office", "baseline", size=SIZE)
+    viewer.step()
+    before = viewer.image()
+    viewer.pointer = (0.5, 0.85)
+    assert viewer.mode_key("O")
+    viewer.step()
+    with_crate = viewer.image()
+    assert np.abs(with_crate - before).mean() > 1e-3
+    first = viewer.mode._placed["crate"].copy()
+    viewer.pointer = (0.35, 0.85)
+    viewer.drag(-20, 0)
+    viewer.step()
+    moved = viewer.mode._placed["crate"]
+    assert moved[0] < first[0] - 0.1 and moved[1] == pytest.approx(first[1])
+    assert np.abs(viewer.image() - with_crate).mean() > 1e-4
+    viewer.pointer = (0.5, 0.7)
+    assert viewer.mode_key("l") and not viewer.mode_key("z")
+    viewer.step()
+    session = viewer.mode.renderer.session
+    assert "virtual-lamp-0" in session.lamp_names and viewer.image().mean() > 1.02 * with_crate.mean()
+    viewer.next_variant()            # per-pixel: no virtual things, and the panel says so
+    viewer.step()
+    assert "switch the view" in viewer.mode.message
+    viewer.next_variant()            # loscos: the lamp and the crate are carried over
+    viewer.step()
+    session = viewer.mode.renderer.session
+    assert "virtual-lamp-0" in session.lamp_names and "crate" in session.solution.polygons.names
+    viewer.release()

@@ -43,7 +43,9 @@ class RelightRenderer(Renderer):
             self.session.release()
         self.session, self._key = None, None
 
-    def render_texture(self, frame: Frame, params: RelightParams | None = None) -> moderngl.Texture:
+    def session_for(self, params: RelightParams | None = None) -> RelightSession:
+        """The session prepared for ``params`` (made again when anything but the lamp scales and the
+        exposure changed: virtual lamps and objects added to the old one are gone)."""
         params = self._params(params)
         self._require_subject()
         key = dataclasses.replace(params, lamp_scales=(), exposure=1.0)
@@ -52,6 +54,11 @@ class RelightRenderer(Renderer):
                 self.session.release()
             self.session = RelightSession(self.real, key, self.ctx)
             self._key = key
+        return self.session
+
+    def render_texture(self, frame: Frame, params: RelightParams | None = None) -> moderngl.Texture:
+        params = self._params(params)
+        self.session_for(params)
         image = self.session.image(dict(params.lamp_scales)) * params.exposure
         rgba = np.dstack([np.clip(image, 0, None), np.ones(image.shape[:2], np.float32)]).astype(np.float32)
         return self.ctx.acquire_upload(rgba, filter="linear")

@@ -350,16 +350,23 @@ class RelightSession:
         self.times["edit"] = time.perf_counter() - start
         return image.astype(np.float32)
 
-    def show(self, what: str = "image") -> np.ndarray:
-        """One of SHOW under the session's lamps, float32 (H, W, 3), × exposure: ``image`` the relit
-        photograph; ``textures`` the textures the method displays (the photograph for baseline and
-        per-pixel, T_final of eq. 4.9 for loscos); ``mesh`` the relit image with the leaves' outlines
-        (Figure 4.8b); ``display-factor`` D/π at the leaves' corners (Figure 4.13b)."""
+    def show(self, what: str = "image", scale: int = 1) -> np.ndarray:
+        """One of SHOW under the session's lamps, float32 (scale·H, scale·W, 3), × exposure: ``image``
+        the relit photograph; ``textures`` the textures the method displays (the photograph for
+        baseline and per-pixel, T_final of eq. 4.9 for loscos); ``mesh`` the relit image with the
+        leaves' outlines (Figure 4.8b); ``display-factor`` D/π at the leaves' corners (Figure 4.13b).
+        ``scale``: the photograph's pixels repeated, the outlines and D drawn at that size."""
         if what not in SHOW:
             raise InputError(f"show must be one of {', '.join(SHOW)}, got {what!r}")
-        if what == "textures":
-            return (self.texture * self.params.exposure).astype(np.float32)
-        image = self.image() if what == "mesh" else None
+        if not 1 <= scale <= 8:
+            raise InputError(f"show scale must be 1..8, got {scale}")
+
+        def larger(image):
+            return np.repeat(np.repeat(image, scale, axis=0), scale, axis=1)
+
+        if what in ("image", "textures"):
+            return larger(self.image() if what == "image" else (self.texture * self.params.exposure).astype(np.float32))
+        image = larger(self.image()) if what == "mesh" else None
         h = self.solution.hierarchy
         mesh = leaf_mesh(h, smooth=False)
         if what == "mesh":
@@ -368,7 +375,8 @@ class RelightSession:
             self._inherit_display_factor()
             mesh.radiance = self.corner_d[h.leaves()].reshape(-1, 3)
         self.display.load(mesh)
-        colour, element = self.display(self.real.view, self.real.size, edges=what == "mesh")
+        w, h_pixels = self.real.size
+        colour, element = self.display(self.real.view, (w * scale, h_pixels * scale), edges=what == "mesh")
         out = self.ctx.readback_image(colour, 3, clip=False)
         self.ctx.release(colour, element)
         if what == "mesh":

@@ -71,10 +71,12 @@ class Viewer:
         self._good_params = None  # the mode's last params that drew a frame
 
     def set_variant(self, variant: str) -> None:
-        params = self.mode.params
+        previous = self.mode
+        params = previous.params
         self.set_mode(self.mode.name, variant)
         if self.mode.shares_params and type(params) is type(self.mode.params):
             self.mode.params = params  # e.g. the lines mode keeps τ, λ... across its debug views
+            self.mode.keep_from(previous)
 
     def next_mode(self) -> None:
         names = list(MODES)
@@ -119,7 +121,14 @@ class Viewer:
             (self.keys.add if pressed else self.keys.discard)(name)
 
     def drag(self, dx: float, dy: float) -> None:
-        self.navigation.look(dx, dy)
+        self.mode.pointer = self.pointer
+        if not self.mode.drag(dx, dy):
+            self.navigation.look(dx, dy)
+
+    def mode_key(self, name: str) -> bool:
+        """A letter key the viewer does not use, offered to the mode (the relight mode's L and O)."""
+        self.mode.pointer = self.pointer
+        return self.mode.key(name.lower())
 
     def scroll(self, dy: float) -> None:
         self.navigation.zoom(dy)

@@ -21,6 +21,9 @@ from .modes import MODES
 from .path import CameraPath, PathRecorder
 from .viewer import Viewer
 
+#: letter keys the window passes to the mode (the relight mode: L a lamp, O an object)
+MODE_KEYS = "lo"
+
 __all__ = ["ViewerWindow"]
 
 _TERMINATE_AT_EXIT: list[bool] = []
@@ -102,6 +105,10 @@ class ViewerWindow:
             self.viewer.home()
         elif key == keys.P:
             self.screenshot()
+        else:
+            letter = next((c for c in MODE_KEYS if key == getattr(keys, c.upper(), None)), None)
+            if letter is not None:
+                self.viewer.mode_key(letter)
 
     def on_pointer(self, x, y, dx, dy) -> None:
         self.gui.mouse_position_event(x, y, dx, dy)

@@ -78,6 +78,19 @@ class Mode:
     def panel(self, imgui, viewer) -> None:
         """Widgets of the mode's own beyond its Params (a timeline scrubber...); none by default."""
 
+    def keep_from(self, previous: "Mode") -> None:
+        """Take over what the user made in ``previous``, the same mode in another variant, beyond
+        its params (the relight mode's virtual lamps and crate); nothing by default."""
+
+    def key(self, name: str) -> bool:
+        """A letter key (lower case) the viewer itself does not use; True when the mode used it."""
+        return False
+
+    def drag(self, dx: float, dy: float) -> bool:
+        """A drag with the left button over the image (pixels); True when the mode used it — else the
+        camera looks around."""
+        return False
+
     def lamp_sliders(self, imgui, names, largest: float = 4.0) -> None:
         """A slider per lamp for params with ``lamp_scales`` ((name, factor) pairs): the radiosity and
         relight modes' panels."""
