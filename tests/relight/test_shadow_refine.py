@@ -162,3 +162,28 @@ def test_a_saved_session_edits_as_the_original(ctx, sessions, tmp_path, rng):
     np.savez(tmp_path / "other.npz", x=np.zeros(3))
     with pytest.raises(InputError, match="no 'record'"):
         RelightSession.load(tmp_path / "other.npz", ctx)
+
+
+def test_fresh_bfv_solution_reprojects_the_shadows(ctx, board_scene, sessions):
+    """Loscos 4.3.3, the chapter's usual end: a new BFV mesh over the final textures (not the 4.3.1
+    mesh), D from a first pass with the lamps' links at the leaves, B from a second with the links
+    where BFV puts them; with nothing changed the photograph comes back (the shadows re-projected,
+    Figure 4.15b), and switching the lamp off still darkens the floor."""
+    params = dataclasses.replace(PARAMS, fresh_solution=True,
+                                 final_hierarchy=HierarchyParams(epsilon=1e-3, min_area=1e-3))
+    s = RelightSession(board_scene, params, ctx)
+    try:
+        refined = sessions[True]
+        assert s.solution.stats.leaves != refined.solution.stats.leaves
+        lamp_links = np.isin(s.solution.polygons.group[s.solution.hierarchy.polygon[s.solution.links.source]], [2])
+        assert (s.solution.hierarchy.child[s.solution.links.receiver[lamp_links]] >= 0).any()   # not all at leaves
+        same = s.image({})
+        floor = (s.pixel_polygon == 0) & (s.pixel_element >= 0)
+        photo = s.real.photograph
+        rel = np.abs(same - photo).mean(axis=-1)[floor] / photo.mean(axis=-1)[floor]
+        assert np.median(rel) < 0.05
+        dark = s.image({"lamp": 0.0})
+        assert dark[floor].mean() < 0.5 * same[floor].mean()
+        assert "fresh solution" in s.times
+    finally:
+        s.release()

@@ -66,6 +66,8 @@ def relight_prepare(
     samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
     epsilon: float = typer.Option(INITIAL_HIERARCHY.epsilon, "--epsilon", help="ε of the initial BF radiosity solution (× total power)"),
     mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1)"),
+    fresh_solution: bool = typer.Option(False, "--fresh-solution/--no-fresh-solution",
+                                        help="loscos: end on a fresh BFV solution over the final textures (Loscos 4.3.3)"),
 ) -> None:
     """Prepare SCENE once (estimates, refinement, textures, the lamps' basis) and save it, so that
     `illusio relight FILE.npz --set ...` starts at once."""
@@ -75,7 +77,7 @@ def relight_prepare(
     if out.suffix.lower() != ".npz":
         raise InputError(f"-o: a prepared session is saved as .npz, got {out.name}")
     params = RelightParams(method=method, mean_reflectance=mean_reflectance,
-                           hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon))
+                           hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon), fresh_solution=fresh_solution)
     session = RelightSession(_real_scene(scene, size, samples), params)
     session.save(out)
     typer.echo(f"wrote {out}: {session.solution.stats.leaves} leaves, prepared in {session.times['prepare']:.1f} s")
@@ -94,6 +96,8 @@ def relight(
     add_lamp: list[str] = typer.Option(None, "--add-lamp", help="X,Y,Z:EXITANCE — a virtual 40 cm lamp facing down at X,Y,Z (m), W/m² (repeatable)"),
     add_object: list[str] = typer.Option(None, "--add-object", help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)"),
     photograph: Path = typer.Option(None, "--photograph", help="also write the photograph used"),
+    fresh_solution: bool = typer.Option(False, "--fresh-solution/--no-fresh-solution",
+                                        help="loscos: end on a fresh BFV solution over the final textures (Loscos 4.3.3)"),
     show: str = typer.Option("image", "--show", help="image, textures (what the method displays), mesh (leaf outlines) or display-factor"),
 ) -> None:
     """Relight SCENE from one photograph (Loscos 1999, ch. 4): reflectances and lamp powers estimated
@@ -109,7 +113,7 @@ def relight(
     if show not in SHOW:
         raise InputError(f"--show must be one of {', '.join(SHOW)}, got {show!r}")
     params = RelightParams(method=method, mean_reflectance=mean_reflectance,
-                           hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon))
+                           hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon), fresh_solution=fresh_solution)
     scales = dict(parse_lamps(set_lamp))
     lamps = [_parse_lamp(t) for t in add_lamp or ()]           # every option checked before the photograph
     objects = [_parse_object(t) for t in add_object or ()]

@@ -130,6 +130,14 @@ class Radiosity:
     def build(self, tolerance: float = 1e-4, max_iterations: int = 200) -> "Radiosity":
         """Refine every pair of roots, solve, and re-refine with the solved B (``params.refinements``
         rounds); then, with ``lights_to_leaves``, push the lamps' links down to the leaves."""
+        self._link_from_roots(tolerance, max_iterations)
+        if self.params.lights_to_leaves:
+            self.lights_to_leaves()
+            self.solve(tolerance, max_iterations)
+        self.built = True
+        return self
+
+    def _link_from_roots(self, tolerance: float, max_iterations: int) -> None:
         h = self.hierarchy
         roots = h.roots[h.active[h.roots]]
         recv, src = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
@@ -143,11 +151,14 @@ class Radiosity:
             if not self.rerefine():
                 break
             self.solve(tolerance, max_iterations)
-        if self.params.lights_to_leaves:
-            self.lights_to_leaves()
-            self.solve(tolerance, max_iterations)
-        self.built = True
-        return self
+
+    def relink(self, tolerance: float = 1e-4, max_iterations: int = 200) -> None:
+        """Drop every link and refine again from the roots over the mesh as it is (its elements are
+        reused, new ones made where the criterion asks), then solve: the second pass of Loscos
+        4.3.3, links where the criterion puts them instead of at the leaves."""
+        self.links = Links()
+        self._matrix = None
+        self._link_from_roots(tolerance, max_iterations)
 
     def rerefine(self, links: np.ndarray | None = None) -> int:
         """Re-test existing links (all, or those where the mask ``links``) against the criterion with

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..core.errors import InputError
 from ..core.params import check_ranges, param
 from ..radiosity.params import HierarchyParams
 
@@ -35,7 +36,10 @@ class RelightParams:
     texture_refinement: loscos runs 4.3.1 (off: the initial mesh is kept, for comparison). min_pixels:
     4.3.1 splits only elements covering at least this many photograph pixels. hierarchy: the initial
     radiosity solution (default: BF at ε 3e-3, the chapter's coarse start, Figure 4.6a; with loscos the
-    lamps' links are pushed to the leaves). lamp_scales: (lamp name, factor on its estimated
+    lamps' links are pushed to the leaves). fresh_solution: loscos ends as the chapter mostly does
+    (4.3.3): the mesh and links made again with ``final_hierarchy`` (default: the engine's BFV
+    refinement) over the final textures, D computed with the lamps' links at the leaves, then B with
+    the links where the criterion puts them. lamp_scales: (lamp name, factor on its estimated
     exitance) pairs. exposure: factor on the displayed radiance."""
 
     method: str = param("baseline", choices=METHODS)
@@ -45,7 +49,12 @@ class RelightParams:
     texture_refinement: bool = param(True, help="loscos: split leaves along the photographed shadows (4.3.1)")
     min_pixels: int = param(4, range=(1, 10000), step=1, help="4.3.1 splits only leaves covering this many pixels")
     hierarchy: HierarchyParams = param(default_factory=lambda: INITIAL_HIERARCHY)
+    fresh_solution: bool = param(False, help="loscos: end with a fresh BFV solution over the final textures (4.3.3)")
+    final_hierarchy: HierarchyParams = param(default_factory=HierarchyParams, panel=False)
     lamp_scales: tuple = param((), panel=False)
     exposure: float = param(1.0, range=(1e-6, 1e6), log=True)
 
-    __post_init__ = check_ranges
+    def __post_init__(self):
+        check_ranges(self)
+        if self.fresh_solution and self.method != "loscos":
+            raise InputError(f"the fresh solution of 4.3.3 follows the loscos textures; method is {self.method!r}")

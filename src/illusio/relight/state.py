@@ -105,6 +105,7 @@ def load_session(path, ctx: Context | None = None):
             raise InputError(f"{path}: saved as {record.get('format')!r}, this illusio reads {FORMAT!r}")
         p = dict(record["params"])
         params = RelightParams(**{**p, "hierarchy": HierarchyParams(**p["hierarchy"]),
+                                  "final_hierarchy": HierarchyParams(**p["final_hierarchy"]),
                                   "lamp_scales": tuple(tuple(x) for x in p["lamp_scales"])})
         v = record["view"]
         view = View(Pose(**v["pose"]), Camera(**{**v["camera"], "shift": tuple(v["camera"]["shift"])}))

@@ -118,7 +118,9 @@ class RelightMode(Mode):
         return FixedCamera()
 
     def render(self, frame: Frame):
-        self.params = replace(self.params, method=self.variant)
+        # the fresh solution of 4.3.3 belongs to loscos: the other views drop it
+        self.params = replace(self.params, method=self.variant,
+                              fresh_solution=self.params.fresh_solution and self.variant == "loscos")
         self._sync(self.renderer.session_for(self.params))
         return self.renderer.render_texture(frame, self.params)
 
