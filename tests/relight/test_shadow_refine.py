@@ -187,3 +187,56 @@ def test_fresh_bfv_solution_reprojects_the_shadows(ctx, board_scene, sessions):
         assert "fresh solution" in s.times
     finally:
         s.release()
+
+
+BOARD_YAML = """
+name: board
+cameras:
+  main: {position: [-0.4, 5.0, 0.01], target: [-0.4, 0, 0], fov: 50}
+nodes:
+  - {name: floor, shape: plane, params: {size: [4, 4]}, material: {colour: [0.5, 0.5, 0.5]}}
+  - {name: board, shape: plane, params: {size: [0.8, 0.8]}, position: [0, 0.8, 0], rotation: [180, 0, 0],
+     material: {colour: [0.5, 0.5, 0.5]}}
+lights:
+  - {type: area, centre: [1.0, 2.0, 0], edge_u: [0.3, 0, 0], edge_v: [0, 0, 0.3], radiance: 20}
+"""
+
+
+def test_a_real_scene_folder(tmp_path, capsys):
+    """`illusio relight DIR`: scene.yaml + photograph + camera.json relit from the command line; a
+    photograph whose size is not the camera's, or a folder without one, is refused in one line."""
+    import json
+
+    from illusio.radiosity import scene_polygons
+    from illusio.scene import load_scene
+    from tests.conftest import call_cli
+
+    (tmp_path / "scene.yaml").write_text(BOARD_YAML)
+    scene = load_scene(tmp_path / "scene.yaml")
+    polygons = scene_polygons(scene)
+    view = scene.camera("main")
+    points, normals, polygon = surface_points(polygons, view, (64, 48))
+    seen = polygon >= 0
+    lamp = np.flatnonzero(np.isin(polygons.group, polygons.lamps))
+    direct = lamp_irradiance(polygons, lamp, polygons.exitance[lamp], points, normals, seen).sum(axis=1)
+    photo = np.zeros((48, 64, 3), np.float32)
+    photo[seen] = 0.5 * (direct + 1.0) / np.pi
+    np.save(tmp_path / "photograph.npy", photo)
+    (tmp_path / "camera.json").write_text(json.dumps({"position": [-0.4, 5.0, 0.01], "target": [-0.4, 0, 0], "fov": 50,
+                                                      "width": 64, "height": 48}))
+    out = tmp_path.parent / f"{tmp_path.name}-relit.npy"
+    lamp_name = polygons.names[polygons.lamps[0]]
+    code, cap = call_cli(["relight", str(tmp_path), "-o", str(out), "--method", "loscos", "--set", f"{lamp_name}=0.5"], capsys)
+    assert code == 0, cap.err
+    relit = np.load(out)
+    floor = seen & (polygon == polygons.names.index("floor"))
+    assert relit.shape == photo.shape and 0.4 < relit[floor].sum() / photo[floor].sum() < 0.8
+    (tmp_path / "camera.json").write_text(json.dumps({"position": [0, 5, 0.01], "target": [0, 0, 0], "fov": 50,
+                                                      "width": 640, "height": 480}))
+    code, cap = call_cli(["relight", str(tmp_path), "-o", str(out)], capsys)
+    assert code == 2 and "64x48 pixels but camera.json says 640x480" in cap.err
+    (tmp_path / "photograph.npy").unlink()
+    code, cap = call_cli(["relight", str(tmp_path), "-o", str(out)], capsys)
+    assert code == 2 and "no photograph" in cap.err
+    code, cap = call_cli(["relight", str(tmp_path), "-o", str(tmp_path / "scene.yaml")], capsys)
+    assert code == 2 and "overwrite" in cap.err

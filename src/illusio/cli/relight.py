@@ -51,15 +51,19 @@ def _parse_object(text: str):
 
 
 def _real_scene(scene: str, size: str, samples: int):
-    from ..relight import builtin_real_scene
+    """A folder (scene.yaml, photograph, camera.json) or a built-in scene photographed by Mitsuba."""
+    from ..relight import builtin_real_scene, load_real_scene
 
+    if Path(scene).is_dir():
+        return load_real_scene(scene)
     if not 1 <= samples <= 1 << 16:
         raise InputError(f"--samples must be in 1..65536, got {samples}")
     return builtin_real_scene(scene, parse_size(size), samples)
 
 
 def relight_prepare(
-    scene: str = typer.Argument("office", help="the built-in real scene (its photograph is path-traced: the photo extra)"),
+    scene: str = typer.Argument("office", help="a folder (scene.yaml, photograph, camera.json) or the built-in real "
+                                               "scene (its photograph is path-traced: the photo extra)"),
     output: Path = typer.Option(..., "-o", "--output", help="the prepared session (.npz)"),
     method: str = typer.Option(_P.method, "--method", help=f"one of {', '.join(METHODS)}"),
     size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
@@ -73,7 +77,7 @@ def relight_prepare(
     `illusio relight FILE.npz --set ...` starts at once."""
     from ..relight import RelightSession
 
-    out = check_output_path(output)
+    out = check_output_path(output, [str(p) for p in Path(scene).iterdir()] if Path(scene).is_dir() else [])
     if out.suffix.lower() != ".npz":
         raise InputError(f"-o: a prepared session is saved as .npz, got {out.name}")
     params = RelightParams(method=method, mean_reflectance=mean_reflectance,
@@ -84,8 +88,10 @@ def relight_prepare(
 
 
 def relight(
-    scene: str = typer.Argument("office", help="the built-in real scene (its photograph is path-traced: the photo "
-                                               "extra), or a session saved by `illusio relight prepare` (.npz)"),
+    scene: str = typer.Argument("office", help="a folder (scene.yaml, photograph, camera.json; see "
+                                               "relight.load_real_scene), the built-in real scene (its photograph is "
+                                               "path-traced: the photo extra), or a session saved by `illusio relight "
+                                               "prepare` (.npz)"),
     output: Path = typer.Option(..., "-o", "--output", help="the relit image (.png sRGB, .npy/.exr linear)"),
     set_lamp: list[str] = typer.Option(None, "--set", help="NAME=SCALE: a real lamp's estimated exitance × SCALE (repeatable)"),
     method: str = typer.Option(_P.method, "--method", help=f"one of {', '.join(METHODS)}"),
@@ -107,6 +113,8 @@ def relight(
 
     saved = scene.lower().endswith(".npz")
     out = check_output_path(output, [scene] if saved else [])
+    if Path(scene).is_dir():
+        out = check_output_path(output, [str(p) for p in Path(scene).iterdir()])
     photo_out = check_output_path(photograph, [str(out)]) if photograph is not None else None
     if not 1 <= samples <= 1 << 16:
         raise InputError(f"--samples must be in 1..65536, got {samples}")

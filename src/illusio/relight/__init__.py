@@ -13,8 +13,9 @@ virtual lamp, a virtual object added and moved (4.4). ``tone`` fits the gain/γ 
 """
 
 from .params import METHODS, RelightParams
-from .photograph import RealScene, builtin_real_scene, polygon_ids
+from .photograph import RealScene, builtin_real_scene, load_real_scene, polygon_ids
 from .renderer import RelightRenderer
 from .session import RelightSession
 
-__all__ = ["RelightSession", "RelightRenderer", "RelightParams", "RealScene", "builtin_real_scene", "polygon_ids", "METHODS"]
+__all__ = ["RelightSession", "RelightRenderer", "RelightParams", "RealScene", "builtin_real_scene", "load_real_scene",
+           "polygon_ids", "METHODS"]

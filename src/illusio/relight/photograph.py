@@ -16,7 +16,11 @@ from ..radiosity import Polygons, scene_polygons
 from ..scene.builtin import builtin_scene
 from ..scene.camera import View
 
-__all__ = ["RealScene", "builtin_real_scene", "polygon_ids"]
+__all__ = ["RealScene", "builtin_real_scene", "load_real_scene", "polygon_ids", "PHOTOGRAPH_NAMES"]
+
+#: the photograph of a real-scene folder, by the first of these names found
+PHOTOGRAPH_NAMES = ("photograph.exr", "photograph.png", "photograph.npy", "photograph.tif", "photograph.tiff",
+                    "photograph.jpg")
 
 
 @dataclass(eq=False)
@@ -51,6 +55,49 @@ def builtin_real_scene(name: str = "office", size: tuple[int, int] = (320, 240),
     polygons = scene_polygons(scene)
     view = scene.camera("main")
     return RealScene(polygons, view, render_mitsuba(polygons, view, size, samples, seed))
+
+
+def load_real_scene(folder) -> RealScene:
+    """A real scene from a folder: ``scene.yaml`` (the model in illusio's scene schema: the lamps are
+    its lights, a surface with an emission is self-luminous), a photograph (PHOTOGRAPH_NAMES; PNG and
+    JPEG decoded from sRGB to linear, EXR and .npy as stored) and its camera — ``camera.json``
+    ({"position", "target", "up", "fov", "width", "height"}: metres, degrees, pixels) or else the
+    scene's ``main`` camera. The photograph must be the camera's size when camera.json gives one."""
+    import json
+    from pathlib import Path
+
+    from ..core.images import read_image
+    from ..scene import load_scene
+    from ..scene.camera import Camera, Pose
+
+    root = Path(folder)
+    if not root.is_dir():
+        raise InputError(f"{root}: not a folder (a real scene is a folder with scene.yaml and a photograph)")
+    scene_file = next((root / n for n in ("scene.yaml", "scene.yml") if (root / n).is_file()), None)
+    if scene_file is None:
+        raise InputError(f"{root}: no scene.yaml (the model of the real scene)")
+    photo_file = next((root / n for n in PHOTOGRAPH_NAMES if (root / n).is_file()), None)
+    if photo_file is None:
+        raise InputError(f"{root}: no photograph ({', '.join(PHOTOGRAPH_NAMES)})")
+    scene = load_scene(scene_file)
+    photograph = read_image(photo_file)
+    if photograph.ndim != 3 or photograph.shape[2] < 3:
+        raise InputError(f"{photo_file}: the photograph must have three colour channels, got shape {photograph.shape}")
+    camera_file = root / "camera.json"
+    if camera_file.is_file():
+        try:
+            c = json.loads(camera_file.read_text())
+            view = View(Pose(tuple(c["position"]), tuple(c["target"]), tuple(c.get("up", (0.0, 1.0, 0.0)))),
+                        Camera(fov_y=float(c["fov"])))
+            size = (int(c["width"]), int(c["height"])) if "width" in c or "height" in c else None
+        except (ValueError, KeyError, TypeError) as exc:
+            raise InputError(f"{camera_file}: a camera needs position, target, fov (and width, height): {exc}") from None
+        if size is not None and size != (photograph.shape[1], photograph.shape[0]):
+            raise InputError(f"{photo_file} is {photograph.shape[1]}x{photograph.shape[0]} pixels but {camera_file.name} "
+                             f"says {size[0]}x{size[1]}")
+    else:
+        view = scene.camera("main")
+    return RealScene(scene_polygons(scene), view, photograph)
 
 
 def polygon_ids(polygons: Polygons, view: View, size: tuple[int, int]) -> np.ndarray:
