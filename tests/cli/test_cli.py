@@ -76,3 +76,26 @@ def test_demo_writes_gallery_with_existing_images(tmp_path):
 
 def test_demo_unknown_showcase_is_an_error(tmp_path):
     assert_one_line_error(illusio("demo", "--out", tmp_path, "--only", "nope"), "nope")
+
+
+def test_version_list_and_did_you_mean(capsys):
+    """--version prints the package's version; `illusio list` names the scenes with their cameras,
+    hosts and lamps, and the shapes, patterns, algorithms, line types and techniques; a mistyped name
+    is answered with the closest valid one."""
+    import illusio
+    from tests.conftest import call_cli
+
+    code, out = call_cli(["--version"], capsys)
+    assert code == 0 and out.out.strip() == f"illusio {illusio.__version__}"
+    code, out = call_cli(["list"], capsys)
+    assert code == 0
+    assert "office: cameras main, top; hosts back-wall; lamps lamp-0, lamp-1, lamp-2, lamp-3" in out.out
+    for name in ("torus-knot", "pink-noise", "symmetric", "apparent-ridges", "relight"):
+        assert f"  {name}\n" in out.out
+    code, out = call_cli(["list", "shapes"], capsys)
+    assert code == 0 and "scenes:" not in out.out and "  gear" in out.out
+    for args, hint in ((["list", "scene"], "did you mean scenes?"),
+                       (["render", "living-rom", "-o", "x.png"], "did you mean living-room?"),
+                       (["sis-scene", "living-room", "-o", "x.png", "--host", "tv-scren"], "its hosts: back-wall, tv-screen")):
+        code, out = call_cli(args, capsys)
+        assert code == 2 and hint in out.err, out.err

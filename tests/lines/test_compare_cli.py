@@ -77,7 +77,8 @@ def test_lines_cli_png_svg_and_curvature(tmp_path, capsys):
 @pytest.mark.parametrize("args", [["lines", "missing.obj", "-o", "x.png"], ["lines", "sphere", "-o", "x.jpg"],
                                   ["lines", "sphere", "-o", "x.png", "--lines", "edges"],
                                   ["lines", "sphere", "-o", "x.png", "--view", "10"],
-                                  ["curvature", "sphere", "-o", "x.txt"]])
+                                  ["curvature", "sphere", "-o", "x.txt"],
+                                  ["lines", "sphere", "-o", "x.png", "--compare", "sobell"]])
 def test_bad_input_is_one_line_and_exit_2(tmp_path, monkeypatch, capsys, args):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "bad.obj").write_text("v 1 2\nf 1 2 3\n")

@@ -7,7 +7,7 @@ from importlib import metadata
 
 import typer
 
-PACKAGES = ("illusio", "moderngl", "glcontext", "numpy", "trimesh", "pillow", "pypng", "imageio", "typer", "rich", "pyyaml")
+PACKAGES = ("illusio", "moderngl", "glcontext", "numpy", "trimesh", "pillow", "pypng", "imageio", "openexr", "typer", "rich", "pyyaml")
 
 
 def info() -> None:

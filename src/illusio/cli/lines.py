@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from ..core.errors import InputError
+from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, read_image, write_image
 from ..lines.params import CurvatureParams, LineParams
 from .common import parse_size, resolve_mesh
@@ -58,7 +58,11 @@ def lines(
     if out.suffix.lower() not in (".png", ".svg"):
         raise InputError(f"{out.name}: the drawing must be a .png or an .svg")
     if debug is not None and debug not in DEBUG_VIEWS:
-        raise InputError(f"--debug must be one of {', '.join(DEBUG_VIEWS)}")
+        raise InputError(f"--debug must be one of {', '.join(DEBUG_VIEWS)}{did_you_mean(debug, DEBUG_VIEWS)}")
+    if compare and compare not in cmp.EDGE_METHODS and not Path(compare).is_file():
+        # checked before anything is drawn: a mistyped method must not leave a drawing behind
+        raise InputError(f"--compare {compare}: not an edge method ({', '.join(cmp.EDGE_METHODS)}) nor an image file"
+                         f"{did_you_mean(compare, cmp.EDGE_METHODS)}")
     w, h = parse_size(size)
     kinds = tuple(t.strip() for t in line_types.split(",") if t.strip())
     params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw, tau=tau, lam=lam,

@@ -12,11 +12,25 @@ import warnings
 import typer
 
 from ..core.errors import IllusioError
-from . import batch, demo, dof, ibr, info, lines, radiosity, relight, render, sis, view
+from . import batch, demo, dof, ibr, info, lines, listing, radiosity, relight, render, sis, view
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
                   help="illusio: perception-driven rendering on a headless OpenGL core.")
+def _version(value: bool) -> None:
+    if value:
+        from .. import __version__
+        typer.echo(f"illusio {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _main(version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                       help="print illusio's version and exit")) -> None:
+    """illusio: perception-driven rendering on a headless OpenGL core."""
+
+
 app.command("info")(info.info)
+app.command("list")(listing.listing)
 app.command("render")(render.render)
 app.command("demo")(demo.demo)
 app.command("sis")(sis.sis)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import typer
 
-from ..core.errors import InputError
+from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, write_image
 from ..relight.params import INITIAL_HIERARCHY, METHODS, SHOW, RelightParams
 from .common import parse_size
@@ -119,7 +119,7 @@ def relight(
     if not 1 <= samples <= 1 << 16:
         raise InputError(f"--samples must be in 1..65536, got {samples}")
     if show not in SHOW:
-        raise InputError(f"--show must be one of {', '.join(SHOW)}, got {show!r}")
+        raise InputError(f"--show must be one of {', '.join(SHOW)}, got {show!r}{did_you_mean(show, SHOW)}")
     params = RelightParams(method=method, mean_reflectance=mean_reflectance,
                            hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon), fresh_solution=fresh_solution)
     scales = dict(parse_lamps(set_lamp))
@@ -132,7 +132,8 @@ def relight(
     real = session.real
     unknown = sorted(set(scales) - set(session.lamp_names))
     if unknown:
-        raise InputError(f"no lamp named {unknown[0]!r}; lamps: {', '.join(session.lamp_names)}")
+        raise InputError(f"no lamp named {unknown[0]!r}{did_you_mean(unknown[0], session.lamp_names)}; "
+                         f"lamps: {', '.join(session.lamp_names)}")
     for k, (centre, power) in enumerate(lamps):
         session.add_lamp(centre, 0.4, (power, power, power), f"virtual-lamp-{k}")
     for k, (mesh, at) in enumerate(objects):

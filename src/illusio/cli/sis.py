@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from ..core.errors import InputError
+from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, read_image, write_image, write_video
 from ..scene.camera import Screen
 from ..sis.params import ALGORITHMS, MultiSceneParams, StereogramParams
@@ -29,7 +29,7 @@ def _depth_input(source: str, size: tuple[int, int] | None, ctx_factory):
     if is_mesh_source(source):
         return depth_from_scene(ctx_factory(), hidden_scene(resolve_mesh(source)), size or DEFAULT_SIZE)
     if not p.exists():
-        raise InputError(f"{source}: no such file, and not a built-in shape ({', '.join(SHAPES)})")
+        raise InputError(f"{source}: no such file, and not a built-in shape ({', '.join(SHAPES)}){did_you_mean(source, SHAPES)}")
     depth = read_depth(p)
     if size and (depth.shape[1], depth.shape[0]) != size:
         from ..sis.stereogram import resize_depth

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import typer
 
-from ..core.errors import InputError
+from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path
 from ..core.renderer import DEFAULT_SIZE
 from .common import parse_size, progress
@@ -31,7 +31,7 @@ def view(
     from ..viewer.path import CameraPath
 
     if technique not in MODES:
-        raise InputError(f"--technique must be one of {', '.join(MODES)}, got {technique!r}")
+        raise InputError(f"--technique must be one of {', '.join(MODES)}, got {technique!r}{did_you_mean(technique, MODES)}")
     w, h = parse_size(size)
     inputs = [p for p in (source, path) if p is not None and Path(p).exists()]
     for out in (output, screenshot, record):

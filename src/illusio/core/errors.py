@@ -13,9 +13,18 @@ __all__ = [
     "GLUnavailable",
     "ShaderError",
     "OutputError",
+    "did_you_mean",
 ]
 
 APT_HINT = "apt-get install -y --no-install-recommends libegl1 libgl1 libgl1-mesa-dri"
+
+
+def did_you_mean(name, choices) -> str:
+    """" (did you mean X?)" with the closest of ``choices`` to ``name``, or "" when none is close."""
+    import difflib
+
+    close = difflib.get_close_matches(str(name), [str(c) for c in choices], n=2, cutoff=0.6)
+    return f" (did you mean {' or '.join(close)}?)" if close else ""
 
 
 class IllusioError(Exception):

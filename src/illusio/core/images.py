@@ -77,13 +77,7 @@ def read_image(path: str | os.PathLike, srgb: bool | None = None) -> np.ndarray:
                 raise InputError(f"{p}: .npy array is not numeric (dtype {data.dtype})")
             return as_image(data, str(p))
         if ext == ".exr":
-            import imageio.v3 as iio
-
-            try:
-                data = iio.imread(p)
-            except (OSError, ValueError, ImportError) as exc:
-                raise InputError(f"{p}: cannot read EXR ({_exr_hint(exc)})") from None
-            return as_image(data, str(p))
+            return as_image(_read_exr(p), str(p))
         if ext == ".png" and _png_bit_depth(p) == 16:
             arr, bits = _read_png16(p), 16
         else:
@@ -140,8 +134,40 @@ def _pil_to_array(im) -> tuple[np.ndarray, int]:
     return np.asarray(im), 8
 
 
-def _exr_hint(exc: Exception) -> str:
-    return f"{type(exc).__name__}: {str(exc).splitlines()[0]}; imageio needs an EXR backend, e.g. pip install 'imageio[pyav]'"
+#: the channels of an EXR image by the number of channels of the array (OpenEXR's names)
+_EXR_LAYOUT = {1: ("Y",), 2: ("Y", "A"), 3: ("RGB",), 4: ("RGBA",)}
+
+
+def _read_exr(p: Path) -> np.ndarray:
+    """An OpenEXR file's RGB(A) or Y(A) channels, float32 (H, W, C), values as stored."""
+    import OpenEXR
+
+    try:
+        with OpenEXR.File(str(p)) as f:
+            channels = {name: np.asarray(c.pixels) for name, c in f.channels().items()}
+    except Exception as exc:  # the binding raises plain exceptions for any bad file
+        raise InputError(f"{p}: not an OpenEXR file OpenEXR can read ({' '.join(str(exc).split())[:120]})") from None
+    for layout in ("RGBA", "RGB"):
+        if layout in channels:
+            return channels[layout].astype(np.float32)
+    if "Y" in channels:
+        planes = [channels["Y"]] + ([channels["A"]] if "A" in channels else [])
+        return np.stack(planes, axis=-1).astype(np.float32)
+    raise InputError(f"{p}: EXR without RGB or Y channels (it has {', '.join(sorted(channels)) or 'none'})")
+
+
+def _write_exr(tmp: Path, img: np.ndarray, half: bool) -> None:
+    import OpenEXR
+
+    data = img.astype(np.float16 if half else np.float32)
+    names = _EXR_LAYOUT[img.shape[2]]
+    if len(names) == 1 and len(names[0]) > 1:          # RGB, RGBA: one interleaved array
+        planes = {names[0]: data}
+    else:
+        planes = {name: data[..., k] for k, name in enumerate(names)}
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    with OpenEXR.File(header, planes) as f:
+        f.write(str(tmp))
 
 
 def check_output_path(output: str | os.PathLike, inputs: Iterable[str | os.PathLike] = ()) -> Path:
@@ -201,8 +227,9 @@ def write_image(path: str | os.PathLike, image: np.ndarray, bit_depth: int = 8, 
     """Write ``image`` (float (H, W, C) or (H, W), row 0 at the top) atomically; return the path.
 
     ``.png``: 8-bit (sRGB-encoded unless ``srgb=False``) or 16-bit (linear unless ``srgb=True``);
-    ``.jpg``/others pillow writes: 8-bit; ``.npy``: float32 as is; ``.exr``: float32 through imageio.
-    Values are clipped to [0, 1] for integer formats. NaN is refused.
+    ``.jpg``, ``.bmp``, ``.tif``, ``.webp``: 8-bit, in that format (pillow); ``.npy``: float32 as is;
+    ``.exr``: OpenEXR, linear and unclipped, 32-bit float (``bit_depth=16``: half). The extension is
+    read without regard to case. Values are clipped to [0, 1] for integer formats. NaN is refused.
     """
     p = Path(path)
     img = as_image(image, "image to write")
@@ -215,16 +242,13 @@ def write_image(path: str | os.PathLike, image: np.ndarray, bit_depth: int = 8, 
     if np.isnan(img).any():
         raise OutputError(f"{p}: image holds NaN values; refusing to write it")
     if ext == ".exr":
-        import imageio.v3 as iio
-
+        if np.isinf(img).any() and bit_depth != 16:
+            raise OutputError(f"{p}: image holds infinite values; refusing to write it")
         with atomic_output(p) as tmp:
-            try:
-                iio.imwrite(tmp, img, extension=".exr")
-            except (OSError, ValueError, ImportError) as exc:
-                raise OutputError(f"{p}: cannot write EXR ({_exr_hint(exc)})") from None
+            _write_exr(tmp, img, half=bit_depth == 16)
         return p
     if ext not in _PIL_FORMATS:
-        raise OutputError(f"{p}: unknown image format {ext!r}; use .png, .jpg, .npy or .exr")
+        raise OutputError(f"{p}: unknown image format {ext!r}; use .png, .jpg, .bmp, .tif, .webp, .npy or .exr")
     if bit_depth not in (8, 16) or (bit_depth == 16 and ext != ".png"):
         raise OutputError(f"{p}: {bit_depth}-bit output is not available for {ext}")
     if srgb is None:

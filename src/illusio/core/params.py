@@ -17,7 +17,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-from .errors import InputError
+from .errors import InputError, did_you_mean
 
 __all__ = ["param", "ParamInfo", "describe", "check_ranges", "with_values"]
 
@@ -99,7 +99,8 @@ def check_ranges(params) -> None:
             values = value if meta.get("multiple") else (value,)
             bad = [v for v in values if v not in choices]
             if bad:
-                raise InputError(f"{name}: {', '.join(map(repr, bad))} is not one of {', '.join(map(str, choices))}")
+                raise InputError(f"{name}: {', '.join(map(repr, bad))} is not one of {', '.join(map(str, choices))}"
+                                 f"{did_you_mean(bad[0], choices)}")
             continue
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             if not math.isfinite(value):

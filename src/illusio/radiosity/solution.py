@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..core.errors import InputError
+from ..core.errors import InputError, did_you_mean
 from .hierarchy import Hierarchy
 from .links import Links
 from .params import HierarchyParams
@@ -230,7 +230,8 @@ class Radiosity:
         scales = dict(scales)
         unknown = sorted(set(scales) - set(self.lamp_names))
         if unknown:
-            raise InputError(f"no lamp named {unknown[0]!r}; lamps: {', '.join(self.lamp_names) or 'none'}")
+            raise InputError(f"no lamp named {unknown[0]!r}{did_you_mean(unknown[0], self.lamp_names)}; "
+                             f"lamps: {', '.join(self.lamp_names) or 'none'}")
         new = np.ones(len(self.polygons.names))
         for name, value in scales.items():
             new[self.polygons.names.index(name)] = float(value)

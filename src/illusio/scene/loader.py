@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core.errors import IllusioError, InputError
+from ..core.errors import IllusioError, InputError, did_you_mean
 from .builtin import shapes as builtin_shapes
 from .builtin import textures as builtin_textures
 from .builtin.scenes import SCENES, builtin_scene
@@ -68,7 +68,7 @@ def load_scene(source: str | os.PathLike) -> Scene:
     p = Path(source)
     if p.suffix.lower() not in (".yaml", ".yml"):
         if not p.exists():
-            raise InputError(f"{text}: not a built-in scene ({', '.join(SCENES)}) nor a YAML file")
+            raise InputError(f"{text}: not a built-in scene ({', '.join(SCENES)}) nor a YAML file{did_you_mean(text, SCENES)}")
         raise InputError(f"{p}: scene files must be .yaml or .yml")
     if not p.is_file():
         raise InputError(f"{p}: no such file")

@@ -18,7 +18,7 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context, default_context
-from ..core.errors import InputError
+from ..core.errors import InputError, did_you_mean
 from ..core.renderer import Frame, Renderer
 from ..passes.forward import ScreenMaterial
 from ..passes.gpu_scene import GpuScene
@@ -38,7 +38,10 @@ __all__ = ["MultiSceneParams", "MultiSceneRenderer", "MultiSceneSubject", "hidde
 def host_nodes(scene: Scene, host: str) -> list[tuple[int, Node]]:
     found = [(i, n) for i, n in enumerate(scene.nodes) if n.visible and (n.name == host or host in n.tags)]
     if not found:
-        raise InputError(f"scene {scene.name!r} has no visible node named or tagged {host!r} to show the stereogram on")
+        hosts = sorted({n.name for n in scene.nodes if n.visible and "host" in n.tags})
+        named = sorted({n.name for n in scene.nodes if n.visible} | {t for n in scene.nodes for t in n.tags})
+        raise InputError(f"scene {scene.name!r} has no visible node named or tagged {host!r} to show the stereogram on"
+                         f"{did_you_mean(host, named)}; its hosts: {', '.join(hosts) or 'none tagged'}")
     return found
 
 
