@@ -99,3 +99,28 @@ def test_version_list_and_did_you_mean(capsys):
                        (["sis-scene", "living-room", "-o", "x.png", "--host", "tv-scren"], "its hosts: back-wall, tv-screen")):
         code, out = call_cli(args, capsys)
         assert code == 2 and hint in out.err, out.err
+
+
+def test_switches_are_switches_with_their_default():
+    """Every on/off option of every command is a --x/--no-x switch (not --x <bool>), except the
+    eager --version and --no-cache (already a negative), and every option shows its default."""
+    import click
+    import typer
+
+    from illusio.cli.main import app
+
+    def commands(group):
+        for name, command in group.commands.items():
+            if isinstance(command, click.Group):
+                yield from commands(command)
+            else:
+                yield name, command
+
+    for name, command in commands(typer.main.get_command(app)):
+        for p in command.params:
+            if not isinstance(p, click.Option):
+                continue
+            if p.is_flag and p.opts not in (["--version"], ["--no-cache"], ["--help"]):
+                assert p.secondary_opts, f"{name} {p.opts[0]} is a flag without its --no- form"
+            if not p.required and p.opts != ["--help"]:
+                assert p.show_default is not False, f"{name} {p.opts[0]} hides its default"

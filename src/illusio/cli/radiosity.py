@@ -48,7 +48,7 @@ def radiosity(
     reference: Path = typer.Option(None, "--reference", help="also path-trace the same polygons with Mitsuba to this image"),
     spp: int = typer.Option(256, "--spp", help="--reference: paths per pixel"),
     supersample: int = typer.Option(0, "--supersample", help="samples per pixel side of the radiosity image (0: 4 with --reference, else 1)"),
-    stats: bool = typer.Option(False, "--stats", help="print elements, links, rays and the time of each phase"),
+    stats: bool = typer.Option(False, "--stats/--no-stats", help="print elements, links, rays and the time of each phase"),
     seed: int = typer.Option(_H.seed, "--seed", help="visibility rays and path tracer"),
 ) -> None:
     """Solve SCENE by hierarchical radiosity (Hanrahan et al. 1991, as in Loscos 1999, ch. 4) and

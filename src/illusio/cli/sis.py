@@ -58,22 +58,22 @@ def sis(
     pattern: str = typer.Option(_DEFAULT.pattern, "--pattern", help="random-dot, grey-dots, colour-dots, pink-noise, snow, or an image file"),
     strip_width: float = typer.Option(_DEFAULT.strip_width, "--strip-width", help="W_s, pixels: separation of the nearest depth"),
     depth_factor: float = typer.Option(_DEFAULT.depth_factor, "--depth-factor", help="β, pixels: separations span [W_s, W_s + β]"),
-    exact: bool = typer.Option(_DEFAULT.exact, "--exact", help="equation (3) of the physical screen instead of the linear W_s + β·D"),
+    exact: bool = typer.Option(_DEFAULT.exact, "--exact/--no-exact", help="equation (3) of the physical screen instead of the linear W_s + β·D"),
     screen_diagonal: float = typer.Option(_SCREEN.diagonal_cm, "--screen-diagonal", help="d, cm"),
     aspect: float = typer.Option(_SCREEN.aspect, "--aspect", help="a = width / height"),
     distance: float = typer.Option(_SCREEN.viewing_distance_cm, "--distance", help="f, viewer to screen, cm"),
     eye_separation: float = typer.Option(_SCREEN.eye_separation_cm, "--eye-separation", help="e, cm"),
     screen_width_px: int = typer.Option(_SCREEN.width_px, "--screen-width-px", help="w_p, pixels across the screen"),
-    guides: bool = typer.Option(_DEFAULT.guides, "--guides", help="two guide dots W_s + β apart"),
-    cross_eyed: bool = typer.Option(_DEFAULT.cross_eyed, "--cross-eyed", help="for crossed eyes (default: wall-eyed)"),
-    invert: bool = typer.Option(_DEFAULT.invert, "--invert", help="black = near"),
+    guides: bool = typer.Option(_DEFAULT.guides, "--guides/--no-guides", help="two guide dots W_s + β apart"),
+    cross_eyed: bool = typer.Option(_DEFAULT.cross_eyed, "--cross-eyed/--no-cross-eyed", help="for crossed eyes (default: wall-eyed)"),
+    invert: bool = typer.Option(_DEFAULT.invert, "--invert/--no-invert", help="black = near"),
     oversample: int = typer.Option(_DEFAULT.oversample, "--oversample", help="compute at N times the width (smooth depth steps)"),
     dot_size: int = typer.Option(_DEFAULT.dot_size, "--dot-size", help="pixels per random dot"),
     seed: int = typer.Option(_DEFAULT.seed, "--seed", help="seed of the random pattern"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT in pixels (default: the depth map's)"),
     print_size: str = typer.Option(None, "--print-size", help="WIDTHxHEIGHTcm for print (with --dpi); sets the size and the physical model"),
     dpi: float = typer.Option(300.0, "--dpi", help="dots per inch with --print-size"),
-    cpu: bool = typer.Option(False, "--cpu", help="use the NumPy/numba reference instead of the GPU"),
+    cpu: bool = typer.Option(False, "--cpu/--no-cpu", help="use the NumPy/numba reference instead of the GPU"),
 ) -> None:
     """Make an autostereogram of DEPTH."""
     from ..core.context import Context
@@ -107,7 +107,7 @@ def sis_decode(
     strip_width: float = typer.Option(_DEFAULT.strip_width, "--strip-width", help="W_s the stereogram was made with"),
     depth_factor: float = typer.Option(_DEFAULT.depth_factor, "--depth-factor", help="β it was made with"),
     expected: Path = typer.Option(None, "--expected", help="the depth map it was made from: report how much decodes back"),
-    symmetric: bool = typer.Option(False, "--symmetric", help="made by the symmetric algorithm (links centred on each point)"),
+    symmetric: bool = typer.Option(False, "--symmetric/--no-symmetric", help="made by the symmetric algorithm (links centred on each point)"),
 ) -> None:
     """Recover the depth map hidden in a stereogram by window matching (the self-check)."""
     from ..sis.decode import check, decode_separation, separation_to_depth
@@ -141,7 +141,7 @@ def sis_scene(
     strip_width: float = typer.Option(_MULTI.stereogram.strip_width, "--strip-width", help="W_s for a 1920-pixel-wide frame (scaled with the size)"),
     depth_factor: float = typer.Option(_MULTI.stereogram.depth_factor, "--depth-factor", help="β for a 1920-pixel-wide frame"),
     emission: float = typer.Option(_MULTI.emission, "--emission", help="host glow (TV); 0 for a lit surface such as a wall"),
-    interactive: bool = typer.Option(_MULTI.interactive, "--interactive", help="orient the hidden scene by the viewer's position (Figure 25)"),
+    interactive: bool = typer.Option(_MULTI.interactive, "--interactive/--no-interactive", help="orient the hidden scene by the viewer's position (Figure 25)"),
     spin: float = typer.Option(_MULTI.spin, "--spin", help="degrees per frame the hidden scene turns"),
     size: str = typer.Option(f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"),
     frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
