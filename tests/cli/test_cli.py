@@ -124,3 +124,29 @@ def test_switches_are_switches_with_their_default():
                 assert p.secondary_opts, f"{name} {p.opts[0]} is a flag without its --no- form"
             if not p.required and p.opts != ["--help"]:
                 assert p.show_default is not False, f"{name} {p.opts[0]} hides its default"
+
+
+def test_render_view_camera_and_turntable(tmp_path, capsys):
+    """render --view AZ,EL orbits the main camera's target (two sides of the knot differ, the same
+    angle twice does not); --camera EYE:TARGET places the camera; --turntable N writes N frames."""
+    import numpy as np
+
+    import imageio.v2 as iio
+
+    from tests.conftest import call_cli
+
+    shots = {}
+    for name, args in (("a", ["--view", "30,20"]), ("b", ["--view", "210,20"]), ("c", ["--view", "30,20"]),
+                       ("d", ["--camera", "0,0.5,3:0,0.5,0"])):
+        code, out = call_cli(["render", "torus-knot", "-o", str(tmp_path / f"{name}.png"), "--size", "96x72", *args], capsys)
+        assert code == 0, out.err
+        shots[name] = read_image(tmp_path / f"{name}.png")
+    assert np.abs(shots["a"] - shots["c"]).max() == 0
+    assert np.abs(shots["a"] - shots["b"]).mean() > 0.01 and np.abs(shots["a"] - shots["d"]).mean() > 0.01
+    code, out = call_cli(["render", "gear", "-o", str(tmp_path / "t.mp4"), "--turntable", "6", "--size", "64x48"], capsys)
+    assert code == 0, out.err
+    with iio.get_reader(tmp_path / "t.mp4") as video:
+        assert video.count_frames() == 6
+    for args in (["--turntable", "6"], ["--view", "10"], ["--view", "10,20", "--camera", "main"]):
+        code, out = call_cli(["render", "gear", "-o", str(tmp_path / "x.png"), *args], capsys)
+        assert code == 2 and not (tmp_path / "x.png").exists()

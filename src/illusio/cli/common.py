@@ -42,3 +42,24 @@ def progress(total: int, description: str):
                   TimeElapsedColumn(), transient=True) as bar:
         task = bar.add_task(description, total=total)
         yield lambda n=1: bar.advance(task, n)
+
+
+def parse_eye_target(text: str) -> tuple[tuple[float, ...], tuple[float, ...]] | None:
+    """``x,y,z:x,y,z`` → (eye, target) in metres, or None when ``text`` is not of that form."""
+    eye, sep, target = text.partition(":")
+    try:
+        e, t = tuple(float(v) for v in eye.split(",")), tuple(float(v) for v in target.split(","))
+    except ValueError:
+        return None
+    return (e, t) if sep and len(e) == 3 and len(t) == 3 else None
+
+
+def parse_view_angles(text: str) -> tuple[float, float]:
+    """``AZ,EL`` in degrees (azimuth about +y from +z toward +x, elevation up from the horizon)."""
+    try:
+        az, el = (float(v) for v in text.split(","))
+    except ValueError:
+        raise InputError(f"--view takes AZ,EL in degrees (e.g. 30,20), got {text!r}") from None
+    if not -90 < el < 90:
+        raise InputError(f"--view elevation must be in ]-90, 90[ degrees, got {el:g}")
+    return az, el

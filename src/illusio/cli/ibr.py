@@ -11,7 +11,7 @@ import typer
 from ..core.errors import InputError
 from ..core.images import check_output_path, write_image, write_video
 from ..ibr.params import IbrParams
-from .common import parse_size, resolve_scene, scene_inputs
+from .common import parse_eye_target, parse_size, resolve_scene, scene_inputs
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Image-based rendering from reference views.")
 _DEFAULT = IbrParams()
@@ -67,11 +67,10 @@ def parse_camera(text: str, refs):
             a, b = refs.views[i].view.pose, refs.views[j].view.pose
             mix = lambda p, q: tuple((1 - t) * np.asarray(p) + t * np.asarray(q))  # noqa: E731
             return View(Pose(mix(a.position, b.position), mix(a.target, b.target), a.up), refs.views[i].view.camera)
-        eye = [float(v) for v in kind.split(",")]
-        target = [float(v) for v in rest.split(",")]
-        if len(eye) != 3 or len(target) != 3:
+        pair = parse_eye_target(text)
+        if pair is None:
             raise ValueError
-        return View(Pose(tuple(eye), tuple(target)), lens)
+        return View(Pose(*pair), lens)
     except (ValueError, IndexError):
         raise InputError(f"--camera must be ref:K, between:I,J[,T] or x,y,z:x,y,z (with {len(refs.views)} "
                          f"references), got {text!r}") from None
