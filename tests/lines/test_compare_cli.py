@@ -87,3 +87,25 @@ def test_bad_input_is_one_line_and_exit_2(tmp_path, monkeypatch, capsys, args):
     err = out.err.strip()
     assert err.startswith("illusio: error:") and "\n" not in err
     assert not list(tmp_path.glob("x.*"))
+
+
+def test_curvature_output_maps_rows_to_the_file(tmp_path, capsys):
+    """The .npz of `illusio curvature` holds the vertices, faces and, for each row, the vertex's index
+    in the input file: repair drops the unreferenced vertex 0 and 7, so row k is file vertex k + 1
+    (or k + 2 past 7), and the stored vertices are the file's."""
+    from illusio.scene.builtin import shapes
+
+    sphere = shapes.sphere(segments=16, rings=8)
+    v = np.asarray(sphere.vertices, np.float64)
+    extra = np.insert(v, [0, 6], [[9.0, 9.0, 9.0], [8.0, 8.0, 8.0]], axis=0)          # file vertices 0 and 7 unused
+    old_to_file = np.r_[np.arange(1, 7), np.arange(8, len(extra))]
+    lines = [f"v {x} {y} {z}" for x, y, z in extra] + [f"f {' '.join(str(old_to_file[i] + 1) for i in f)}" for f in sphere.faces]
+    (tmp_path / "s.obj").write_text("\n".join(lines) + "\n")
+    code, _ = call(["curvature", str(tmp_path / "s.obj"), "-o", str(tmp_path / "c.npz")], capsys)
+    assert code == 0
+    with np.load(tmp_path / "c.npz") as data:
+        rows = len(data["k_min"])
+        assert rows == len(data["vertices"]) == len(data["source_index"]) == len(v)
+        assert np.array_equal(data["source_index"], old_to_file)
+        np.testing.assert_allclose(data["vertices"], extra[data["source_index"]], atol=1e-6)
+        assert data["faces"].max() < rows

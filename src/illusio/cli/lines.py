@@ -114,7 +114,8 @@ def lines(
 
 def curvature(
     mesh: str = typer.Argument(..., help="mesh file or built-in shape"),
-    output: Path = typer.Option(..., "-o", "--output", help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, valid"),
+    output: Path = typer.Option(..., "-o", "--output", help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, "
+                                                            "valid, and vertices, faces, source_index (each row's vertex in the file)"),
     rings: int = typer.Option(_CURVATURE.rings, "--rings", help="smallest neighbourhood, in edge rings"),
     degree: int = typer.Option(_CURVATURE.degree, "--degree", help="jet degree: 2, 3 or 4 (3 and 4 also give curvature derivatives)"),
     smoothing: int = typer.Option(_CURVATURE.smoothing, "--smoothing", help="passes of curvature-tensor averaging over each vertex's 1-ring (0: none)"),
@@ -132,6 +133,7 @@ def curvature(
     m = resolve_mesh(mesh)
     c = estimate_curvature(m, settings.rings, settings.degree, cache=not no_cache, adaptive=settings.adaptive,
                            extra_rings=settings.extra_rings, confidence=settings.confidence, smoothing=settings.smoothing)
-    c.save(out)
+    source = m.source_index if m.source_index is not None else np.arange(len(m.vertices))
+    c.save(out, vertices=m.vertices, faces=m.faces, source_index=source)
     typer.echo(f"wrote {out} ({len(c.k_min)} vertices, {int((~c.valid).sum())} without a fit; "
                f"curvature scale {c.scale():.4g} per unit)")

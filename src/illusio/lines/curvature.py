@@ -54,11 +54,12 @@ class Curvature:
         k = np.maximum(np.abs(self.k_min), np.abs(self.k_max))[self.valid]
         return float(np.percentile(k, percentile)) if len(k) else 1.0
 
-    def save(self, path: str | os.PathLike) -> Path:
+    def save(self, path: str | os.PathLike, **extra: np.ndarray) -> Path:
+        """Write the fields (and ``extra`` arrays beside them) to an .npz, atomically."""
         p = Path(path)
         with atomic_output(p) as tmp:
             with open(tmp, "wb") as f:
-                np.savez(f, **self.__dict__)
+                np.savez(f, **self.__dict__, **extra)
         return p
 
     @classmethod

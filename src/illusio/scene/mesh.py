@@ -34,6 +34,9 @@ class Mesh:
     uvs: np.ndarray | None = None
     name: str = "mesh"
     notes: list[str] = field(default_factory=list)  # repairs made on load, for reports
+    #: for a mesh read from a file, each row's vertex index in the file (repair drops unreferenced
+    #: vertices; an STL's welded corners count as its vertices); None: the rows are the vertices
+    source_index: np.ndarray | None = None
 
     def __post_init__(self):
         self.vertices = np.ascontiguousarray(self.vertices, dtype=np.float32).reshape(-1, 3)
@@ -46,6 +49,10 @@ class Mesh:
             self.uvs = np.ascontiguousarray(self.uvs, dtype=np.float32).reshape(-1, 2)
         if len(self.normals) != len(self.vertices) or (self.uvs is not None and len(self.uvs) != len(self.vertices)):
             raise InputError(f"{self.name}: normals/uvs must have one row per vertex")
+        if self.source_index is not None:
+            self.source_index = np.asarray(self.source_index, np.int64).reshape(-1)
+            if len(self.source_index) != len(self.vertices):
+                raise InputError(f"{self.name}: source_index must have one row per vertex")
 
     @property
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
@@ -67,8 +74,9 @@ class Mesh:
 
     def with_crease_normals(self, angle: float = 30.0) -> "Mesh":
         """Split vertices along edges sharper than ``angle`` degrees so that creases shade sharp."""
-        v, f, n, uv = crease_split(self.vertices, self.faces, angle, self.uvs)
-        return replace(self, vertices=v, faces=f, normals=n, uvs=uv, notes=list(self.notes))
+        v, f, n, uv, origin = crease_split(self.vertices, self.faces, angle, self.uvs, return_origin=True)
+        source = None if self.source_index is None else self.source_index[origin]
+        return replace(self, vertices=v, faces=f, normals=n, uvs=uv, notes=list(self.notes), source_index=source)
 
 
 def validate_arrays(vertices: np.ndarray, faces: np.ndarray, name: str) -> None:
@@ -104,9 +112,10 @@ def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return _normalise(acc)
 
 
-def crease_split(vertices, faces, angle: float, uvs=None):
+def crease_split(vertices, faces, angle: float, uvs=None, return_origin: bool = False):
     """Per-corner normals averaged over the faces around the vertex whose normal is within
-    ``angle`` degrees of the corner's face; corners with equal (vertex, normal) share a vertex."""
+    ``angle`` degrees of the corner's face; corners with equal (vertex, normal) share a vertex.
+    Returns (vertices, faces, normals, uvs[, the input vertex of each new one])."""
     vertices = np.asarray(vertices, np.float32)
     faces = np.asarray(faces, np.int64)
     fn = face_normals(vertices, faces)
@@ -131,11 +140,13 @@ def crease_split(vertices, faces, angle: float, uvs=None):
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
     new_v = vertices[corner_vertex[first]]
     new_uv = None if uvs is None else np.asarray(uvs, np.float32)[corner_vertex[first]]
-    return new_v, inverse.reshape(-1, 3).astype(np.int32), normals[first], new_uv
+    out = (new_v, inverse.reshape(-1, 3).astype(np.int32), normals[first], new_uv)
+    return out + (corner_vertex[first],) if return_origin else out
 
 
 def _repair(vertices: np.ndarray, faces: np.ndarray, uvs, name: str, notes: list[str]):
-    """Drop degenerate faces (silently), duplicate faces and unreferenced vertices (with a warning)."""
+    """Drop degenerate faces (silently), duplicate faces and unreferenced vertices (with a warning).
+    Returns (vertices, faces, uvs, index of each kept vertex in the input)."""
     f = faces
     degenerate = (f[:, 0] == f[:, 1]) | (f[:, 1] == f[:, 2]) | (f[:, 0] == f[:, 2])
     degenerate |= np.linalg.norm(face_normals(vertices, f), axis=1) <= 1e-20
@@ -160,7 +171,7 @@ def _repair(vertices: np.ndarray, faces: np.ndarray, uvs, name: str, notes: list
         f = remap[f]
         vertices = vertices[used]
         uvs = None if uvs is None else uvs[used]
-    return vertices, f, uvs
+    return vertices, f, uvs, np.flatnonzero(used)
 
 
 def load_mesh(path: str | os.PathLike, *, repair: bool = True) -> Mesh:
@@ -183,9 +194,10 @@ def load_mesh(path: str | os.PathLike, *, repair: bool = True) -> Mesh:
         raise InputError(f"{p}: mesh is empty ({len(vertices)} vertices, {len(faces)} faces)")
     validate_arrays(vertices.astype(np.float32), faces, str(p))
     notes: list[str] = []
+    index = np.arange(len(vertices))
     if repair:
-        vertices, faces, uvs = _repair(vertices, faces, uvs, str(p), notes)
-    return Mesh(vertices, faces, uvs=uvs, name=name, notes=notes)
+        vertices, faces, uvs, index = _repair(vertices, faces, uvs, str(p), notes)
+    return Mesh(vertices, faces, uvs=uvs, name=name, notes=notes, source_index=index)
 
 
 def _read_with_trimesh(p: Path):
