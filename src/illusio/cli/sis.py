@@ -8,6 +8,7 @@ import numpy as np
 import typer
 
 from ..core.errors import InputError, did_you_mean
+from ..core.gl import check_size
 from ..core.images import check_output_path, read_image, write_image, write_video
 from ..scene.camera import Screen
 from ..sis.params import ALGORITHMS, MultiSceneParams, StereogramParams
@@ -45,9 +46,13 @@ def _print_size(text: str, dpi: float) -> tuple[tuple[int, int], Screen]:
         w_cm, h_cm = (float(v) for v in body.split("x"))
     except ValueError:
         raise InputError(f"--print-size must look like 20x15cm, got {text!r}") from None
-    if not (w_cm > 0 and h_cm > 0 and dpi > 0):
+    if not (w_cm > 0 and h_cm > 0 and dpi > 0) or not np.isfinite([w_cm, h_cm, dpi]).all():
         raise InputError("--print-size and --dpi must be positive")
     w, h = int(round(w_cm / 2.54 * dpi)), int(round(h_cm / 2.54 * dpi))
+    try:
+        check_size((w, h))                          # refused before anything is made, as --size is
+    except InputError as exc:
+        raise InputError(f"--print-size {text} at {dpi:g} dpi: {exc}; print smaller or lower --dpi") from None
     return (w, h), Screen(diagonal_cm=float(np.hypot(w_cm, h_cm)), aspect=w_cm / h_cm, width_px=w, height_px=h)
 
 
@@ -97,37 +102,72 @@ def sis(
 
     d = _depth_input(depth, wanted, ctx_factory)
     image = stereogram(d, params, None if cpu else ctx_factory(), cpu=cpu)
-    write_image(out, image)
+    # what made it, for sis-decode and for whoever finds the file later
+    text = {f"illusio:{k}": str(v) for k, v in (("strip_width", params.strip_width), ("depth_factor", params.depth_factor),
+                                                 ("algorithm", algorithm), ("cross_eyed", cross_eyed), ("invert", invert),
+                                                 ("exact", exact), ("seed", seed), ("pattern", pattern))}
+    write_image(out, image, text=text)
     typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {algorithm}, separations {strip_width:g}..{params.far_separation:g} px)")
+
+
+#: the share of checked pixels that must decode back for sis-decode's self-check to pass
+SELF_CHECK_PASS = 0.8
 
 
 def sis_decode(
     image: Path = typer.Argument(..., help="a stereogram (.png)"),
     output: Path = typer.Option(..., "-o", "--output", help="decoded depth (.png, white = near)"),
-    strip_width: float = typer.Option(_DEFAULT.strip_width, "--strip-width", help="W_s the stereogram was made with"),
-    depth_factor: float = typer.Option(_DEFAULT.depth_factor, "--depth-factor", help="β it was made with"),
-    expected: Path = typer.Option(None, "--expected", help="the depth map it was made from: report how much decodes back"),
-    symmetric: bool = typer.Option(False, "--symmetric/--no-symmetric", help="made by the symmetric algorithm (links centred on each point)"),
+    strip_width: float = typer.Option(None, "--strip-width", help="W_s the stereogram was made with (default: from its PNG "
+                                                                  f"text, else {_DEFAULT.strip_width:g})"),
+    depth_factor: float = typer.Option(None, "--depth-factor", help=f"β it was made with (default: from its PNG text, else {_DEFAULT.depth_factor:g})"),
+    expected: Path = typer.Option(None, "--expected", help="the depth map it was made from: report how much decodes back; exit 1 when under 80 %"),
+    symmetric: bool = typer.Option(None, "--symmetric/--no-symmetric", help="made by the symmetric algorithm (default: from its PNG text)"),
+    cross_eyed: bool = typer.Option(None, "--cross-eyed/--no-cross-eyed", help="made for crossed eyes (default: from its PNG text, else no)"),
 ) -> None:
-    """Recover the depth map hidden in a stereogram by window matching (the self-check)."""
+    """Recover the depth map hidden in a stereogram by window matching (the self-check). The
+    parameters it was made with are read from its PNG text when `illusio sis` wrote it."""
+    from ..core.images import read_png_text
     from ..sis.decode import check, decode_separation, separation_to_depth
     from ..sis.depth import read_depth
     from ..sis.reference import separation
 
     out = check_output_path(output, [image] + ([expected] if expected else []))
+    made = read_png_text(image)
+
+    def given(value, key, default, kind):
+        if value is not None:
+            return value
+        if f"illusio:{key}" in made:
+            raw = made[f"illusio:{key}"]
+            return raw == "True" if kind is bool else kind(raw)
+        return default
+
+    strip_width = given(strip_width, "strip_width", _DEFAULT.strip_width, float)
+    depth_factor = given(depth_factor, "depth_factor", _DEFAULT.depth_factor, float)
+    cross_eyed = given(cross_eyed, "cross_eyed", False, bool)
+    flipped = cross_eyed != given(None, "invert", False, bool)
+    symmetric = symmetric if symmetric is not None else made.get("illusio:algorithm") == "symmetric"
     img = read_image(image)[..., :3]
     lo, hi = int(strip_width) - 1, int(np.ceil(strip_width + depth_factor)) + 1
     decoded, _ = decode_separation(img, max(1, lo), hi)
     depth = separation_to_depth(decoded, strip_width, depth_factor)
-    write_image(out, 1.0 - depth, srgb=False)
-    typer.echo(f"wrote {out}")
+    if flipped:                      # cross-eyed (or inverted) stereograms carry the depth flipped
+        depth = 1.0 - depth
+    d = None
     if expected:
         d = read_depth(expected)
         if d.shape != img.shape[:2]:
             raise InputError(f"--expected is {d.shape[1]}×{d.shape[0]} but the stereogram is {img.shape[1]}×{img.shape[0]}")
-        report = check(img, separation(d, strip_width, depth_factor), int(strip_width + depth_factor + 0.5),
+    write_image(out, 1.0 - depth, srgb=False)
+    typer.echo(f"wrote {out}")
+    if d is not None:
+        encoded = 1.0 - d if flipped else d
+        report = check(img, separation(encoded, strip_width, depth_factor), int(strip_width + depth_factor + 0.5),
                        "centre" if symmetric else "left")
         typer.echo(f"self-check: {report}")
+        if report.matched < SELF_CHECK_PASS:
+            typer.echo(f"self-check failed: under {SELF_CHECK_PASS:.0%} of the checked pixels decode back", err=True)
+            raise typer.Exit(1)
 
 
 def sis_scene(

@@ -21,6 +21,7 @@ from .errors import InputError, OutputError
 
 __all__ = [
     "read_image",
+    "read_png_text",
     "write_image",
     "srgb_to_linear",
     "linear_to_srgb",
@@ -223,13 +224,26 @@ class atomic_output:
         return False
 
 
-def write_image(path: str | os.PathLike, image: np.ndarray, bit_depth: int = 8, srgb: bool | None = None) -> Path:
+def read_png_text(path: str | os.PathLike) -> dict[str, str]:
+    """The text chunks (tEXt, iTXt) of a PNG file, {} for none or another format."""
+    from PIL import Image, UnidentifiedImageError
+
+    try:
+        with Image.open(path) as im:
+            return {str(k): str(v) for k, v in getattr(im, "text", {}).items()}
+    except (OSError, UnidentifiedImageError):
+        return {}
+
+
+def write_image(path: str | os.PathLike, image: np.ndarray, bit_depth: int = 8, srgb: bool | None = None,
+                text: dict[str, str] | None = None) -> Path:
     """Write ``image`` (float (H, W, C) or (H, W), row 0 at the top) atomically; return the path.
 
     ``.png``: 8-bit (sRGB-encoded unless ``srgb=False``) or 16-bit (linear unless ``srgb=True``);
     ``.jpg``, ``.bmp``, ``.tif``, ``.webp``: 8-bit, in that format (pillow); ``.npy``: float32 as is;
     ``.exr``: OpenEXR, linear and unclipped, 32-bit float (``bit_depth=16``: half). The extension is
     read without regard to case. Values are clipped to [0, 1] for integer formats. NaN is refused.
+    ``text``: key → value written as text chunks of an 8-bit PNG (what made the image).
     """
     p = Path(path)
     img = as_image(image, "image to write")
@@ -265,8 +279,16 @@ def write_image(path: str | os.PathLike, image: np.ndarray, bit_depth: int = 8, 
     pil = Image.fromarray(q[..., 0] if img.shape[2] == 1 else q)
     if ext in (".jpg", ".jpeg") and pil.mode in ("RGBA", "LA"):
         pil = pil.convert("RGB" if pil.mode == "RGBA" else "L")
+    extra = {}
+    if text and ext == ".png":
+        from PIL.PngImagePlugin import PngInfo
+
+        info = PngInfo()
+        for key, value in text.items():
+            info.add_text(str(key), str(value))
+        extra["pnginfo"] = info
     with atomic_output(p) as tmp:
-        pil.save(tmp, format=Image.registered_extensions()[ext])
+        pil.save(tmp, format=Image.registered_extensions()[ext], **extra)
     return p
 
 

@@ -68,7 +68,13 @@ def read_depth(path: str | Path) -> np.ndarray:
         height = a
     else:
         img = read_image(p, srgb=False)  # depth is data, not colour: no sRGB decoding
-        height = img[..., :3].mean(axis=2) if img.shape[2] >= 3 else img[..., 0]
+        if img.shape[2] >= 3 and np.ptp(img[..., :3], axis=2).max() > 1e-6:
+            import warnings
+            warnings.warn(f"{p.name} is a colour image: its luminance is taken as the depth (white = near)",
+                          stacklevel=2)
+            height = img[..., :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
+        else:
+            height = img[..., 0]
     return check_depth(1.0 - np.asarray(height, np.float32), f"depth map {p.name}")
 
 
