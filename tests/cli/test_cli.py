@@ -150,3 +150,17 @@ def test_render_view_camera_and_turntable(tmp_path, capsys):
     for args in (["--turntable", "6"], ["--view", "10"], ["--view", "10,20", "--camera", "main"]):
         code, out = call_cli(["render", "gear", "-o", str(tmp_path / "x.png"), *args], capsys)
         assert code == 2 and not (tmp_path / "x.png").exists()
+
+
+def test_demo_says_when_the_test_meshes_are_missing(tmp_path):
+    """Run where ../shared/data/models is not and ILLUSIO_MODELS unset: one warning line on stderr, and
+    the gallery's section says it shows built-in shapes only."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "ILLUSIO_MODELS"}
+    r = subprocess.run([sys.executable, "-m", "illusio", "demo", "--only", "lines", "--out", str(tmp_path / "g"),
+                        "--size", "160x100"], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600)
+    assert r.returncode == 0, r.stderr
+    warning = [line for line in r.stderr.splitlines() if "test meshes were not found" in line]
+    assert len(warning) == 1 and warning[0].startswith("illusio: warning:")
+    assert "built-in shapes only" in (tmp_path / "g" / "index.html").read_text()

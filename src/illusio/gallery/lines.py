@@ -52,7 +52,12 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
         section.items.append(Item(rel, label, "built-in torus knot"))
     models = _models()
     meshes = [("blob", shape("blob"), (30, 15))]
-    if models:
+    if not models:
+        note = ("the scanned test meshes were not found (../shared/data/models, or set ILLUSIO_MODELS to their folder): "
+                "the line-drawing section shows built-in shapes only")
+        section.text += f" Note: {note}."
+        warnings.warn(note, stacklevel=2)
+    else:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             meshes += [(name, load_mesh(models / f), v) for name, f, v in TEST_MESHES if (models / f).exists()]
