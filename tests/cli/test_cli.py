@@ -104,63 +104,25 @@ def test_version_list_and_did_you_mean(capsys):
 def test_switches_are_switches_with_their_default():
     """Every on/off option of every command is a --x/--no-x switch (not --x <bool>), except the
     eager --version and --no-cache (already a negative), and every option shows its default."""
-    import click
     import typer
 
     from illusio.cli.main import app
 
     def commands(group):
         for name, command in group.commands.items():
-            if isinstance(command, click.Group):
+            if getattr(command, "commands", None):       # a group (ibr): its commands
                 yield from commands(command)
             else:
                 yield name, command
 
+    checked = 0
     for name, command in commands(typer.main.get_command(app)):
         for p in command.params:
-            if not isinstance(p, click.Option):
+            if getattr(p, "param_type_name", "") != "option":
                 continue
+            checked += 1
             if p.is_flag and p.opts not in (["--version"], ["--no-cache"], ["--help"]):
                 assert p.secondary_opts, f"{name} {p.opts[0]} is a flag without its --no- form"
             if not p.required and p.opts != ["--help"]:
                 assert p.show_default is not False, f"{name} {p.opts[0]} hides its default"
-
-
-def test_render_view_camera_and_turntable(tmp_path, capsys):
-    """render --view AZ,EL orbits the main camera's target (two sides of the knot differ, the same
-    angle twice does not); --camera EYE:TARGET places the camera; --turntable N writes N frames."""
-    import numpy as np
-
-    import imageio.v2 as iio
-
-    from tests.conftest import call_cli
-
-    shots = {}
-    for name, args in (("a", ["--view", "30,20"]), ("b", ["--view", "210,20"]), ("c", ["--view", "30,20"]),
-                       ("d", ["--camera", "0,0.5,3:0,0.5,0"])):
-        code, out = call_cli(["render", "torus-knot", "-o", str(tmp_path / f"{name}.png"), "--size", "96x72", *args], capsys)
-        assert code == 0, out.err
-        shots[name] = read_image(tmp_path / f"{name}.png")
-    assert np.abs(shots["a"] - shots["c"]).max() == 0
-    assert np.abs(shots["a"] - shots["b"]).mean() > 0.01 and np.abs(shots["a"] - shots["d"]).mean() > 0.01
-    code, out = call_cli(["render", "gear", "-o", str(tmp_path / "t.mp4"), "--turntable", "6", "--size", "64x48"], capsys)
-    assert code == 0, out.err
-    with iio.get_reader(tmp_path / "t.mp4") as video:
-        assert video.count_frames() == 6
-    for args in (["--turntable", "6"], ["--view", "10"], ["--view", "10,20", "--camera", "main"]):
-        code, out = call_cli(["render", "gear", "-o", str(tmp_path / "x.png"), *args], capsys)
-        assert code == 2 and not (tmp_path / "x.png").exists()
-
-
-def test_demo_says_when_the_test_meshes_are_missing(tmp_path):
-    """Run where ../shared/data/models is not and ILLUSIO_MODELS unset: one warning line on stderr, and
-    the gallery's section says it shows built-in shapes only."""
-    import os
-
-    env = {k: v for k, v in os.environ.items() if k != "ILLUSIO_MODELS"}
-    r = subprocess.run([sys.executable, "-m", "illusio", "demo", "--only", "lines", "--out", str(tmp_path / "g"),
-                        "--size", "160x100"], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600)
-    assert r.returncode == 0, r.stderr
-    warning = [line for line in r.stderr.splitlines() if "test meshes were not found" in line]
-    assert len(warning) == 1 and warning[0].startswith("illusio: warning:")
-    assert "built-in shapes only" in (tmp_path / "g" / "index.html").read_text()
+    assert checked > 100

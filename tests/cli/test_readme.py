@@ -1,0 +1,49 @@
+"""README's command list, as written, against the commands: every line names a command that exists,
+with options it takes and values they accept, and every input file it names exists in the repository
+(or is written by an earlier line), so the README cannot rot."""
+
+import shlex
+from pathlib import Path
+
+import pytest
+import typer
+
+from illusio.cli.main import app, expand
+
+ROOT = Path(__file__).resolve().parents[2]
+#: options whose value is a file the command writes
+OUTPUTS = {"-o", "--output", "--out", "--video", "--record", "--reference", "--photograph"}
+SUFFIXES = (".yaml", ".json", ".obj", ".ply", ".off", ".stl", ".glb", ".gltf", ".npz", ".npy", ".png", ".exr")
+
+
+def readme_commands() -> list[list[str]]:
+    lines = [line.strip() for line in (ROOT / "README.md").read_text().splitlines() if line.startswith("    illusio ")]
+    # an optional value written in brackets ([auto|HOST:PORT]) is the reader's choice: left out
+    return [[w for w in shlex.split(line.split("  #")[0])[1:] if not w.startswith("[")] for line in lines]
+
+
+def resolve(argv):
+    group = typer.main.get_command(app)
+    command, name, rest = group.commands[argv[0]], argv[0], argv[1:]
+    if getattr(command, "commands", None):            # a group (ibr): its command
+        command, name, rest = command.commands[rest[0]], f"{name} {rest[0]}", rest[1:]
+    return command, name, rest
+
+
+def test_readme_lists_commands():
+    assert len(readme_commands()) >= 25
+
+
+@pytest.mark.parametrize("argv", readme_commands(), ids=lambda a: " ".join(a)[:60])
+def test_readme_command_parses(argv):
+    command, name, rest = resolve(expand(argv))
+    command.make_context(name, list(rest))         # raises on an option it does not take or a bad value
+    written = set()
+    for line in readme_commands():
+        if line == argv:
+            break
+        written |= {line[k + 1] for k, w in enumerate(line[:-1]) if w in OUTPUTS}
+    words = expand(argv)
+    for k, word in enumerate(words):
+        if word.endswith(SUFFIXES) and not (k and words[k - 1] in OUTPUTS) and word not in written:
+            assert (ROOT / word).exists(), f"{' '.join(argv)}: {word} does not exist"
