@@ -126,3 +126,28 @@ def test_switches_are_switches_with_their_default():
             if not p.required and p.opts != ["--help"]:
                 assert p.show_default is not False, f"{name} {p.opts[0]} hides its default"
     assert checked > 100
+
+
+def test_help_cites_papers_by_author_and_year():
+    """A figure, equation or algorithm named in a command's help says whose paper it is from."""
+    import re
+
+    import typer
+
+    from illusio.cli.main import app
+
+    def texts(group):
+        for command in group.commands.values():
+            if getattr(command, "commands", None):
+                yield from texts(command)
+                continue
+            yield command.help or ""
+            yield from (getattr(p, "help", None) or "" for p in command.params)
+
+    authors = ("Dehos", "Loscos", "Porquet", "Piranda", "Hanrahan", "Judd", "report", "DeCarlo", "Rusinkiewicz")
+    cited = 0
+    for text in texts(typer.main.get_command(app)):
+        if re.search(r"\b(Figure|[Ee]quation|eq\.|Algorithm) ?\(?\d", text):
+            assert any(a in text for a in authors), text
+            cited += 1
+    assert cited >= 4

@@ -39,7 +39,7 @@ def dof(
     fps: float = typer.Option(12.0, "--fps", help="frames per second of the video"),
     duration: float = typer.Option(None, "--duration", help="seconds of video (default: the scenario's length)"),
     debug: str = typer.Option(None, "--debug", help="write a map instead: coc (pixels / max, white = most blur), depth, "
-                                                    "or planes (each pixel's plane in grey levels, Figure 8)"),
+                                                    "or planes (each pixel's plane in grey levels, Piranda & Desorbier, Figure 8)"),
 ) -> None:
     """Render SCENE with depth of field from a thin-lens eye (one focus for both eyes in stereo)."""
     from ..core.context import default_context

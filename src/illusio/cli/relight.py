@@ -69,7 +69,7 @@ def relight_prepare(
     size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
     epsilon: float = typer.Option(INITIAL_HIERARCHY.epsilon, "--epsilon", help="ε of the initial BF radiosity solution (× total power)"),
-    mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1)"),
+    mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1) (Loscos 1999)"),
     fresh_solution: bool = typer.Option(False, "--fresh-solution/--no-fresh-solution",
                                         help="loscos: end on a fresh BFV solution over the final textures (Loscos 4.3.3)"),
 ) -> None:
@@ -98,7 +98,7 @@ def relight(
     size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
     epsilon: float = typer.Option(INITIAL_HIERARCHY.epsilon, "--epsilon", help="ε of the initial BF radiosity solution (× total power)"),
-    mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1)"),
+    mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1) (Loscos 1999)"),
     add_lamp: list[str] = typer.Option(None, "--add-lamp", help="X,Y,Z:EXITANCE — a virtual 40 cm lamp facing down at X,Y,Z (m), W/m² (repeatable)"),
     add_object: list[str] = typer.Option(None, "--add-object", help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)"),
     photograph: Path = typer.Option(None, "--photograph", help="also write the photograph used"),

@@ -63,7 +63,7 @@ def sis(
     pattern: str = typer.Option(_DEFAULT.pattern, "--pattern", help="random-dot, grey-dots, colour-dots, pink-noise, snow, or an image file"),
     strip_width: float = typer.Option(_DEFAULT.strip_width, "--strip-width", help="W_s, pixels: separation of the nearest depth"),
     depth_factor: float = typer.Option(_DEFAULT.depth_factor, "--depth-factor", help="β, pixels: separations span [W_s, W_s + β]"),
-    exact: bool = typer.Option(_DEFAULT.exact, "--exact/--no-exact", help="equation (3) of the physical screen instead of the linear W_s + β·D"),
+    exact: bool = typer.Option(_DEFAULT.exact, "--exact/--no-exact", help="equation (3) of the physical screen (Dehos et al. 2014) instead of the linear W_s + β·D"),
     screen_diagonal: float = typer.Option(_SCREEN.diagonal_cm, "--screen-diagonal", help="d, cm"),
     aspect: float = typer.Option(_SCREEN.aspect, "--aspect", help="a = width / height"),
     distance: float = typer.Option(_SCREEN.viewing_distance_cm, "--distance", help="f, viewer to screen, cm"),
@@ -181,7 +181,7 @@ def sis_scene(
     strip_width: float = typer.Option(_MULTI.stereogram.strip_width, "--strip-width", help="W_s for a 1920-pixel-wide frame (scaled with the size)"),
     depth_factor: float = typer.Option(_MULTI.stereogram.depth_factor, "--depth-factor", help="β for a 1920-pixel-wide frame"),
     emission: float = typer.Option(_MULTI.emission, "--emission", help="host glow (TV); 0 for a lit surface such as a wall"),
-    interactive: bool = typer.Option(_MULTI.interactive, "--interactive/--no-interactive", help="orient the hidden scene by the viewer's position (Figure 25)"),
+    interactive: bool = typer.Option(_MULTI.interactive, "--interactive/--no-interactive", help="orient the hidden scene by the viewer's position (Dehos et al. 2014, Figure 25)"),
     spin: float = typer.Option(_MULTI.spin, "--spin", help="degrees per frame the hidden scene turns"),
     size: str = typer.Option(f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"),
     frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
@@ -189,7 +189,8 @@ def sis_scene(
     video: Path = typer.Option(None, "--video", help="write the frames as a video (.mp4 or .gif)"),
     seed: int = typer.Option(_MULTI.stereogram.seed, "--seed", help="seed of the pattern"),
 ) -> None:
-    """Render SCENE with a stereogram on its host surface hiding another shape (Figure 22)."""
+    """Render SCENE with a stereogram on its host surface hiding another shape (Dehos et al. 2014,
+    the multi-scene pipeline of Figure 22)."""
     from ..core.context import default_context
     from ..sis.depth import hidden_scene
     from ..core.renderer import Frame
