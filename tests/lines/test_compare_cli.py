@@ -109,3 +109,26 @@ def test_curvature_output_maps_rows_to_the_file(tmp_path, capsys):
         assert np.array_equal(data["source_index"], old_to_file)
         np.testing.assert_allclose(data["vertices"], extra[data["source_index"]], atol=1e-6)
         assert data["faces"].max() < rows
+
+
+def test_lines_cli_styles_the_page(tmp_path, capsys):
+    """--colour, --line-width, --transparent and --antialias reach the PNG; a bad --antialias or
+    --colour is refused before anything is written."""
+    from illusio.core.images import read_image
+
+    out = tmp_path / "k.png"
+    code, _ = call(["lines", "torus-knot", "-o", str(out), "--size", "128x128", "--colour", "#ff0000",
+                    "--transparent", "--line-width", "2"], capsys)
+    assert code == 0
+    img = read_image(out)
+    assert img.shape[2] == 4 and img[..., 3].min() == 0 and img[..., 3].max() > 0.9
+    inked = img[..., 3] > 0.5
+    assert np.allclose(img[inked][:, :3], [1, 0, 0], atol=0.02)
+    thin, thick = tmp_path / "thin.png", tmp_path / "thick.png"
+    for path, width in ((thin, "1"), (thick, "3")):
+        assert call(["lines", "torus-knot", "-o", str(path), "--size", "128x128", "--line-width", width], capsys)[0] == 0
+    ink = [(1 - read_image(p)[..., :3].min(axis=-1)).sum() for p in (thin, thick)]
+    assert ink[1] > 2 * ink[0]
+    for args in (["--antialias", "7"], ["--colour", "purple"]):
+        code, _ = call(["lines", "torus-knot", "-o", str(tmp_path / "x.png"), *args], capsys)
+        assert code == 2 and not (tmp_path / "x.png").exists()

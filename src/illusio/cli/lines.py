@@ -43,6 +43,11 @@ def lines(
     grid: bool = typer.Option(False, "--grid/--no-grid", help="write the τ × λ grid of hybrid apparent ridges instead"),
     compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny or an edge IMAGE: print scores, write OUT-compare.png"),
     debug: str = typer.Option(None, "--debug", help="write a debug view instead: q1, t1 or curvature"),
+    line_width: float = typer.Option(1.0, "--line-width", help="line width in pixels of the output"),
+    colour: str = typer.Option(None, "--colour", help="one ink for every line: #rrggbb or R,G,B in [0, 1] (default: each type's)"),
+    transparent: bool = typer.Option(False, "--transparent/--no-transparent", help="a PNG with the paper transparent (alpha = ink)"),
+    fade: bool = typer.Option(False, "--fade/--no-fade", help="apparent ridges lighter where weak (|q| under the median ridge's), as rtsc does"),
+    antialias: int = typer.Option(2, "--antialias", help="draw at N× the size and reduce (1: no antialiasing)"),
 ) -> None:
     """Draw MESH with apparent ridges and the classic line types."""
     from ..core.context import default_context
@@ -63,7 +68,14 @@ def lines(
         # checked before anything is drawn: a mistyped method must not leave a drawing behind
         raise InputError(f"--compare {compare}: not an edge method ({', '.join(cmp.EDGE_METHODS)}) nor an image file"
                          f"{did_you_mean(compare, cmp.EDGE_METHODS)}")
+    from ..lines.style import LineStyle, parse_colour, ridge_strength, stylise
+
+    if not 1 <= antialias <= 4:
+        raise InputError(f"--antialias takes 1..4, got {antialias}")
+    style = LineStyle(width=line_width, colour=parse_colour(colour) if colour else None, transparent=transparent,
+                      fade=fade, supersample=antialias)
     w, h = parse_size(size)
+    parse_size(f"{w * antialias}x{h * antialias}")          # the supersampled drawing must fit too
     kinds = tuple(t.strip() for t in line_types.split(",") if t.strip())
     params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw, tau=tau, lam=lam,
                         threshold=threshold, min_ridge_pixels=min_ridge_pixels)
@@ -95,7 +107,10 @@ def lines(
         count = write_drawing_svg(out, drawing, params)
         typer.echo(f"wrote {out} ({count} polylines)")
     else:
-        write_image(out, drawing.image)
+        # the page: drawn again at antialias × the size (its lines then widened and reduced)
+        page = renderer.drawing(Frame(v, (w * antialias, h * antialias)), params) if antialias > 1 else drawing
+        strength = ridge_strength(page.q_t1, page.ridge_mask) if fade else None
+        write_image(out, stylise(page.image, style, strength))
         typer.echo(f"wrote {out} ({w}×{h})")
     if compare:
         ours = cmp.line_mask(drawing.image)
