@@ -8,17 +8,30 @@ from pathlib import Path
 
 from ..core.images import atomic_output
 
-__all__ = ["Item", "Section", "write_gallery"]
+__all__ = ["Item", "Section", "Table", "write_gallery"]
 
 
 @dataclass
 class Item:
     """One image or video (.mp4, .webm: shown as a looping video): its path relative to the gallery
-    folder, a caption, and optional details."""
+    folder, a caption, optional details, the paper figure it answers and the command that makes it
+    again."""
 
     image: str
     caption: str
     details: str = ""
+    figure: str = ""
+    command: str = ""
+
+
+@dataclass
+class Table:
+    """Scores or timings as a table (from the same run as the images): a caption, the header row and
+    the rows (cells as text)."""
+
+    caption: str
+    header: list[str]
+    rows: list[list[str]]
 
 
 @dataclass
@@ -26,6 +39,7 @@ class Section:
     title: str
     text: str = ""
     items: list[Item] = field(default_factory=list)
+    tables: list[Table] = field(default_factory=list)
 
 
 _STYLE = """
@@ -36,6 +50,9 @@ figure { margin: 0; background: #1b1b1b; padding: .6em; border-radius: 6px; }
 figure img, figure video { width: 100%; display: block; image-rendering: auto; }
 .broken { outline: 3px solid #c33; }
 figcaption { margin-top: .4em; } .details { color: #999; font-size: .85em; }
+code { color: #9cf; font-size: .85em; } table { border-collapse: collapse; margin: 1em 0; }
+td, th { border: 1px solid #444; padding: .25em .6em; text-align: right; } th { background: #222; }
+td:first-child, th:first-child { text-align: left; } caption { caption-side: top; text-align: left; color: #bbb; }
 """
 
 
@@ -77,6 +94,10 @@ def write_gallery(out_dir: str | Path, title: str, sections: list[Section], foot
         parts.append(f"<h2>{html.escape(s.title)}</h2>")
         if s.text:
             parts.append(f"<p>{html.escape(s.text)}</p>")
+        for t in s.tables:
+            head = "".join(f"<th>{html.escape(c)}</th>" for c in t.header)
+            body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in t.rows)
+            parts.append(f"<table><caption>{html.escape(t.caption)}</caption><tr>{head}</tr>{body}</table>")
         parts.append("<div class='grid'>")
         for it in s.items:
             src = html.escape(it.image, quote=True)
@@ -86,7 +107,9 @@ def write_gallery(out_dir: str | Path, title: str, sections: list[Section], foot
                 media = f"<a href='{src}'><img src='{src}' alt='{html.escape(it.caption, quote=True)}'></a>"
             parts.append(f"<figure>{media}"
                          f"<figcaption>{html.escape(it.caption)}"
+                         + (f" <span class='details'>({html.escape(it.figure)})</span>" if it.figure else "")
                          + (f"<div class='details'>{html.escape(it.details)}</div>" if it.details else "")
+                         + (f"<div><code>{html.escape(it.command)}</code></div>" if it.command else "")
                          + "</figcaption></figure>")
         parts.append("</div>")
     if footer:

@@ -12,7 +12,7 @@ import numpy as np
 from ..core.context import Context
 from ..core.images import write_image
 from ..passes.mitsuba import mitsuba_available
-from .html import Item, Section
+from .html import Item, Section, Table
 
 __all__ = ["relight_showcase"]
 
@@ -47,7 +47,11 @@ def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: in
     section.items.append(Item(rel, "photograph | the mesh after the texture-based refinement (4.3.1) | the "
                                    "textures without the photographed shadows (4.3.2)",
                               f"{loscos.solution.stats.leaves} leaves: {stats.split} splits kept, {stats.undone} "
-                              "undone (no change of visibility under them, Figure 4.8a)"))
+                              "undone (no change of visibility under them, Figure 4.8a)",
+                              figure="Loscos 1999, Figures 4.8b and 4.12",
+                              command=f"illusio relight office --method loscos --show mesh --size {small[0]}x{small[1]} -o mesh.png"))
+    table = Table(f"Mean relative error against Mitsuba's render of each edit ({spp} paths a pixel, noise included) "
+                  "and the time of the edit", ["edit"] + list(METHODS), [])
     for name, edit in EDITS.items():
         factor = np.array([edit.get(n, 1.0) for n in p.names])[p.group]
         truth = render_mitsuba(dataclasses.replace(p, exitance=p.exitance * factor[:, None]), real.view, small, spp, seed=5)
@@ -56,13 +60,16 @@ def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: in
             image = session.image(edit)
             ids = session.pixel_polygon
             s = score(image, truth, (ids >= 0) & ~lamp[np.maximum(ids, 0)])
-            notes.append(f"{method} {100 * s.mean_relative_error:.0f} % ({session.times['edit'] * 1000:.0f} ms)")
+            notes.append(f"{100 * s.mean_relative_error:.0f} % ({session.times['edit'] * 1000:.0f} ms)")
             panels.append(image)
         rel = f"relight/office-{name.replace(' ', '-').replace(',', '')}.png"
         write_image(out_dir / rel, np.clip(np.concatenate(panels, axis=1), 0, 1))
+        sets = " ".join(f"--set {k}={v:g}" for k, v in edit.items())
         section.items.append(Item(rel, f"{name}: photograph | truth | " + " | ".join(METHODS),
-                                  "mean relative error against the truth (both at "
-                                  f"{spp} paths a pixel, so noise included) and the time of the edit: " + ", ".join(notes)))
+                                  "scores in the table above", figure="Loscos 1999, Figure 4.17",
+                                  command=f"illusio relight office {sets} --method per-pixel -o relit.png"))
+        table.rows.append([name] + notes)
+    section.tables.append(table)
     for session in sessions.values():
         session.release()
     return section
