@@ -47,3 +47,25 @@ def test_readme_command_parses(argv):
     for k, word in enumerate(words):
         if word.endswith(SUFFIXES) and not (k and words[k - 1] in OUTPUTS) and word not in written:
             assert (ROOT / word).exists(), f"{' '.join(argv)}: {word} does not exist"
+
+
+#: README lines run as written here (the others need a window, a long path-traced reference, a demo
+#: or batch run of minutes: parsed above only)
+RUN = ("info", "list", "render", "lines", "curvature", "dof", "radiosity office", "relight")
+
+
+@pytest.mark.parametrize("argv", [a for a in readme_commands() if " ".join(a).startswith(RUN) and "--scenario" not in a],
+                         ids=lambda a: " ".join(a)[:60])
+def test_readme_command_runs_as_written(argv, tmp_path, monkeypatch, capsys):
+    from tests.conftest import call_cli
+
+    if argv[0] == "relight":
+        pytest.importorskip("mitsuba", reason="the built-in photograph is path-traced (photo extra)")
+    (tmp_path / "examples").symlink_to(ROOT / "examples")
+    monkeypatch.chdir(tmp_path)
+    code, out = call_cli(argv, capsys)
+    assert code == 0, out.err
+    words = expand(argv)
+    for k, word in enumerate(words[:-1]):
+        if word in ("-o", "--output"):
+            assert (tmp_path / words[k + 1]).stat().st_size > 0

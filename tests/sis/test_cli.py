@@ -71,8 +71,8 @@ def test_a_colour_depth_map_is_read_as_luminance_with_a_warning(tmp_path):
     from illusio.sis.depth import read_depth
 
     colour = np.zeros((8, 8, 3), np.float32)
-    colour[..., 1] = 1.0                                                    # pure green: luminance 0.7152
+    colour[..., 1] = np.linspace(0.2, 1.0, 8)[None, :]                     # green: luminance 0.7152 × G
     write_image(tmp_path / "green.png", colour, srgb=False)
     with pytest.warns(UserWarning, match="colour image"):
         d = read_depth(tmp_path / "green.png")
-    assert np.allclose(d, 1 - 0.7152, atol=0.01)
+    assert np.allclose(d, 1 - 0.7152 * colour[..., 1], atol=0.01)
