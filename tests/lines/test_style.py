@@ -74,3 +74,32 @@ def test_colour_parsing():
     for bad in ("red", "1,2,3", "#12345", "0,0"):
         with pytest.raises(InputError):
             parse_colour(bad)
+
+
+def test_debug_maps_carry_a_colour_legend(ctx):
+    """The curvature debug view's bottom band is a bar from blue (concave) to red (convex) with its
+    labels drawn under it; q1's is a grey ramp; the view above the band is untouched."""
+    from illusio.core.renderer import Frame
+    from illusio.lines.debug import debug_view
+    from illusio.lines.drawing import LineRenderer, framing_view
+    from illusio.scene.builtin import shapes
+
+    mesh = shapes.torus()
+    renderer = LineRenderer(ctx)
+    renderer.prepare(mesh)
+    view = framing_view(mesh)
+    drawing = renderer.drawing(Frame(view, (200, 160)))
+    curvature = renderer.curvature()
+    for kind in ("curvature", "q1", "t1"):
+        plain = debug_view(kind, drawing, mesh, curvature, legend=False)
+        shown = debug_view(kind, drawing, mesh, curvature)
+        band = 20
+        assert shown.shape == plain.shape and np.array_equal(shown[:-band], plain[:-band])
+        bar = shown[-band:-band // 2]
+        if kind == "curvature":
+            assert bar[0, 2, 2] > bar[0, 2, 0] + 0.3 and bar[0, -3, 0] > bar[0, -3, 2] + 0.3
+        if kind == "q1":
+            assert bar[0, 2].max() < 0.05 and bar[0, -3].min() > 0.95
+        labels = shown[-band // 2:]
+        assert (labels.max(axis=-1) < 0.2).sum() > 20                      # dark text under the bar
+    renderer.release()
