@@ -29,10 +29,11 @@ def _curvature_colour(mean: np.ndarray) -> np.ndarray:
 def _legend_of(kind: str):
     t = np.linspace(0.0, 1.0, 256)
     if kind == "q1":
-        return np.repeat(t[:, None], 3, axis=1), ("q1 0", "0.5", "≥ 1")
+        return np.repeat(t[:, None], 3, axis=1), ("q1 0", "0.5", ">= 1")
     if kind == "t1":
-        return _direction_colour(t * np.pi), ("t1 0°", "90°", "180°")
-    return _curvature_colour(t - 0.5), ("−0.5 concave", "0 mean curvature × scale", "+0.5 convex")
+        return _direction_colour(t * np.pi), ("t1 at 0 deg", "90 deg", "180 deg")
+    # ASCII only: PIL's built-in bitmap font has no minus sign or multiplication sign
+    return _curvature_colour(t - 0.5), ("-0.5 concave", "0  (mean curvature / scale)", "+0.5 convex")
 
 
 def with_legend(image: np.ndarray, colours: np.ndarray, labels: tuple[str, str, str]) -> np.ndarray:
