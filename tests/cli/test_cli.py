@@ -72,6 +72,12 @@ def test_demo_writes_gallery_with_existing_images(tmp_path):
     for rel in images:
         assert (tmp_path / "g" / rel).is_file()
     assert all(f"scenes/{n}-main.png" in page for n in ("living-room", "office", "museum", "turntable"))
+    written = {p.relative_to(tmp_path / "g").as_posix() for p in (tmp_path / "g").rglob("*") if p.is_file()}
+    unshown = sorted(w for w in written - {"index.html"} if f"'{w}'" not in page)
+    assert not unshown, f"written but not on the page: {unshown}"
+    # scores in tables, and most items say how to make them again (the maps and patterns that are a
+    # step of another item's pipeline have no command of their own)
+    assert page.count("<table>") >= 3 and page.count("<code>illusio ") >= 0.75 * page.count("<figure>")
 
 
 def test_demo_unknown_showcase_is_an_error(tmp_path):

@@ -19,7 +19,10 @@ from ..dof.params import DofParams
 from ..dof.reference import plane_index
 from ..dof.renderer import DofRenderer
 from ..scene.builtin import builtin_scene
-from .html import Item, Section
+from .html import Item, Section, Table
+
+#: the paper the figures below are from
+PAPER = "Piranda & de Sorbier, "
 
 __all__ = ["dof_showcase"]
 
@@ -39,7 +42,9 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     write_image(out_dir / "dof/museum-accumulation.png", reference)
     section.items.append(Item("dof/museum-accumulation.png", f"accumulation (the reference), focus on the blue "
                               f"superquadric at {base.focus_distance:.2f} m, aperture {base.aperture_mm:g} mm",
-                              "64 lens positions averaged"))
+                              "64 lens positions averaged",
+                              command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method accumulation "
+                                      f"--size {size[0]}x{size[1]} -o accumulation.png"))
     rows = []
     for method in ("gather", "mipmap", "planes", "planes-improved"):
         params = replace(base, method=method)
@@ -51,21 +56,29 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
         psnr = 10 * np.log10(1 / max(error**2, 1e-12))
         rows.append((method, f"{psnr:.1f} dB", f"{ms:.0f} ms"))
         write_image(out_dir / f"dof/museum-{method}.png", image)
-        section.items.append(Item(f"dof/museum-{method}.png", method, f"PSNR against the reference {psnr:.1f} dB; {ms:.0f} ms"))
+        section.items.append(Item(f"dof/museum-{method}.png", method, "PSNR and time in the table above",
+                                  figure=PAPER + ("section 3.2" if method.startswith("planes") else "section 2"),
+                                  command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method {method} "
+                                          f"--size {size[0]}x{size[1]} -o {method}.png"))
+    section.tables.append(Table(f"Against the accumulation reference, {size[0]}×{size[1]}, {ctx.info()['renderer']}",
+                                ["method", "PSNR", "time"], [list(r) for r in rows]))
     maps = {k: ctx.readback(renderer.maps()[k])[..., 0] for k in ("coc", "depth")}
     write_image(out_dir / "dof/museum-coc.png", np.clip(maps["coc"] / base.max_coc, 0, 1), srgb=False)
     section.items.append(Item("dof/museum-coc.png", "circle of confusion (black: in focus; white: the largest drawn, "
-                              f"{base.max_coc:g} px)", "dof.lens: A·|1/d − 1/d_f|·H / (2 tan(fov/2))"))
+                              f"{base.max_coc:g} px)", "dof.lens: A·|1/d − 1/d_f|·H / (2 tan(fov/2))",
+                              command="illusio dof museum --focus-object exhibit-superquadric --aperture 120 --debug coc -o coc.png"))
     distances = renderer.last_planes
     write_image(out_dir / "dof/museum-planes-debug.png", plane_index(maps["depth"], distances) / (len(distances) - 1), srgb=False)
-    section.items.append(Item("dof/museum-planes-debug.png", "the planes each pixel takes, in grey levels (Figure 8)",
+    section.items.append(Item("dof/museum-planes-debug.png", "the planes each pixel takes, in grey levels",
+                              figure=PAPER + "Figure 8", command="illusio dof museum --debug planes -o planes.png", details=
                               f"{base.planes_behind} behind, {base.planes_front} in front of the focal plane, "
                               f"{base.distribution} spreading"))
     section.items.append(_table(out_dir / "dof/methods.png", rows, f"{size[0]}×{size[1]}, {ctx.info()['renderer']}"))
     anaglyph = renderer.render(frame, replace(base, stereo="anaglyph", method="planes-improved"))
     write_image(out_dir / "dof/museum-anaglyph.png", anaglyph)
     section.items.append(Item("dof/museum-anaglyph.png", "the stereo pair as a red-cyan anaglyph (Dubois)",
-                              "one focus for both eyes; zero parallax at the focus distance"))
+                              "one focus for both eyes; zero parallax at the focus distance",
+                              command="illusio dof museum -o m.png --focus-object exhibit-superquadric --aperture 120 --stereo anaglyph"))
     renderer.release()
     section.items.append(_scenario_video(ctx, out_dir, size))
     section.items.append(_museum_walk(ctx, out_dir, size))
@@ -107,7 +120,8 @@ def _museum_walk(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float 
             t = i / fps
             video.append(renderer.render(Frame(path.view(t, scene.camera().camera), small, t, i), params))
     renderer.release()
-    return Item("dof/museum-walk.mp4", "Figure 12 — a museum walk, the focus on the exhibit nearest the visitor",
+    return Item("dof/museum-walk.mp4", "a museum walk, the focus on the exhibit nearest the visitor", figure=PAPER + "Figure 12",
+                details=
                 f"policy nearest-exhibit, accommodation {params.accommodation:g} s; {count} frames at {fps:g} fps")
 
 
@@ -133,5 +147,7 @@ def _scenario_video(ctx: Context, out_dir: Path, size: tuple[int, int], fps: flo
             focus = player.focus_distance(view, t)
             video.append(renderer.render(Frame(view, small, t, i), replace(params, focus_distance=focus or params.focus_distance)))
     renderer.release()
-    return Item("dof/futuristic-scenario.mp4", "Figure 11 — the scenario (dof/scenarios/futuristic.txt) as a red-cyan anaglyph",
+    return Item("dof/futuristic-scenario.mp4", "the scenario (dof/scenarios/futuristic.txt) as a red-cyan anaglyph",
+                figure=PAPER + "Figure 11", command="illusio dof futuristic --scenario futuristic --video fig11.mp4 --stereo anaglyph",
+                details=
                 f"improved planes; the focus follows the script: ship, robot when it fires, projectile, ship; {count} frames at {fps:g} fps")

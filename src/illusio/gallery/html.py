@@ -22,6 +22,7 @@ class Item:
     details: str = ""
     figure: str = ""
     command: str = ""
+    files: tuple[str, ...] = ()          # other files it comes with (a camera path), linked
 
 
 @dataclass
@@ -110,6 +111,8 @@ def write_gallery(out_dir: str | Path, title: str, sections: list[Section], foot
                          + (f" <span class='details'>({html.escape(it.figure)})</span>" if it.figure else "")
                          + (f"<div class='details'>{html.escape(it.details)}</div>" if it.details else "")
                          + (f"<div><code>{html.escape(it.command)}</code></div>" if it.command else "")
+                         + ("".join(f"<div class='details'><a href='{html.escape(f, quote=True)}'>{html.escape(f)}</a></div>"
+                                    for f in it.files))
                          + "</figcaption></figure>")
         parts.append("</div>")
     if footer:

@@ -63,7 +63,10 @@ def ibr_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float 
     renderer.release()
     truth.release()
     section.items.append(Item("ibr/office-walk.mp4", "a walk through the office from 3 reference views",
-                              f"{count} frames; PSNR against the ground truth {min(scores):.1f}–{max(scores):.1f} dB"))
+                              f"{count} frames; PSNR against the ground truth {min(scores):.1f}–{max(scores):.1f} dB",
+                              figure="Porquet 2005", command="illusio ibr capture office --views 3 -o refs && "
+                                                             "illusio ibr render refs --camera between:0,1 -o between.png"))
     section.items.append(Item("ibr/office-middle.png", "the walk's middle frame: reconstruction, ground truth, source views",
-                              f"PSNR {scores[count // 2]:.1f} dB"))
+                              f"PSNR {scores[count // 2]:.1f} dB", figure="Porquet 2005, Figure 4.5 (source views)",
+                              command="illusio ibr render refs --camera between:0,1 --show-sources -o sources.png"))
     return section

@@ -8,6 +8,8 @@ import os
 import warnings
 from pathlib import Path
 
+import numpy as np
+
 from ..core.context import Context
 from ..core.images import write_image
 from ..lines import compare as cmp
@@ -49,9 +51,10 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
         img = renderer.render(Frame(view, tile), LineParams(lines=kinds))
         rel = f"lines/knot-{'-'.join(kinds)}.png"
         write_image(out_dir / rel, img)
-        section.items.append(Item(rel, label, "built-in torus knot"))
+        section.items.append(Item(rel, label, "built-in torus knot", figure="Judd et al. 2007 and the report, ch. 2",
+                                  command=f"illusio lines torus-knot --lines {','.join(kinds)} -o knot.png"))
     models = _models()
-    meshes = [("blob", shape("blob"), (30, 15))]
+    meshes = [("blob", shape("blob"), (30, 15), "blob")]
     if not models:
         note = ("the scanned test meshes were not found (../shared/data/models, or set ILLUSIO_MODELS to their folder): "
                 "the line-drawing section shows built-in shapes only")
@@ -60,31 +63,68 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
     else:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            meshes += [(name, load_mesh(models / f), v) for name, f, v in TEST_MESHES if (models / f).exists()]
-    for name, mesh, (az, el) in meshes:
+            meshes += [(name, load_mesh(models / f), v, f"../shared/data/models/{f}") for name, f, v in TEST_MESHES
+                       if (models / f).exists()]
+    for name, mesh, (az, el), source in meshes:
         v = framing_view(mesh, az, el)
         renderer.prepare(mesh)
         img = renderer.render(Frame(v, tile), LineParams())
         write_image(out_dir / f"lines/{name}.png", img)
-        section.items.append(Item(f"lines/{name}.png", f"{name}: default drawing", "apparent ridges (hybrid) + silhouettes"))
+        section.items.append(Item(f"lines/{name}.png", f"{name}: default drawing", "apparent ridges (hybrid) + silhouettes",
+                                  command=f"illusio lines {source} --view {az},{el} -o {name}.png"))
     # the τ × λ grid (Figure 4.2) and the comparison with Canny, on the last mesh shown
-    name, mesh, (az, el) = meshes[min(1, len(meshes) - 1)]
+    name, mesh, (az, el), _ = meshes[min(1, len(meshes) - 1)]
     v = framing_view(mesh, az, el)
     renderer.prepare(mesh)
     write_image(out_dir / "lines/grid.png", parameter_grid(renderer, v, (side // 3, side // 3)))
-    section.items.append(Item("lines/grid.png", f"τ × λ grid on the {name} (report Figure 4.2)", "rows τ = −3, −2, −1, 0; columns λ = 0, 0.5, 1, 2"))
+    section.items.append(Item("lines/grid.png", f"τ × λ grid on the {name}", "rows τ = −3, −2, −1, 0; columns λ = 0, 0.5, 1, 2",
+                              figure="the apparent-ridges report, Figure 4.2", command="illusio lines torus-knot --grid -o grid.png"))
     phong = cmp.phong_render(ctx, mesh, v, tile)
     write_image(out_dir / "lines/phong.png", phong)
     target = cmp.image_edges(phong, "canny")
+    section.items.append(f1_map(renderer, v, tile, target, out_dir, "lines/grid-f1.png", name))
     ours = cmp.line_mask(renderer.render(Frame(v, tile), LineParams()))
     s = cmp.score(ours, target)
     write_image(out_dir / "lines/compare-canny.png", cmp.overlay(ours, target))
     section.items.append(Item("lines/phong.png", "the shaded render the edge detectors see", "Lambert + Phong, lamps at and above the eye"))
-    section.items.append(Item("lines/compare-canny.png", "apparent ridges + silhouettes against Canny edges", f"red ours only, blue Canny only, black both; {s}"))
+    section.items.append(Item("lines/compare-canny.png", "apparent ridges + silhouettes against Canny edges", f"red ours only, blue Canny only, black both; {s}",
+                              figure="the apparent-ridges report, ch. 4", command="illusio lines torus-knot --compare canny -o k.png"))
     hybrid = renderer.render(Frame(v, tile), LineParams(lines=("apparent-ridges",)))
     judd = renderer.render(Frame(v, tile), LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space"))
     agree = cmp.score(cmp.line_mask(hybrid), cmp.line_mask(judd), 3.0)
     write_image(out_dir / "lines/methods.png", cmp.overlay(cmp.line_mask(hybrid), cmp.line_mask(judd)))
-    section.items.append(Item("lines/methods.png", "hybrid (red) against Judd's object-space apparent ridges + contours (blue)", f"agreement: {agree}"))
+    section.items.append(Item("lines/methods.png", "hybrid (red) against Judd's object-space apparent ridges + contours (blue)", f"agreement: {agree}",
+                              figure="the apparent-ridges report, ch. 3", command="illusio lines torus-knot --method object-space -o judd.png"))
     renderer.release()
     return section
+
+
+def f1_map(renderer, view, tile, target, out_dir: Path, rel: str, name: str) -> Item:
+    """The τ × λ grid as a colour map: F1 of each hybrid drawing against the Canny edges of the shaded
+    render (what "best parameters" means, one number per cell), with its colour scale."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..core.images import atomic_output
+    from ..lines.tuning import LAMBDAS, TAUS
+
+    f1 = np.array([[cmp.score(cmp.line_mask(renderer.render(Frame(view, tile), LineParams(tau=t, lam=lam))), target).f1
+                    for lam in LAMBDAS] for t in TAUS])
+    fig, ax = plt.subplots(figsize=(4.8, 3.6), dpi=100)
+    shown = ax.imshow(f1, cmap="viridis", vmin=0, vmax=max(float(f1.max()), 1e-3))
+    ax.set_xticks(range(len(LAMBDAS)), [f"{v:g}" for v in LAMBDAS])
+    ax.set_yticks(range(len(TAUS)), [f"{v:g}" for v in TAUS])
+    ax.set_xlabel("λ (direction-adaptive filter)")
+    ax.set_ylabel("τ")
+    for (r, c), v in np.ndenumerate(f1):
+        ax.text(c, r, f"{v:.2f}", ha="center", va="center", color="white" if v < 0.6 * f1.max() else "black", fontsize=8)
+    fig.colorbar(shown, ax=ax, label="F1 against Canny edges")
+    fig.tight_layout()
+    with atomic_output(out_dir / rel) as tmp:
+        fig.savefig(tmp, format="png")
+    plt.close(fig)
+    r, c = np.unravel_index(int(np.argmax(f1)), f1.shape)
+    return Item(rel, f"τ × λ on the {name}: F1 of each cell against Canny edges",
+                f"best τ = {TAUS[r]:g}, λ = {LAMBDAS[c]:g} (F1 {f1[r, c]:.2f})", figure="the apparent-ridges report, Figure 4.2")

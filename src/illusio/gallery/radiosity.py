@@ -50,7 +50,9 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
             note += "; Mitsuba not installed (pip install 'illusio[photo]'), no reference"
         rel = f"radiosity/{name}.png"
         write_image(out_dir / rel, np.concatenate(panels, axis=1))
-        section.items.append(Item(rel, f"{name}: radiosity, element mesh, path tracing", note))
+        section.items.append(Item(rel, f"{name}: radiosity, element mesh, path tracing", note,
+                                  figure="Hanrahan et al. 1991; Loscos 1999, Figure 4.6",
+                                  command=f"illusio radiosity {name} -o {name}.png --reference {name}-mitsuba.png --spp {spp} --stats"))
         if name == "office":
             off = RadiosityParams(lamp_scales=(("lamp-0", 0.0), ("lamp-2", 0.0), ("lamp-3", 2.0)))
             t0 = time.perf_counter()
@@ -60,6 +62,8 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
             write_image(out_dir / rel, np.concatenate([np.clip(image, 0, 1), relit], axis=1))
             section.items.append(Item(rel, "the office relit: lamps 0 and 2 off, lamp 3 doubled",
                                       f"re-solved with the links kept and drawn in {ms:.0f} ms "
-                                      f"({renderer.solution.result.iterations} iterations of gather + push-pull)"))
+                                      f"({renderer.solution.result.iterations} iterations of gather + push-pull)",
+                                      figure="Loscos 1999, section 4.4.2",
+                                      command="illusio radiosity office -o relit.png --set-lamp lamp-0=0 --set-lamp lamp-2=0 --set-lamp lamp-3=2"))
     renderer.release()
     return section

@@ -40,7 +40,8 @@ def builtin_scenes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
             tris = renderer.gpu_scene.triangle_count
             section.items.append(Item(rel, f"{name} — camera '{cam_name}'",
                                       f"{len(scene.nodes)} nodes, {tris:,} triangles, {len(scene.lights)} lights; "
-                                      f"{size[0]}×{size[1]} in {ms:.0f} ms on {ctx.info()['renderer']}"))
+                                      f"{size[0]}×{size[1]} in {ms:.0f} ms on {ctx.info()['renderer']}",
+                                      command=f"illusio render {name} --camera {cam_name} --size {size[0]}x{size[1]} -o {name}.png"))
     return section
 
 
@@ -56,7 +57,8 @@ def builtin_shapes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
         rel = f"shapes/{name}.png"
         write_image(out_dir / rel, img)
         m = scene.node("subject").mesh
-        section.items.append(Item(rel, name, f"{len(m.vertices):,} vertices, {len(m.faces):,} triangles"))
+        section.items.append(Item(rel, name, f"{len(m.vertices):,} vertices, {len(m.faces):,} triangles",
+                                  command=f"illusio render {name} --size {small[0]}x{small[1]} -o {name}.png"))
     return section
 
 

@@ -21,7 +21,10 @@ from ..sis.params import ALGORITHMS, StereogramParams
 from ..sis.physics import Screen, depth_range, separation_px
 from ..sis.reference import separation
 from ..sis.stereogram import StereogramRenderer
-from .html import Item, Section
+from .html import Item, Section, Table
+
+#: the paper every figure below is from
+PAPER = "Dehos et al. 2014, "
 
 __all__ = ["sis_showcase"]
 
@@ -36,23 +39,34 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     depth = depth_from_scene(ctx, hidden_scene(shape("torus-knot")), (w, h))
     sis.prepare(depth)
     write_image(out_dir / "sis/depth.png", 1.0 - depth)
-    section.items.append(Item("sis/depth.png", "Figure 28 — depth map", "rendered torus knot, white = near"))
+    section.items.append(Item("sis/depth.png", "depth map", "rendered torus knot, white = near", figure=PAPER + "Figure 28"))
     base = StereogramParams(strip_width=max(2.0, 100 * scale), depth_factor=max(1.0, 50 * scale), guides=True)
     texture_path = out_dir / "sis/planks-texture.png"
     write_image(texture_path, textures.planks(256, 3, 5))  # the wallpaper stripes are too faint to fuse
+    section.items.append(Item("sis/planks-texture.png", "the pattern the texture stereogram repeats", "planks, 256 px"))
     for name, params in (("random-dot", base), ("texture", StereogramParams(**{**base.__dict__, "pattern": str(texture_path)}))):
         img = sis.render(Frame(size=(w, h)), params)
         rel = f"sis/{name}.png"
         write_image(out_dir / rel, img)
-        section.items.append(Item(rel, f"Figure 28 — {name} stereogram", f"fast GPU pass, W_s = {params.strip_width:.0f}, β = {params.depth_factor:.0f} px"))
+        pattern = " --pattern planks-texture.png" if name == "texture" else ""
+        section.items.append(Item(rel, f"{name} stereogram", f"fast GPU pass, W_s = {params.strip_width:.0f}, β = {params.depth_factor:.0f} px",
+                                  figure=PAPER + "Figure 28",
+                                  command=f"illusio sis torus-knot -o {name}.png --size {w}x{h} --strip-width {params.strip_width:g} "
+                                          f"--depth-factor {params.depth_factor:g} --guides{pattern}"))
     sep = separation(depth, base.strip_width, base.depth_factor)
+    checks = Table("Self-check: each algorithm's stereogram decoded back (window matching) against the separations "
+                   "it was made from", ["algorithm", "within 1 px", "pixels checked", "mean error (px)"], [])
+    section.tables.append(checks)
     for algorithm in ALGORITHMS:
         params = StereogramParams(**{**base.__dict__, "algorithm": algorithm, "guides": False})
         img = sis.render(Frame(size=(w, h)), params)
         report = check(img, sep, int(params.far_separation + 0.5), "centre" if algorithm == "symmetric" else "left")
         rel = f"sis/algorithm-{algorithm}.png"
         write_image(out_dir / rel, img)
-        section.items.append(Item(rel, f"{algorithm} algorithm", f"self-check: {report}"))
+        section.items.append(Item(rel, f"{algorithm} algorithm", "self-check in the table above", figure=PAPER + "Algorithm 1",
+                                  command=f"illusio sis torus-knot -o {algorithm}.png --size {w}x{h} --algorithm {algorithm} "
+                                          f"--strip-width {params.strip_width:g} --depth-factor {params.depth_factor:g}"))
+        checks.rows.append([algorithm, f"{report.matched:.1%}", f"{report.checked:,}", f"{report.mean_error:.3f}"])
     scene = builtin_scene("living-room")
     multi = MultiSceneRenderer(ctx)
     hidden = hidden_scene(shape("torus-knot"))
@@ -61,35 +75,48 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
         img = multi.render(Frame(scene.camera(camera), (w, h), index=1), MultiSceneParams())
         rel = f"sis/tv-{camera}.png"
         write_image(out_dir / rel, img)
-        section.items.append(Item(rel, f"Figure 23 — TV snow hiding a torus knot ('{camera}' camera)", "stereogram computed in screen space, shown as the TV's glow"))
+        section.items.append(Item(rel, f"TV snow hiding a torus knot ('{camera}' camera)", "stereogram computed in screen space, shown as the TV's glow",
+                                  figure=PAPER + "Figure 23", command=f"illusio sis-scene living-room --camera {camera} -o tv.png --size {w}x{h}"))
         d = ctx.readback(multi.maps()["depth"])[..., 0]
         write_image(out_dir / f"sis/tv-{camera}-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
-        section.items.append(Item(f"sis/tv-{camera}-depth.png", "its screen-space depth (step 2 of Figure 22)", "white = near, black = off the TV"))
+        section.items.append(Item(f"sis/tv-{camera}-depth.png", "its screen-space depth", "white = near, black = off the TV",
+                                  figure=PAPER + "Figure 22, step 2"))
     frames = []
     spinning = MultiSceneParams(spin=15.0)
     for f in range(24):  # the snow changes and the hidden knot turns every frame
         frames.append(multi.render(Frame(scene.camera("tv"), (w // 2, h // 2), f / 24, f), spinning))
     write_video(out_dir / "sis/tv-animated.gif", frames)
-    section.items.append(Item("sis/tv-animated.gif", "Section 4.3 — animated snow and a turning hidden knot",
+    section.items.append(Item("sis/tv-animated.gif", "animated snow and a turning hidden knot", figure=PAPER + "section 4.3",
+                              command=f"illusio sis-scene living-room --camera tv --frames 24 --spin 15 --video tv.gif -o tv.png --size {w // 2}x{h // 2}",
+                              details=
                               "24 frames, 15° per frame; each frame's stereogram is recomputed from the new depth and snow"))
     wall_texture = out_dir / "sis/wall-texture.png"
     write_image(wall_texture, textures.value_noise(256, 32, seed=4)[..., None] * np.array([0.55, 0.45, 0.35]) + np.array([0.35, 0.3, 0.25]))
+    section.items.append(Item("sis/wall-texture.png", "the wall's own texture, the pattern of its stereogram",
+                              "value noise, 256 px"))
     wall = MultiSceneParams(host="back-wall", stereogram=StereogramParams(pattern=str(wall_texture), strip_width=100, depth_factor=40),
                             emission=0.0)
     multi.prepare(MultiSceneSubject(scene, hidden_scene(shape("torus"))))
     img = multi.render(Frame(scene.camera("main"), (w, h), index=1), wall)
     write_image(out_dir / "sis/wall.png", img)
-    section.items.append(Item("sis/wall.png", "Figure 24 — a texture stereogram as the wall behind the sofa",
+    section.items.append(Item("sis/wall.png", "a texture stereogram as the wall behind the sofa", figure=PAPER + "Figure 24",
+                              command=f"illusio sis-scene living-room --camera main --host back-wall --hidden torus --pattern wall-texture.png "
+                                      f"--strip-width 100 --depth-factor 40 --emission 0 -o wall.png --size {w}x{h}",
+                              details=
                               "the wall's mottled texture hides a torus; lit like any wall (no glow)"))
     d = ctx.readback(multi.maps()["depth"])[..., 0]
     write_image(out_dir / "sis/wall-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
-    section.items.append(Item("sis/wall-depth.png", "Figure 24 (bottom) — the wall's screen-space depth", "white = near, black = off the wall"))
+    section.items.append(Item("sis/wall-depth.png", "the wall's screen-space depth", "white = near, black = off the wall",
+                              figure=PAPER + "Figure 24 (bottom)"))
     interactive = MultiSceneParams(host="rug", stereogram=StereogramParams(pattern="random-dot", strip_width=100, depth_factor=40),
                                    emission=0.0, interactive=True)
     multi.prepare(MultiSceneSubject(scene, hidden))
     img = multi.render(Frame(scene.camera("main"), (w, h), index=1), interactive)
     write_image(out_dir / "sis/interactive-rug.png", img)
-    section.items.append(Item("sis/interactive-rug.png", "Figure 25 — interaction mode on the rug",
+    section.items.append(Item("sis/interactive-rug.png", "interaction mode on the rug", figure=PAPER + "Figure 25",
+                              command=f"illusio sis-scene living-room --camera main --host rug --pattern random-dot --strip-width 100 "
+                                      f"--depth-factor 40 --emission 0 --interactive -o rug.png --size {w}x{h}",
+                              details=
                               "the hidden knot is seen from where the viewer stands relative to the rug"))
     return section
 
@@ -118,4 +145,5 @@ def separation_plot(out_dir: Path, rel: str, strip_width: float = 100.0, depth_f
     with atomic_output(out_dir / rel) as tmp:
         fig.savefig(tmp, format="png")
     plt.close(fig)
-    return Item(rel, "Figure 20 — separation against depth", f"[W_s, W_s + β] = [{strip_width:g}, {strip_width + depth_factor:g}] px simulates f' ∈ [{near:.0f}, {far:.0f}] cm")
+    return Item(rel, "separation against depth", f"[W_s, W_s + β] = [{strip_width:g}, {strip_width + depth_factor:g}] px simulates f' ∈ [{near:.0f}, {far:.0f}] cm",
+                figure="Dehos et al. 2014, Figure 20")

@@ -37,5 +37,9 @@ def viewer_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], fps: flo
         rel_path, rel_video = f"viewer/{stem}.json", f"viewer/{stem}.mp4"
         path.save(out_dir / rel_path)
         count = record(technique, source, view, (w, h), path, fps, out_dir / rel_video, ctx=ctx)
-        section.items.append(Item(rel_video, caption, f"{count} frames at {fps:g} fps, {w}×{h}; camera path {rel_path}"))
+        source_arg = f" {source}" if source else ""
+        view_arg = f" --view {view}" if view else ""
+        section.items.append(Item(rel_video, caption, f"{count} frames at {fps:g} fps, {w}×{h}", files=(rel_path,),
+                                  command=f"illusio view{source_arg} --technique {technique}{view_arg} --path {rel_path} "
+                                          f"-o {Path(rel_video).name} --size {w}x{h}"))
     return section
