@@ -19,7 +19,7 @@ from ..lines.params import LineParams
 from ..lines.tuning import parameter_grid
 from ..scene.builtin import shape
 from ..scene.mesh import load_mesh
-from .html import Item, Section
+from .html import Item, Section, Table
 
 __all__ = ["lines_showcase"]
 
@@ -87,13 +87,21 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
     s = cmp.score(ours, target)
     write_image(out_dir / "lines/compare-canny.png", cmp.overlay(ours, target))
     section.items.append(Item("lines/phong.png", "the shaded render the edge detectors see", "Lambert + Phong, lamps at and above the eye"))
-    section.items.append(Item("lines/compare-canny.png", "apparent ridges + silhouettes against Canny edges", f"red ours only, blue Canny only, black both; {s}",
+    section.tables.append(Table(f"Against image edges on the {name} (a pixel matches within {s.tolerance:g} px; 3 px between the two methods)",
+                                ["drawing", "against", "precision", "recall", "F1", "chamfer (px)"],
+                                [["apparent ridges + silhouettes", "Canny edges of the shaded render", f"{s.precision:.3f}",
+                                  f"{s.recall:.3f}", f"{s.f1:.3f}", f"{s.chamfer:.2f}"]]))
+    section.items.append(Item("lines/compare-canny.png", "apparent ridges + silhouettes against Canny edges",
+                              "red ours only, blue Canny only, black both; scores in the table above",
                               figure="the apparent-ridges report, ch. 4", command="illusio lines torus-knot --compare canny -o k.png"))
     hybrid = renderer.render(Frame(v, tile), LineParams(lines=("apparent-ridges",)))
     judd = renderer.render(Frame(v, tile), LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space"))
     agree = cmp.score(cmp.line_mask(hybrid), cmp.line_mask(judd), 3.0)
     write_image(out_dir / "lines/methods.png", cmp.overlay(cmp.line_mask(hybrid), cmp.line_mask(judd)))
-    section.items.append(Item("lines/methods.png", "hybrid (red) against Judd's object-space apparent ridges + contours (blue)", f"agreement: {agree}",
+    section.tables[-1].rows.append(["hybrid apparent ridges", "Judd's object-space ones + contours", f"{agree.precision:.3f}",
+                                    f"{agree.recall:.3f}", f"{agree.f1:.3f}", f"{agree.chamfer:.2f}"])
+    section.items.append(Item("lines/methods.png", "hybrid (red) against Judd's object-space apparent ridges + contours (blue)",
+                              "agreement in the table above (tolerance 3 px)",
                               figure="the apparent-ridges report, ch. 3", command="illusio lines torus-knot --method object-space -o judd.png"))
     renderer.release()
     return section

@@ -15,7 +15,7 @@ from ..core.renderer import Frame
 from ..passes.mitsuba import mitsuba_available
 from ..radiosity import RadiosityParams, RadiosityRenderer
 from ..scene.builtin import builtin_scene
-from .html import Item, Section
+from .html import Item, Section, Table
 
 __all__ = ["radiosity_showcase"]
 
@@ -26,6 +26,10 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
                       "refinement, gather and push-pull; left the solution (radiosity gathered at the element "
                       "corners, Gouraud), middle the element mesh, right Mitsuba 3 path tracing the same polygons.")
     renderer = RadiosityRenderer(ctx)
+    table = Table(f"Each solution: its size and build time on {ctx.info()['renderer']}, and against Mitsuba at {spp} paths "
+                  "a pixel (its own noise included)", ["scene", "elements", "links", "build + solve", "mean relative error",
+                                                      "PSNR"], [])
+    section.tables.append(table)
     for name, shape in (("cornell-box", (size[1] // 2, size[1] // 2)), ("office", (size[0] // 2, size[1] // 2))):
         scene = builtin_scene(name)
         renderer.prepare(scene)
@@ -36,16 +40,16 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
         image, emitter = renderer.radiance(Frame(view, shape), RadiosityParams(), 2)
         mesh = renderer.render(Frame(view, shape), RadiosityParams(show="mesh"))
         panels = [np.clip(image, 0, 1), mesh]
-        note = (f"{solution.stats.elements:,} elements, {solution.stats.links:,} links, built and solved in "
-                f"{build:.1f} s")
+        note = "sizes, times and scores in the table above"
+        row = [name, f"{solution.stats.elements:,}", f"{solution.stats.links:,}", f"{build:.1f} s", "—", "—"]
+        table.rows.append(row)
         if mitsuba_available():
             from ..radiosity.mitsuba import render_mitsuba, score
 
             reference = render_mitsuba(renderer.polygons, view, shape, spp)
             s = score(image, reference, ~emitter)
             panels.append(np.clip(reference, 0, 1))
-            note += (f"; against Mitsuba at {spp} paths a pixel: mean relative error {100 * s.mean_relative_error:.1f} % "
-                     f"(its own noise included), PSNR {s.psnr:.1f} dB")
+            row[4:] = [f"{100 * s.mean_relative_error:.1f} %", f"{s.psnr:.1f} dB"]
         else:
             note += "; Mitsuba not installed (pip install 'illusio[photo]'), no reference"
         rel = f"radiosity/{name}.png"
