@@ -99,11 +99,17 @@ def _processes(books: _Books, workers: int) -> None:
     running: dict = {}
     try:
         while books.queue or running:
+            broken = False
             while books.queue and len(running) < workers:
                 task = books.queue.pop()
-                running[pool.submit(books.task_fn, task, str(books.out))] = task
-            done, _ = wait(running, return_when=FIRST_COMPLETED)
-            broken = False
+                try:
+                    running[pool.submit(books.task_fn, task, str(books.out))] = task
+                except BrokenProcessPool:   # a worker died before its future said so: the pool is gone
+                    books.queue.append(task)
+                    broken = True
+                    break
+            # the finished are kept even when the pool broke on a submit; the unfinished run again below
+            done = {f for f in running if f.done()} if broken else wait(running, return_when=FIRST_COMPLETED)[0]
             for future in done:
                 task = running.pop(future)
                 try:
