@@ -3,6 +3,7 @@
 import imageio.v3 as iio
 import numpy as np
 
+from illusio.core.images import read_image
 from tests.conftest import call_cli
 
 PATH = '[{"t": 0, "eye": [7, 2, 7], "target": [0, 0, 0]}, {"t": 1, "eye": [-7, 2, 7], "target": [0, 0, 0]}]'
@@ -20,7 +21,9 @@ def test_camera_path_recorded_to_a_gif_with_no_window(tmp_path, capsys, monkeypa
     assert frames.shape[:3] == (5, 64, 96)  # 1 s at 4 fps, both ends
     assert (frames.min(axis=-1) < 128).any(axis=(1, 2)).all()  # lines in every frame
     assert np.abs(frames[0].astype(int) - frames[-1].astype(int)).mean() > 1  # the camera went round
-    assert shot.exists() and "5 frames" in cap.out
+    assert "5 frames" in cap.out
+    last = read_image(shot)
+    assert last.shape[:2] == (64, 96) and (last.min(axis=-1) < 0.5).any()    # the last frame, with its lines
 
 
 def test_view_errors_are_one_line(tmp_path, capsys):

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from illusio.core.errors import InputError
+from illusio.core.images import read_image
 from illusio.core.renderer import Frame
 from illusio.ibr import IbrParams, IbrRenderer, capture, load_references, orbit_views, save_references
 from illusio.ibr import reference
@@ -119,7 +120,11 @@ def test_ibr_commands(tmp_path, capsys):
     assert code == 0, cap.err
     out = tmp_path / "new.png"
     code, cap = call_cli(["ibr", "render", str(refs), "-o", str(out), "--camera", "between:0,2,0.25", "--show-sources"], capsys)
-    assert code == 0 and out.exists(), cap.err
+    assert code == 0, cap.err
+    shown = read_image(out)
+    assert shown.shape[:2] == (48, 64)
+    # the source-view colouring: more than one reference's colour among the pixels
+    assert len(np.unique((shown[..., :3] * 4).round().reshape(-1, 3), axis=0)) >= 3
     for args, message in ((["--camera", "ref:7"], "--camera must be"), (["--light", "1,2"], "--light must be"),
                           (["--distance", "4d"], "distance"), (["--selection", "one"], "selection")):
         code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / "x.png"), *args], capsys)
@@ -249,4 +254,5 @@ def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ct
                           "--renderer", "mitsuba", "--samples", "4"], capsys)
     assert code == 0, cap.err
     code, cap = call_cli(["ibr", "render", str(tmp_path / "photo"), "-o", str(tmp_path / "p.png"), "--photographic"], capsys)
-    assert code == 0 and (tmp_path / "p.png").exists(), cap.err
+    assert code == 0, cap.err
+    assert read_image(tmp_path / "p.png").shape[:2] == (24, 32) and read_image(tmp_path / "p.png").max() > 0.05

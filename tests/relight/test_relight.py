@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from illusio.core.errors import InputError
+from illusio.core.images import read_image
 from illusio.radiosity import HierarchyParams
 from illusio.relight import RealScene, RelightParams, RelightSession, builtin_real_scene
 from illusio.relight import estimate
@@ -101,7 +102,9 @@ def test_command(tmp_path, capsys):
     code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--samples", "8",
                           "--epsilon", "3e-4", "--set", "lamp-0=0", "--photograph", str(tmp_path / "photo.png")], capsys)
     assert code == 0, cap.err
-    assert out.exists() and (tmp_path / "photo.png").exists()
+    relit, photo = read_image(out), read_image(tmp_path / "photo.png")
+    assert relit.shape == photo.shape == (48, 64, 3)
+    assert relit.mean() < photo.mean()                       # lamp-0 off: darker than the photograph
     code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--set", "lamp-7=0"], capsys)
     assert code == 2 and "no lamp named" in cap.err
     # prepare once, then edit from the saved session: the same image as preparing in the same command
@@ -116,7 +119,9 @@ def test_command(tmp_path, capsys):
     assert code == 0 and "loaded in" in cap.out
     assert np.allclose(np.load(again), np.load(direct), atol=1e-5)
     code, cap = call_cli(["relight", str(saved), "-o", str(tmp_path / "mesh.png"), "--show", "mesh"], capsys)
-    assert code == 0 and (tmp_path / "mesh.png").exists()
+    assert code == 0
+    mesh = read_image(tmp_path / "mesh.png")
+    assert mesh.shape == (48, 64, 3) and (mesh.max(axis=-1) < 0.02).mean() > 0.05      # the leaves' outlines
     code, cap = call_cli(["relight", str(saved), "-o", str(saved)], capsys)
     assert code == 2 and saved.stat().st_size > 0
     code, cap = call_cli(["relight", str(saved), "-o", str(out), "--show", "normals"], capsys)

@@ -131,7 +131,8 @@ def test_escape_closes_and_the_recorded_walk_is_saved(x_display, tmp_path):
     w.run(screenshot=tmp_path / "last.png")  # closes at once: saves the screenshot and the walk
     path = CameraPath.load(tmp_path / "walk.json")
     assert len(path.keyframes) >= 4 and path.duration == pytest.approx(1.0)
-    assert (tmp_path / "last.png").exists()
+    last = read_image(tmp_path / "last.png")
+    assert last.ndim == 3 and last.shape[0] > 16 and last.std() > 0.01       # a picture, not a blank
 
 
 def test_switching_the_scene_and_a_bad_file_in_the_panel(window, tmp_path):
