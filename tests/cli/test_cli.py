@@ -157,3 +157,17 @@ def test_help_cites_papers_by_author_and_year():
             assert any(a in text for a in authors), text
             cited += 1
     assert cited >= 4
+
+
+def test_no_gl_driver_gives_the_install_hint(tmp_path):
+    """A machine without Mesa's EGL (the loader pointed at a library that is not there): one line,
+    exit 2, the apt-get line to run, and no output file."""
+    import os
+
+    from illusio.core.errors import APT_HINT
+
+    env = {**os.environ, "GLCONTEXT_LINUX_LIBEGL": str(tmp_path / "missing" / "libEGL.so.1"), "ILLUSIO_GL_BACKEND": "egl"}
+    r = subprocess.run([sys.executable, "-m", "illusio", "render", "torus-knot", "-o", str(tmp_path / "x.png")],
+                       capture_output=True, text=True, env=env, timeout=120)
+    assert_one_line_error(r, "OpenGL 4.3", APT_HINT)
+    assert not (tmp_path / "x.png").exists()
