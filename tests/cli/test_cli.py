@@ -37,6 +37,12 @@ def test_output_over_input_is_refused_and_input_kept(tmp_path):
     before = mesh.read_bytes()
     assert_one_line_error(illusio("render", mesh, "-o", mesh), "overwrite")
     assert mesh.read_bytes() == before
+    # the same file reached through a symbolic link or through ..
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "link.obj").symlink_to(mesh)
+    for output in (tmp_path / "link.obj", tmp_path / "sub" / ".." / "tri.obj"):
+        assert_one_line_error(illusio("render", mesh, "-o", output), "overwrite")
+        assert mesh.read_bytes() == before
 
 
 def test_bad_options_are_one_line_errors(tmp_path):
