@@ -171,3 +171,32 @@ def test_a_yaml_scene_solves(tmp_path, capsys):
     assert code == 0, cap.err
     image = read_image(out)
     assert image.max() > 0.2 and image.shape == (48, 64, 3)
+
+
+def test_display_pass_loads_into_its_own_context(ctx):
+    """Two contexts in one process (a CLI call inside a script, the README commands in the suite): a
+    solution loaded while the other context is current still draws in its own (it drew black, and
+    once crashed the driver, when its buffers were made in the wrong one)."""
+    from dataclasses import replace
+
+    from illusio.core import Context
+
+    other = Context()
+    renderer = RadiosityRenderer(other)
+    scene = load_scene("cornell-box")
+    renderer.prepare(scene)
+    frame = Frame(scene.camera("main"), (48, 48))
+    params = RadiosityParams(HierarchyParams(epsilon=1e-3))
+    first = other.readback_image(renderer.render_texture(frame, params), 3)
+    ctx.make_current()                                   # the other context is current now
+    dimmed = replace(params, lamp_scales=(("lamp", 0.5),))
+    second = other.readback_image(renderer.render_texture(frame, dimmed), 3)
+    other.make_current()
+    fresh = RadiosityRenderer(other)
+    fresh.prepare(scene)
+    expected = other.readback_image(fresh.render_texture(frame, dimmed), 3)
+    assert first.mean() > 0.01 and second.mean() < first.mean()
+    np.testing.assert_allclose(second, expected, atol=1e-5)
+    fresh.release()
+    renderer.release()
+    other.gl.release()

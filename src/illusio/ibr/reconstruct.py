@@ -25,6 +25,7 @@ class ReconstructPass:
         self._buffers = None
 
     def load(self, mesh: Mesh) -> None:
+        self.ctx.make_current()          # buffers belong to the context current when they are made
         self.release()
         gl = self.ctx.gl
         vbo = gl.buffer(np.ascontiguousarray(mesh.vertices, np.float32).tobytes())

@@ -56,6 +56,7 @@ class GpuScene:
             m = node.mesh
             uvs = m.uvs if m.uvs is not None else np.zeros((len(m.vertices), 2), np.float32)
             data = np.hstack([m.vertices, m.normals, uvs]).astype(np.float32)
+            self.ctx.make_current()
             gm = GpuMesh(self.ctx.gl.buffer(data.tobytes()), self.ctx.gl.buffer(m.faces.astype(np.int32).tobytes()),
                          len(m.faces), m.uvs is not None)
             self._meshes[key] = gm

@@ -143,6 +143,7 @@ class DisplayPass:
         self._vaos: dict = {}
 
     def load(self, mesh: LeafMesh) -> None:
+        self.ctx.make_current()          # buffers belong to the context current when they are made
         self.release()
         gl = self.ctx.gl
         data = np.hstack([mesh.positions, mesh.radiance, mesh.corner, mesh.element[:, None]]).astype(np.float32)
@@ -187,6 +188,7 @@ class DisplayPass:
         ends = np.stack([h.centre[links.receiver], h.centre[links.source]], axis=1).reshape(-1, 3)
         colours = np.repeat(np.array([LINK_COLOURS[t] for t in links.type.tolist()]), 2, axis=0)
         data = np.hstack([ends, colours]).astype(np.float32)
+        self.ctx.make_current()
         gl = self.ctx.gl
         vbo = gl.buffer(data.tobytes())
         vao = gl.vertex_array(self.line_program, [(vbo, "3f 3f", "in_position", "in_colour")])
@@ -201,6 +203,8 @@ class DisplayPass:
         vbo.release()
 
     def release(self) -> None:
+        if self._vaos or self._buffers:
+            self.ctx.make_current()
         for vao in self._vaos.values():
             vao.release()
         for b in self._buffers:
