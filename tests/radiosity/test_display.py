@@ -199,4 +199,5 @@ def test_display_pass_loads_into_its_own_context(ctx):
     np.testing.assert_allclose(second, expected, atol=1e-5)
     fresh.release()
     renderer.release()
+    ctx.make_current()                  # leave the suite's context current before the other one goes
     other.gl.release()

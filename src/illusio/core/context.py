@@ -215,7 +215,8 @@ def release_current() -> None:
     context cannot both be current (X answers BadAccess to glXMakeCurrent): the viewer's window calls
     this before it makes its own, and every switch between Contexts goes through it."""
     ctx = _CURRENT[0]
-    if ctx is not None and ctx.gl is not None:
+    # a context its owner released (moderngl leaves an InvalidObject behind) has nothing to leave
+    if ctx is not None and ctx.gl is not None and type(ctx.gl).__name__ != "InvalidObject":
         ctx._deactivate()
     _CURRENT[0] = None
 
