@@ -216,7 +216,7 @@ def release_current() -> None:
     this before it makes its own, and every switch between Contexts goes through it."""
     ctx = _CURRENT[0]
     # a context its owner released (moderngl leaves an InvalidObject behind) has nothing to leave
-    if ctx is not None and ctx.gl is not None and type(ctx.gl).__name__ != "InvalidObject":
+    if ctx is not None and ctx.gl is not None and type(getattr(ctx.gl, "mglo", None)).__name__ != "InvalidObject":
         ctx._deactivate()
     _CURRENT[0] = None
 
