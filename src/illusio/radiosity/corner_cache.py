@@ -1,5 +1,5 @@
-"""The corner gather of :func:`illusio.radiosity.display.corner_gather`, with its form factors kept
-between calls, so that an edit that changes a few links (a virtual object moved, a lamp added) pays
+"""The corner gather of the smooth display (:func:`illusio.radiosity.display.corner_gather` is one
+call of it with nothing kept), with its form factors kept between calls, so that an edit that changes a few links (a virtual object moved, a lamp added) pays
 only for the pairs it changed.
 
 The gather at the corners of a leaf sums, over every link its element and its ancestors receive,

@@ -22,7 +22,6 @@ import numpy as np
 from ..core.context import Context
 from ..core.gl import set_uniform
 from ..scene.camera import View
-from .formfactor import point_polygon
 from .hierarchy import Hierarchy
 from .links import Links
 from .visibility import INVISIBLE, PARTIAL, VISIBLE
@@ -52,31 +51,11 @@ class LeafMesh:
 def corner_gather(h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3), gathered at the corner point through the links of
     the leaf and its ancestors from the solved B (see the module docstring); ``exitance``: E per
-    element (n_elements, 3), lamp scales applied."""
-    order = np.argsort(links.receiver, kind="stable")
-    start = np.searchsorted(links.receiver[order], np.arange(len(h) + 1))
-    leaf_of, link_of = [], []
-    element = leaves.copy()
-    rows = np.arange(len(leaves))
-    while len(element):
-        count = start[element + 1] - start[element]
-        pair_leaf = np.repeat(rows, count)
-        offset = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
-        leaf_of.append(pair_leaf)
-        link_of.append(order[np.repeat(start[element], count) + offset])
-        up = h.parent[element] >= 0
-        element, rows = h.parent[element[up]], rows[up]
-    leaf_of, link_of = np.concatenate(leaf_of), np.concatenate(link_of)
-    src = links.source[link_of]
-    # a corner on a seam lies in the neighbouring polygon's plane, which it sees edge-on (F = 0 there,
-    # ½ just beside it): gather 1 % of the way in toward the leaf's centre
-    corners = h.corners[leaves] + 0.01 * (h.centre[leaves][:, None] - h.corners[leaves])
-    ff = point_polygon(corners[leaf_of], h.normal[leaves][leaf_of], h.corners[src], h.triangle[src], average=False)
-    weight = ff * links.visibility[link_of][:, None]                          # (pairs, 4)
-    irradiance = np.zeros((len(leaves), 4, 3))
-    for c in range(4):
-        np.add.at(irradiance[:, c], leaf_of, weight[:, c, None] * h.radiosity[src])
-    return exitance[leaves][:, None] + h.reflectance[leaves][:, None] * irradiance
+    element (n_elements, 3), lamp scales applied. Computed afresh; ``corner_cache.CornerGather`` is
+    the same gather keeping its form factors between calls."""
+    from .corner_cache import CornerGather
+
+    return CornerGather()(h, links, leaves, exitance)
 
 
 def exposure_weights(h: Hierarchy, links: Links, leaves: np.ndarray) -> np.ndarray:
