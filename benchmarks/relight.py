@@ -24,7 +24,7 @@ import time
 import numpy as np
 
 from illusio.core.context import Context
-from illusio.radiosity import HierarchyParams, Polygons, point_polygon
+from illusio.radiosity import HierarchyParams, Polygons
 from illusio.radiosity.mitsuba import render_mitsuba, score
 from illusio.relight import RelightParams, RelightSession, builtin_real_scene
 from illusio.relight.per_pixel import lamp_irradiance, surface_points
@@ -54,14 +54,9 @@ def shadow_pixels(p: Polygons, view, size, samples: int = 64) -> tuple[np.ndarra
     lamp = np.isin(p.group, p.lamps)
     geometry = (polygon >= 0) & ~(p.exitance.max(axis=1) > 0)[np.maximum(polygon, 0)]
     rows = np.flatnonzero(lamp)
-    seen = lamp_irradiance(p, rows, p.exitance[rows], points, normals, geometry, samples).sum(axis=1).max(axis=-1)
-    x, n = points[geometry], normals[geometry]
-    free = np.zeros(len(x))
-    for row in rows:
-        f = point_polygon(x[:, None], n, np.repeat(p.corners[row][None], len(x), axis=0), np.repeat(p.triangle[row], len(x)))
-        free += f * p.exitance[row].max()
+    seen, free = lamp_irradiance(p, rows, p.exitance[rows], points, normals, geometry, samples, unoccluded=True)
     shadow = np.zeros(geometry.shape, bool)
-    shadow[geometry] = seen < 0.9 * free
+    shadow[geometry] = seen.sum(axis=1).max(axis=-1) < 0.9 * free.sum(axis=1).max(axis=-1)
     return geometry, shadow
 
 

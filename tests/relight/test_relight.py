@@ -46,10 +46,23 @@ def prepared(ctx, real, method):
 
 
 @pytest.fixture(scope="module")
-def session(ctx, photograph):
-    s = prepared(ctx, photograph, "baseline")
-    yield s
-    s.release()
+def sessions(ctx, photograph):
+    """One session per method, prepared on first use and released with the module."""
+    made: dict = {}
+
+    def get(method):
+        if method not in made:
+            made[method] = prepared(ctx, photograph, method)
+        return made[method]
+
+    yield get
+    for s in made.values():
+        s.release()
+
+
+@pytest.fixture
+def session(sessions):
+    return sessions("baseline")
 
 
 def test_eq_4_3_shows_the_photograph_when_nothing_changed(session):
@@ -138,11 +151,9 @@ def test_eq_4_4_colour_distance_in_lab():
     assert colour_distance(red, grey)[0] > 40 > colour_distance(grey, grey * 1.1)[0]
 
 
-@pytest.fixture(scope="module")
-def loscos(ctx, photograph):
-    s = prepared(ctx, photograph, "loscos")
-    yield s
-    s.release()
+@pytest.fixture
+def loscos(sessions):
+    return sessions("loscos")
 
 
 def test_loscos_textures(loscos):
@@ -166,11 +177,9 @@ def test_loscos_textures(loscos):
     assert np.median(rel) < 0.03
 
 
-@pytest.fixture(scope="module")
-def per_pixel(ctx, photograph):
-    s = prepared(ctx, photograph, "per-pixel")
-    yield s
-    s.release()
+@pytest.fixture
+def per_pixel(sessions):
+    return sessions("per-pixel")
 
 
 def test_per_pixel_method(per_pixel):

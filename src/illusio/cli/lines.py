@@ -98,7 +98,10 @@ def lines(
         write_image(out, parameter_grid(renderer, v, tile, params=params))
         typer.echo(f"wrote {out} (τ × λ grid, tiles {tile[0]}×{tile[1]})")
         return
-    drawing = renderer.drawing(Frame(v, (w, h)), params)
+    # the drawing at the output size: what --debug, the SVG and --compare read (a PNG page alone is
+    # drawn at antialias × the size only)
+    needed = debug or compare or out.suffix.lower() == ".svg" or antialias == 1
+    drawing = renderer.drawing(Frame(v, (w, h)), params) if needed else None
     if debug:
         write_image(out, debug_view(debug, drawing, m, renderer.curvature(params.curvature)))
         typer.echo(f"wrote {out} ({debug} view)")

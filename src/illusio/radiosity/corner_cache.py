@@ -7,7 +7,7 @@ F(corner → source)·V·B_source. F depends only on the corner and the source's
 per link (receiver r, source j) for every leaf under r — one block of pairs per link. On the next call
 a link's block is reused when the link (r, j) existed before, no leaf under r was split, merged or
 moved, and j did not move; every other link's block is computed afresh. V and B are read at each
-call (they change with every solve). The result equals ``corner_gather`` to rounding (tested).
+call (they change with every solve). After any change the result equals a fresh gather (tested).
 """
 
 from __future__ import annotations

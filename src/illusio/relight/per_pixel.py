@@ -49,9 +49,10 @@ def surface_points(polygons, view, size):
 
 
 def lamp_irradiance(polygons, lamp_rows: np.ndarray, exitance: np.ndarray, points, normals, seen,
-                    samples: int = 16, seed: int = 0) -> np.ndarray:
+                    samples: int = 16, seed: int = 0, unoccluded: bool = False):
     """H_s(x) for every seen pixel and every lamp polygon in ``lamp_rows``: (n_seen, n_lamps, 3) W/m².
-    ``exitance``: B_s of each lamp polygon (n_lamps, 3)."""
+    ``exitance``: B_s of each lamp polygon (n_lamps, 3). With ``unoccluded``, also F_x→s·B_s, the
+    same without the visibility (what a shadow took away is the difference)."""
     from embreex import rtcore_scene
     from embreex.mesh_construction import TriangleMesh
 
@@ -64,6 +65,7 @@ def lamp_irradiance(polygons, lamp_rows: np.ndarray, exitance: np.ndarray, point
     extent = float(np.ptp(polygons.corners.reshape(-1, 3), axis=0).max())
     start = x + n * 1e-5 * extent
     out = np.zeros((len(x), len(lamp_rows), 3))
+    free = np.zeros_like(out)
     for k, row in enumerate(lamp_rows):
         corners = np.repeat(polygons.corners[row][None], len(x), axis=0)
         f = point_polygon(x[:, None], n, corners, np.repeat(polygons.triangle[row], len(x)))
@@ -78,4 +80,5 @@ def lamp_irradiance(polygons, lamp_rows: np.ndarray, exitance: np.ndarray, point
                         dists=(length.reshape(-1) * (1 - 1e-4)).astype(np.float32), query="OCCLUDED")
         visible = (np.asarray(hit).reshape(len(x), samples) < 0).mean(axis=1)
         out[:, k] = (f * visible)[:, None] * exitance[k]
-    return out
+        free[:, k] = f[:, None] * exitance[k]
+    return (out, free) if unoccluded else out
