@@ -18,7 +18,7 @@ def test_example_yaml_scene_loads_with_cameras_lights_curves():
 def test_yaml_syntax_error_reports_line_and_column(tmp_path):
     p = tmp_path / "bad.yaml"
     p.write_text("nodes:\n  - name: a\n    shape: [sphere\n")
-    with pytest.raises(InputError, match=r"bad\.yaml: YAML error at line \d+, column \d+"):
+    with pytest.raises(InputError, match=r"bad\.yaml: not valid YAML at line \d+, column \d+"):
         load_scene(p)
 
 

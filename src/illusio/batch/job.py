@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..core.errors import InputError
+from ..core.files import read_yaml
 
 __all__ = ["Task", "Job", "load_job", "command_table"]
 
@@ -112,17 +113,8 @@ def _fields_of(pattern: str) -> set[str]:
 
 def load_job(path) -> Job:
     """Read and validate the job file at ``path``; expand it into tasks. Raises InputError."""
-    import yaml
-
     path = Path(path)
-    try:
-        doc = yaml.safe_load(path.read_text())
-    except FileNotFoundError:
-        raise InputError(f"job file {path} not found") from None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        raise InputError(f"job file {path}: not valid YAML{where}") from None
+    doc = read_yaml(path, "job")
     if not isinstance(doc, dict) or not isinstance(doc.get("tasks"), list) or not doc["tasks"]:
         raise InputError(f"job file {path}: needs a non-empty list 'tasks'")
     commands = command_table()

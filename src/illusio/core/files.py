@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .errors import InputError
 
-__all__ = ["read_text"]
+__all__ = ["read_text", "read_yaml", "load_npy"]
 
 
 def read_text(path: str | os.PathLike, what: str, error: type[InputError] = InputError) -> str:
@@ -20,3 +20,38 @@ def read_text(path: str | os.PathLike, what: str, error: type[InputError] = Inpu
         raise error(f"{p}: no such {what} file") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise error(f"{p}: cannot read the {what} ({exc})") from None
+
+
+def load_npy(path: str | os.PathLike, what: str):
+    """The numeric array in the ``.npy`` file ``path`` (no pickles); InputError naming the file and
+    ``what`` it should have been when it is missing, cut short, not an array or not numeric."""
+    import numpy as np
+
+    p = Path(path)
+    try:
+        array = np.load(p, allow_pickle=False)
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such {what} file") from None
+    except MemoryError:
+        raise InputError(f"{p}: the {what}'s header declares an array too large for memory") from None
+    except Exception as exc:  # numpy's header parser raises EOFError, SyntaxError, TokenError… on bad bytes
+        raise InputError(f"{p}: cannot read the {what} ({exc or 'empty file'})") from None
+    if not isinstance(array, np.ndarray) or not np.issubdtype(array.dtype, np.number):
+        raise InputError(f"{p}: the {what} is not a numeric array (dtype {getattr(array, 'dtype', '?')})")
+    return array
+
+
+def read_yaml(path: str | os.PathLike, what: str, error: type[InputError] = InputError):
+    """The parsed YAML document in ``path`` (safe loader); ``error`` naming the file and, for a
+    syntax error, its line and column."""
+    import yaml
+
+    text = read_text(path, what, error)
+    try:
+        return yaml.safe_load(text)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark
+        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "an unknown place"
+        raise error(f"{path}: not valid YAML at {where}: {exc.problem}") from None
+    except yaml.YAMLError as exc:
+        raise error(f"{path}: not valid YAML ({' '.join(str(exc).split())})") from None

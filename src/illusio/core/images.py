@@ -18,6 +18,7 @@ from typing import Iterable
 import numpy as np
 
 from .errors import InputError, OutputError
+from .files import load_npy
 
 __all__ = [
     "read_image",
@@ -73,10 +74,7 @@ def read_image(path: str | os.PathLike, srgb: bool | None = None) -> np.ndarray:
     ext = p.suffix.lower()
     try:
         if ext == ".npy":
-            data = np.load(p, allow_pickle=False)
-            if not np.issubdtype(data.dtype, np.number):
-                raise InputError(f"{p}: .npy array is not numeric (dtype {data.dtype})")
-            return as_image(data, str(p))
+            return as_image(load_npy(p, "image array"), str(p))
         if ext == ".exr":
             return as_image(_read_exr(p), str(p))
         if ext == ".png" and _png_bit_depth(p) == 16:

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from ..core.errors import IllusioError, InputError, did_you_mean
+from ..core.files import read_yaml
 from .builtin import shapes as builtin_shapes
 from .builtin import textures as builtin_textures
 from .builtin.scenes import SCENES, builtin_scene
@@ -72,19 +73,20 @@ def load_scene(source: str | os.PathLike) -> Scene:
         raise InputError(f"{p}: scene files must be .yaml or .yml")
     if not p.is_file():
         raise InputError(f"{p}: no such file")
-    import yaml
-
-    try:
-        data = yaml.safe_load(p.read_text())
-    except yaml.MarkedYAMLError as exc:
-        mark = exc.problem_mark
-        where = f"line {mark.line + 1}, column {mark.column + 1}" if mark else "unknown place"
-        raise InputError(f"{p}: YAML error at {where}: {exc.problem}") from None
-    except (yaml.YAMLError, UnicodeDecodeError) as exc:
-        raise InputError(f"{p}: cannot parse YAML ({exc})") from None
+    data = read_yaml(p, "scene")
     if not isinstance(data, dict):
         raise InputError(f"{p}: a scene file must be a mapping with nodes, lights, cameras")
     return scene_from_dict(data, base=p.parent, origin=str(p))
+
+
+def _section(data: dict, key: str, kind: type, origin: str):
+    """``data[key]`` when it is a ``kind`` (list or mapping), empty when absent."""
+    value = data.get(key)
+    if value is None:
+        return kind()
+    if not isinstance(value, kind):
+        raise InputError(f"{origin}: {key} must be a {'list' if kind is list else 'mapping'}, got {type(value).__name__}")
+    return value
 
 
 def _check_keys(d: dict, allowed: set[str], where: str) -> None:
@@ -104,17 +106,17 @@ def scene_from_dict(data: dict[str, Any], base: Path = Path("."), origin: str = 
             scene.ambient = tuple(np.broadcast_to(np.asarray(data["ambient"], float), (3,)))
         if "background" in data:
             scene.background = tuple(np.broadcast_to(np.asarray(data["background"], float), (3,)))
-        for i, nd in enumerate(data.get("nodes") or []):
+        for i, nd in enumerate(_section(data, "nodes", list, origin)):
             scene.add(_node(nd, base, f"{origin}: nodes[{i}]"))
-        for i, ld in enumerate(data.get("lights") or []):
+        for i, ld in enumerate(_section(data, "lights", list, origin)):
             scene.lights.append(_light(ld, f"{origin}: lights[{i}]"))
-        for name, cd in (data.get("cameras") or {}).items():
+        for name, cd in _section(data, "cameras", dict, origin).items():
             scene.cameras[str(name)] = _camera(cd, f"{origin}: cameras.{name}")
-        for i, cd in enumerate(data.get("curves") or []):
+        for i, cd in enumerate(_section(data, "curves", list, origin)):
             _check_keys(cd, {"name", "kind", "points"}, f"{origin}: curves[{i}]")
             curve = Curve(str(cd.get("name", f"curve-{i}")), cd.get("points", []), cd.get("kind", "polyline"))
             scene.curves[curve.name] = curve
-        for i, ad in enumerate(data.get("actions") or []):
+        for i, ad in enumerate(_section(data, "actions", list, origin)):
             where = f"{origin}: actions[{i}]"
             _check_keys(ad, {"name", "object", "curve"}, where)
             action = Action(str(ad.get("name", f"action-{i}")), str(ad["object"]), str(ad["curve"]))

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.errors import InputError
+from .mesh_counts import check_declared_counts, length_error
 
 __all__ = ["Mesh", "MeshWarning", "load_mesh", "vertex_normals", "crease_split", "MESH_FORMATS"]
 
@@ -83,6 +84,8 @@ def validate_arrays(vertices: np.ndarray, faces: np.ndarray, name: str) -> None:
     """Raise InputError for an empty mesh, non-finite vertices or out-of-range face indices."""
     if len(vertices) == 0 or len(faces) == 0:
         raise InputError(f"{name}: mesh is empty ({len(vertices)} vertices, {len(faces)} faces)")
+    if vertices.ndim != 2 or vertices.shape[1] != 3:
+        raise InputError(f"{name}: vertices must have x, y and z, got an array of shape {vertices.shape}")
     bad = ~np.isfinite(vertices).all(axis=1)
     if bad.any():
         raise InputError(f"{name}: {int(bad.sum())} vertices are not finite (NaN or inf), first at index {int(np.argmax(bad))}")
@@ -188,6 +191,7 @@ def load_mesh(path: str | os.PathLike, *, repair: bool = True) -> Mesh:
         raise InputError(f"{p}: unsupported mesh format {p.suffix!r}; use one of {', '.join(MESH_FORMATS)}")
     if p.stat().st_size == 0:
         raise InputError(f"{p}: file is empty")
+    check_declared_counts(p, p.read_bytes())
     vertices, faces, uvs = _read_with_trimesh(p)
     name = p.name
     if len(vertices) == 0 or len(faces) == 0:
@@ -208,6 +212,8 @@ def _read_with_trimesh(p: Path):
     if p.suffix.lower() == ".ply" and has_tristrips(p):
         try:
             vertices, faces = read_ply_tristrips(p)
+        except InputError:
+            raise
         except (ValueError, IndexError, KeyError) as exc:
             raise InputError(f"{p}: cannot read PLY triangle strips ({exc})") from None
         return vertices, faces, None
@@ -218,6 +224,8 @@ def _read_with_trimesh(p: Path):
             loaded = trimesh.load(str(p), process=False, maintain_order=True)
     except Exception as exc:  # trimesh raises many kinds on corrupt input
         reason = " ".join(str(exc).split())[:200] or type(exc).__name__
+        if "expected length" in reason:  # trimesh's PLY and GLB readers check the declared sizes
+            raise length_error(p, reason) from None
         raise InputError(f"{p}: cannot read mesh ({reason})") from None
     if isinstance(loaded, trimesh.Scene):
         geoms = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)] if loaded.geometry else []

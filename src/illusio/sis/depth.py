@@ -14,6 +14,7 @@ import numpy as np
 
 from ..core.context import Context
 from ..core.errors import InputError
+from ..core.files import load_npy
 from ..core.images import read_image
 from ..core.gl import set_uniform
 from ..passes.gpu_scene import GpuScene
@@ -51,11 +52,7 @@ def read_depth(path: str | Path) -> np.ndarray:
     same convention (values outside [0, 1] are rescaled from their min..max)."""
     p = Path(path)
     if p.suffix.lower() == ".npy":
-        try:
-            a = np.load(p, allow_pickle=False)
-        except (OSError, ValueError) as exc:
-            raise InputError(f"cannot read depth array {p}: {exc}") from None
-        a = np.asarray(a, np.float64)
+        a = np.asarray(load_npy(p, "depth array"), np.float64)
         if a.ndim == 3 and a.shape[2] == 1:
             a = a[..., 0]
         if a.ndim != 2 or a.size == 0:
