@@ -100,7 +100,7 @@ def test_reference_folders_round_trip_and_bad_folders_say_what(ctx, room, tmp_pa
     with np.load(folder / "view-0.npz") as d:
         arrays = dict(d)
     np.savez(folder / "view-0.npz", **{**arrays, "depth": arrays["depth"][:10]})
-    with pytest.raises(InputError, match=r"views\[0\]: reference albedo is"):
+    with pytest.raises(InputError, match=r"views\[0\]: view-0.npz: reference albedo is"):
         load_references(folder)
     arrays["depth"][3, 3] = np.nan
     np.savez(folder / "view-0.npz", **arrays)

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .errors import InputError
 
-__all__ = ["read_text", "read_yaml", "load_npy"]
+__all__ = ["read_text", "read_yaml", "load_npy", "load_npz"]
 
 
 def read_text(path: str | os.PathLike, what: str, error: type[InputError] = InputError) -> str:
@@ -55,3 +55,21 @@ def read_yaml(path: str | os.PathLike, what: str, error: type[InputError] = Inpu
         raise error(f"{path}: not valid YAML at {where}: {exc.problem}") from None
     except yaml.YAMLError as exc:
         raise error(f"{path}: not valid YAML ({' '.join(str(exc).split())})") from None
+
+
+def load_npz(path: str | os.PathLike, what: str) -> dict:
+    """Every array of the ``.npz`` archive ``path`` (no pickles), read at once: name → array.
+    InputError naming the file and ``what`` it should have been when it is missing or damaged."""
+    import numpy as np
+
+    p = Path(path)
+    try:
+        with np.load(p, allow_pickle=False) as archive:
+            return {name: archive[name] for name in archive.files}
+    except FileNotFoundError:
+        raise InputError(f"{p}: no such {what} file") from None
+    except MemoryError:
+        raise InputError(f"{p}: the {what} declares an array too large for memory") from None
+    except Exception as exc:  # zip and header parsing raise BadZipFile, EOFError, zlib.error, KeyError…
+        reason = " ".join(str(exc).split())[:200] or type(exc).__name__
+        raise InputError(f"{p}: not a readable {what} ({reason})") from None

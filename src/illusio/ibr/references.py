@@ -16,6 +16,7 @@ import numpy as np
 
 from ..core.context import Context
 from ..core.errors import InputError
+from ..core.files import load_npz, read_text
 from ..core.images import atomic_output
 from ..core.renderer import Frame
 from ..passes.scene_renderer import RenderSettings, SceneRenderer
@@ -142,8 +143,6 @@ def load_cameras(path: str | os.PathLike) -> list[View]:
     """Cameras to capture from: a JSON list of camera entries (``eye``, ``target``, ``fov`` degrees,
     ``near``, ``far`` metres, optionally ``up`` and ``shift``), or a references.json (its views'
     cameras). Every mistake names the file and the entry."""
-    from ..core.files import read_text
-
     try:
         doc = json.loads(read_text(path, "cameras"))
     except json.JSONDecodeError as exc:
@@ -186,39 +185,37 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
     ``lights``, ``ambient``, ``background``. Every mistake names the file and the entry."""
     root = Path(folder)
     index = root / "references.json"
+    if not index.is_file():
+        raise InputError(f"{root}: no references.json (capture one with: illusio ibr capture SCENE -o {root})")
     try:
-        doc = json.loads(index.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"{root}: no references.json (capture one with: illusio ibr capture SCENE -o {root})") from None
+        doc = json.loads(read_text(index, "reference index"))
     except json.JSONDecodeError as exc:
         raise InputError(f"{index}: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+    if not isinstance(doc, dict) or not isinstance(doc.get("views"), list):
+        raise InputError(f"{index}: expected an object with a list of views")
     views = []
-    for k, entry in enumerate(doc.get("views") or []):
+    for k, entry in enumerate(doc["views"]):
         where = f"{index}: views[{k}]"
-        try:
-            path = root / entry["file"]
-        except (KeyError, TypeError) as exc:
-            raise InputError(f"{where}: a view needs a file and a camera ({exc})") from None
+        if not isinstance(entry, dict) or not isinstance(entry.get("file"), str):
+            raise InputError(f"{where}: a view needs a file name and a camera")
+        path = root / entry["file"]
         view = _camera_from_dict(entry.get("camera"), where)
-        try:
-            with np.load(path) as data:
-                depth = data["depth"]
-                arrays = {name: data[name] for name in ("albedo", "normal") if name in data}
-                emission = data["emission"] if "emission" in data else np.zeros(depth.shape + (3,), np.float32)
-                colour = data["colour"] if "colour" in data else None
-        except FileNotFoundError:
-            raise InputError(f"{where}: {path.name} is missing") from None
-        except (KeyError, ValueError, OSError) as exc:
-            raise InputError(f"{where}: {path.name} is not a reference view ({exc})") from None
-        if set(arrays) != {"albedo", "normal"}:
+        if not path.is_file():
+            raise InputError(f"{where}: {path.name} is missing")
+        data = load_npz(path, "reference view")
+        if not {"depth", "albedo", "normal"} <= set(data):
             raise InputError(f"{where}: {path.name} needs depth, albedo and normal arrays")
+        depth = data["depth"]
+        emission = data.get("emission", np.zeros(np.shape(depth)[:2] + (3,), np.float32))
         try:
-            views.append(ReferenceView(view, arrays["albedo"], arrays["normal"], emission, depth, colour))
-        except InputError as exc:
-            raise InputError(f"{where}: {exc}") from None
+            views.append(ReferenceView(view, data["albedo"], data["normal"], emission, depth, data.get("colour")))
+        except (InputError, ValueError, TypeError) as exc:
+            raise InputError(f"{where}: {path.name}: {exc}") from None
     if not views:
         raise InputError(f"{index}: no views")
     lights = []
+    if not isinstance(doc.get("lights") or [], list):
+        raise InputError(f"{index}: lights must be a list")
     for k, ld in enumerate(doc.get("lights") or []):
         try:
             if ld.get("type", "point") == "point":
@@ -228,10 +225,15 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
                 lights.append(AreaLight(tuple(ld["centre"]), tuple(ld["edge_u"]), tuple(ld["edge_v"]),
                                         tuple(ld.get("colour", (1, 1, 1))), float(ld["radiance"]), samples=int(ld.get("samples", 2)),
                                         shadows=False))
-        except (KeyError, TypeError, ValueError) as exc:
-            raise InputError(f"{index}: lights[{k}]: {exc}") from None
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            raise InputError(f"{index}: lights[{k}]: a light needs a type and its numbers ({exc})") from None
+    colours = {}
+    for name, default in (("ambient", (0.08, 0.08, 0.09)), ("background", (0.02, 0.02, 0.025))):
+        try:
+            colours[name] = tuple(float(c) for c in np.broadcast_to(np.asarray(doc.get(name, default), float), (3,)))
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"{index}: {name} must be an RGB triple ({exc})") from None
     try:
-        return ReferenceSet(views, lights, tuple(doc.get("ambient", (0.08, 0.08, 0.09))),
-                            tuple(doc.get("background", (0.02, 0.02, 0.025))))
+        return ReferenceSet(views, lights, colours["ambient"], colours["background"])
     except InputError as exc:
         raise InputError(f"{index}: {exc}") from None
