@@ -1,19 +1,16 @@
 """Relighting, first landing (Loscos 4.2.1–4.2.2): the estimates of eqs. (4.1) and (4.2), the
 display of eq. (4.3) reproducing the photograph, and the baseline's limitation measured."""
 
-import dataclasses
-
 import numpy as np
 import pytest
 
 from illusio.core.errors import InputError
 from illusio.core.images import read_image
-from illusio.radiosity import HierarchyParams
-from illusio.relight import RealScene, RelightParams, RelightSession, builtin_real_scene
+from illusio.relight import RealScene
 from illusio.relight import estimate
 from tests.conftest import call_cli
+from tests.relight.conftest import prepared
 
-COARSE = RelightParams(hierarchy=HierarchyParams(epsilon=3e-4))
 
 
 def test_eq_4_1_reflectance_from_the_photograph(rng):
@@ -32,32 +29,6 @@ def test_eq_4_2_lamp_exitance_balances_the_ambient_term():
     """Σ_lamps E·A = (1 − ρ̂)·B̂_A·Σ A, with B̂_A = π × the mean radiance."""
     e = estimate.lamp_exitance(np.array([0.5, 0.4, 0.3]), np.array([0.2, 0.2, 0.1]), 150.0, 3.0)
     assert np.allclose(e * 3.0, (1 - np.array([0.5, 0.4, 0.3])) * np.pi * np.array([0.2, 0.2, 0.1]) * 150.0)
-
-
-@pytest.fixture(scope="module")
-def photograph():
-    """The built-in real scene, photographed once for the module."""
-    pytest.importorskip("mitsuba", reason="the built-in photograph is rendered by Mitsuba (photo extra)")
-    return builtin_real_scene("office", (96, 72), samples=16)
-
-
-def prepared(ctx, real, method):
-    return RelightSession(real, dataclasses.replace(COARSE, method=method), ctx)
-
-
-@pytest.fixture(scope="module")
-def sessions(ctx, photograph):
-    """One session per method, prepared on first use and released with the module."""
-    made: dict = {}
-
-    def get(method):
-        if method not in made:
-            made[method] = prepared(ctx, photograph, method)
-        return made[method]
-
-    yield get
-    for s in made.values():
-        s.release()
 
 
 @pytest.fixture

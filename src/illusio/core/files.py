@@ -72,4 +72,4 @@ def load_npz(path: str | os.PathLike, what: str) -> dict:
         raise InputError(f"{p}: the {what} declares an array too large for memory") from None
     except Exception as exc:  # zip and header parsing raise BadZipFile, EOFError, zlib.error, KeyError…
         reason = " ".join(str(exc).split())[:200] or type(exc).__name__
-        raise InputError(f"{p}: not a readable {what} ({reason})") from None
+        raise InputError(f"{p}: not a {what} ({reason})") from None

@@ -15,9 +15,10 @@ import numpy as np
 
 from .polygons import Polygons, polygon_areas
 
-__all__ = ["Hierarchy"]
+__all__ = ["Hierarchy", "FIELDS"]
 
-_FIELDS = {"corners": ((4, 3), np.float64), "triangle": ((), bool), "polygon": ((), np.int64),
+# per-element arrays: name → (shape after the element axis, dtype)
+FIELDS = {"corners": ((4, 3), np.float64), "triangle": ((), bool), "polygon": ((), np.int64),
            "parent": ((), np.int64), "child": ((), np.int64), "level": ((), np.int32),
            "area": ((), np.float64), "centre": ((3,), np.float64), "normal": ((3,), np.float64),
            "reflectance": ((3,), np.float64), "exitance": ((3,), np.float64),
@@ -43,7 +44,7 @@ class Hierarchy:
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Every field (first ``len(self)`` rows) and the roots: what :meth:`from_arrays` takes back."""
-        out = {name: getattr(self, name).copy() for name in _FIELDS}
+        out = {name: getattr(self, name).copy() for name in FIELDS}
         out["roots"] = np.asarray(self.roots, np.int64)
         return out
 
@@ -55,14 +56,40 @@ class Hierarchy:
         h = cls.__new__(cls)
         h.polygons = polygons
         n = len(arrays["active"])
-        for name, (shape, dtype) in _FIELDS.items():
+        for name, (shape, dtype) in FIELDS.items():
             a = np.asarray(arrays[name])
             if a.shape != (n,) + shape:
                 raise InputError(f"saved hierarchy: field {name} has shape {a.shape}, expected {(n,) + shape}")
             setattr(h, "_" + name, a.astype(dtype, copy=True))
         h.size = h._capacity = n
         h.roots = np.asarray(arrays["roots"], np.int64)
+        h._check_tree()
         return h
+
+    def _check_tree(self) -> None:
+        """InputError unless parent, child, level and roots describe quadtrees: roots without a
+        parent, every other active element one of the four consecutive children of its parent, one
+        level below it (a saved hierarchy is read back only if it is one)."""
+        from ..core.errors import InputError
+
+        n = len(self)
+        parent, child, level = self.parent, self.child, self.level
+        if ((parent < -1) | (parent >= n) | (child < -1) | (child > n - 4)).any() or \
+                ((self.roots < 0) | (self.roots >= n)).any():
+            raise InputError("saved hierarchy: an index points outside the elements")
+        is_root = np.zeros(n, bool)
+        is_root[self.roots] = True
+        # inactive elements (a collapsed split's, a removed object's) keep stale links: not checked
+        others = np.flatnonzero(~is_root & self.active)
+        if (parent[is_root] != -1).any() or (parent[others] < 0).any():
+            raise InputError("saved hierarchy: roots must have no parent and every other element one")
+        first = child[parent[others]]
+        if ((first < 0) | (others < first) | (others >= first + 4)).any() or \
+                (level[others] != level[parent[others]] + 1).any():
+            raise InputError("saved hierarchy: an element is not among its parent's four children")
+        with_children = np.flatnonzero((child >= 0) & self.active)
+        if (parent[child[with_children][:, None] + np.arange(4)] != with_children[:, None]).any():
+            raise InputError("saved hierarchy: a parent's children do not name it as their parent")
 
     def add_roots(self, polygons: Polygons, first_polygon: int) -> np.ndarray:
         """New roots for ``polygons``, which are rows ``first_polygon``… of the (extended) input."""
@@ -93,7 +120,7 @@ class Hierarchy:
         self._normal[idx] = normal / np.linalg.norm(normal, axis=1, keepdims=True)
 
     def _grow(self, capacity: int) -> None:
-        for name, (shape, dtype) in _FIELDS.items():
+        for name, (shape, dtype) in FIELDS.items():
             new = np.zeros((capacity,) + shape, dtype)
             if self._capacity:
                 new[: self.size] = getattr(self, "_" + name)[: self.size]
@@ -101,7 +128,7 @@ class Hierarchy:
         self._capacity = capacity
 
     def __getattr__(self, name):
-        if name in _FIELDS:
+        if name in FIELDS:
             return self.__dict__["_" + name][: self.__dict__["size"]]
         raise AttributeError(name)
 

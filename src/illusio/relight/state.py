@@ -12,18 +12,18 @@ from __future__ import annotations
 import dataclasses
 import json
 import time
-import zipfile
 from pathlib import Path
 
 import numpy as np
 
 from ..core.context import Context, default_context
 from ..core.errors import InputError
+from ..core.files import load_npz
 from ..core.images import atomic_output
 from ..radiosity import DisplayPass, HierarchyParams, Polygons
 from ..radiosity.corner_cache import CornerGather
 from ..radiosity.display import LeafMesh
-from ..radiosity.hierarchy import Hierarchy
+from ..radiosity.hierarchy import FIELDS as HIERARCHY_FIELDS, Hierarchy
 from ..radiosity.links import Links
 from ..radiosity.solution import Radiosity
 from ..scene.camera import Camera, Pose, View
@@ -86,23 +86,79 @@ def save_session(session, path) -> Path:
     return path
 
 
+# every array save_session writes: its dtype kind (f float, i integer, b bool) and shape, in the
+# sizes H×W (photograph), P_real, P_model, P (solution polygons), G (groups), n (elements), L
+# (links), K (lamp rows), S (pixels seen), N (lamps), V and F (the basis mesh's vertices and faces)
+_SCHEMA = {"photograph": ("f", ("H", "W", 3)), "lamp_scale": ("f", ("G",)),
+           **{f"{prefix}.{name}": (kind, (size,) + tail)
+              for prefix, size in (("real", "P_real"), ("model", "P_model"), ("solution", "P"))
+              for name, kind, tail in (("corners", "f", (4, 3)), ("triangle", "b", ()), ("reflectance", "f", (3,)),
+                                       ("exitance", "f", (3,)), ("group", "i", ()))},
+           **{f"hierarchy.{name}": ("b" if dtype is bool else np.dtype(dtype).kind, ("n",) + shape)
+              for name, (shape, dtype) in HIERARCHY_FIELDS.items()},
+           "hierarchy.roots": ("i", ("P",)),
+           **{f"links.{name}": (kind, ("L",)) for name, kind in (("receiver", "i"), ("source", "i"),
+                                                               ("form_factor", "f"), ("visibility", "f"))},
+           "session.pixel_polygon": ("i", ("H", "W")), "session.pixel_element": ("i", ("H", "W")),
+           "session.texture": ("f", ("H", "W", 3)), "session.texture_factor": ("f", ("n", 3)),
+           "session.corner_d": ("f", ("n", 4, 3)), "session.has_d": ("b", ("n",)),
+           "session.mean_scene": ("f", (3,)), "session.mean_reflectance": ("f", (3,)),
+           "session.pixel_seen": ("b", ("H", "W")), "session.lamp_rows": ("i", ("K",)),
+           "session.pixel_lamp": ("f", ("S", "K", 3)), "session.pixel_indirect": ("f", ("S", 3)),
+           "basis": ("f", ("N", "V", 3)), "basis_mesh.positions": ("f", ("V", 3)), "basis_mesh.radiance": ("f", ("V", 3)),
+           "basis_mesh.corner": ("f", ("V", 3)), "basis_mesh.element": ("f", ("V",)), "basis_mesh.faces": ("i", ("F", 3)),
+           "basis_mesh.face_element": ("i", ("F",))}
+# integer (and element) arrays that index others: name → (least, bound); a bound names a size above
+_INDEX = {"hierarchy.polygon": (0, "P"), "hierarchy.parent": (-1, "n"), "hierarchy.child": (-1, "n"),
+          "hierarchy.roots": (0, "n"), "links.receiver": (0, "n"), "links.source": (0, "n"),
+          "session.pixel_polygon": (-1, "P_model"), "session.pixel_element": (-1, "n"),
+          "session.lamp_rows": (0, "P_model"), "basis_mesh.element": (0, "n"), "basis_mesh.face_element": (0, "n"),
+          "basis_mesh.faces": (0, "V")}
+
+
+def _check_arrays(path: Path, arrays: dict, groups: int) -> None:
+    """Refuse a session whose arrays cannot be what save_session wrote: a wrong dtype or shape,
+    sizes that disagree between arrays, non-finite floats, indices out of range. (The gather and
+    the ray caster index without bounds checks: a bad index would crash, not raise.)"""
+    sizes = {"G": groups}
+    for name, a in arrays.items():
+        if name not in _SCHEMA:
+            continue
+        kind, shape = _SCHEMA[name]
+        if a.dtype.kind != kind and not (kind == "i" and a.dtype.kind == "u"):
+            raise InputError(f"{path}: saved array {name} has dtype {a.dtype}, expected kind {kind!r}")
+        if a.ndim != len(shape):
+            raise InputError(f"{path}: saved array {name} has shape {a.shape}, expected {len(shape)} axes")
+        for axis, (size, want) in enumerate(zip(a.shape, shape)):
+            if isinstance(want, str):
+                want = sizes.setdefault(want, size)
+            if size != want:
+                raise InputError(f"{path}: saved array {name} has {size} along axis {axis}, other arrays {want}")
+        if kind == "f" and not np.isfinite(a).all():
+            raise InputError(f"{path}: saved array {name} holds NaN or infinite values")
+    for name, (least, bound) in _INDEX.items():
+        a = arrays.get(name)
+        if a is not None and a.size and (a.min() < least or a.max() >= sizes.get(bound, 0)):
+            raise InputError(f"{path}: saved array {name} holds indices outside {least}..{sizes.get(bound, 0) - 1}")
+    child = arrays["hierarchy.child"]
+    if (child[child >= 0] + 3 >= sizes["n"]).any():
+        raise InputError(f"{path}: saved hierarchy has children past its last element")
+
+
 def load_session(path, ctx: Context | None = None):
     """A RelightSession from a file written by :func:`save_session`."""
     from .session import RelightSession
 
     path = Path(path)
     start = time.perf_counter()
-    try:
-        with np.load(path, allow_pickle=False) as archive:
-            arrays = {k: archive[k] for k in archive.files}
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        raise InputError(f"{path}: not a saved relighting session ({exc})") from None
+    arrays = load_npz(path, "saved relighting session")
     try:
         record = json.loads(str(arrays["record"]))
+        if not isinstance(record, dict):
+            raise InputError(f"{path}: not a saved relighting session (its record is not an object)")
         if record.get("format") != FORMAT:
             raise InputError(f"{path}: saved as {record.get('format')!r}, this illusio reads {FORMAT!r}")
+        _check_arrays(path, arrays, len(record["solution"]["names"]))
         p = dict(record["params"])
         params = RelightParams(**{**p, "hierarchy": HierarchyParams(**p["hierarchy"]),
                                   "final_hierarchy": HierarchyParams(**p["final_hierarchy"]),
@@ -142,7 +198,7 @@ def load_session(path, ctx: Context | None = None):
             s._basis_mesh = LeafMesh(*(arrays[f"basis_mesh.{n}"] for n in _MESH_ARRAYS))
     except KeyError as exc:
         raise InputError(f"{path}: not a saved relighting session (no {exc.args[0]!r})") from None
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, AttributeError, IndexError) as exc:  # a field of the wrong type or shape
         raise InputError(f"{path}: a saved relighting session with a bad field ({exc})") from None
     s.times["load"] = time.perf_counter() - start
     return s

@@ -1,0 +1,37 @@
+"""The relighting tests' shared fixtures: the built-in real scene photographed once, and one
+prepared session per method."""
+
+import dataclasses
+
+import pytest
+
+from illusio.radiosity import HierarchyParams
+from illusio.relight import RelightParams, RelightSession, builtin_real_scene
+
+COARSE = RelightParams(hierarchy=HierarchyParams(epsilon=3e-4))
+
+
+@pytest.fixture(scope="module")
+def photograph():
+    """The built-in real scene, photographed once for the module."""
+    pytest.importorskip("mitsuba", reason="the built-in photograph is rendered by Mitsuba (photo extra)")
+    return builtin_real_scene("office", (96, 72), samples=16)
+
+
+def prepared(ctx, real, method):
+    return RelightSession(real, dataclasses.replace(COARSE, method=method), ctx)
+
+
+@pytest.fixture(scope="module")
+def sessions(ctx, photograph):
+    """One session per method, prepared on first use and released with the module."""
+    made: dict = {}
+
+    def get(method):
+        if method not in made:
+            made[method] = prepared(ctx, photograph, method)
+        return made[method]
+
+    yield get
+    for s in made.values():
+        s.release()
