@@ -1,9 +1,13 @@
 """illusio sis / sis-decode from the command line: outputs that decode back, clear errors, exit 2."""
 
 import numpy as np
+import pytest
 
 from tests.conftest import call_cli as call
+from illusio.core.errors import InputError
 from illusio.core.images import read_image, write_image
+from illusio.sis.params import StereogramParams
+from illusio.sis.stereogram import stereogram_cpu
 
 
 
@@ -76,3 +80,17 @@ def test_a_colour_depth_map_is_read_as_luminance_with_a_warning(tmp_path):
     with pytest.warns(UserWarning, match="colour image"):
         d = read_depth(tmp_path / "green.png")
     assert np.allclose(d, 1 - 0.7152 * colour[..., 1], atol=0.01)
+
+
+def test_inputs_too_small_or_too_large_are_refused_up_front(tmp_path, capsys):
+    """A depth map narrower than one strip (W_s + β), and an oversampling past the texture limit, are
+    refused before anything is drawn, naming the minimum or the limit; nothing is written."""
+    write_image(tmp_path / "narrow.png", np.full((40, 60, 3), 0.5, np.float32), srgb=False)
+    code, out = call(["sis", str(tmp_path / "narrow.png"), "-o", str(tmp_path / "o.png"), "--strip-width", "50",
+                      "--depth-factor", "20"], capsys)
+    assert code == 2 and "at least 71 px wide" in out.err, out.err
+    code, out = call(["sis", "sphere", "-o", str(tmp_path / "o.png"), "--size", "4000x100", "--oversample", "4"], capsys)
+    assert code == 2 and "8192 px texture limit" in out.err, out.err
+    assert not (tmp_path / "o.png").exists()
+    with pytest.raises(InputError, match="at least 71 px"):
+        stereogram_cpu(np.zeros((10, 70), np.float32), StereogramParams(strip_width=50, depth_factor=20))

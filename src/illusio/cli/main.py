@@ -6,7 +6,9 @@ traceback; mesh repair warnings print one line each.
 
 from __future__ import annotations
 
+import signal
 import sys
+import threading
 import warnings
 
 import typer
@@ -63,18 +65,29 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"illusio: warning: {' '.join(str(message).split())}", file=sys.stderr)
 
 
+def _terminated(signum, frame):
+    raise KeyboardInterrupt
+
+
 def run(argv: list[str] | None = None) -> None:
     """Console-script entry point."""
     warnings.showwarning = _show_warning
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        # SIGTERM unwinds like Ctrl-C: atomic outputs remove their temporary files, nothing partial stays
+        previous = signal.signal(signal.SIGTERM, _terminated)
     argv = expand(sys.argv[1:] if argv is None else argv)
     try:
-        app(args=argv, standalone_mode=True)
+        app(args=argv, standalone_mode=True)   # click answers Ctrl-C (and SIGTERM, here) with Aborted!, exit 1
     except IllusioError as exc:
         print(f"illusio: error: {exc.one_line()}", file=sys.stderr)
         sys.exit(2)
     except KeyboardInterrupt:
         print("illusio: interrupted", file=sys.stderr)
         sys.exit(130)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

@@ -29,7 +29,7 @@ def render(
 ) -> None:
     """Render SCENE to an image (or, with --turntable, a video around it)."""
     from ..core.context import default_context
-    from ..core.images import write_video
+    from ..core.images import VideoWriter
     from ..passes.scene_renderer import render_scene
     from ..scene.camera import Pose, View
 
@@ -64,7 +64,8 @@ def render(
         write_image(out, render_scene(sc, base, (w, h), ctx, settings), bit_depth=bit_depth)
         typer.echo(f"wrote {out} ({w}×{h})")
         return
-    frames = [render_scene(sc, View(Pose.orbit(tuple(target), distance, azimuth + 360.0 * k / turntable, elevation),
-                                    base.camera), (w, h), ctx, settings) for k in range(turntable)]
-    write_video(out, frames)
+    with VideoWriter(out) as video:             # frames streamed: an interrupted run leaves no file
+        for k in range(turntable):
+            video.append(render_scene(sc, View(Pose.orbit(tuple(target), distance, azimuth + 360.0 * k / turntable,
+                                                          elevation), base.camera), (w, h), ctx, settings))
     typer.echo(f"wrote {out} ({turntable} frames, {w}×{h})")

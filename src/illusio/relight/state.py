@@ -116,11 +116,11 @@ _INDEX = {"hierarchy.polygon": (0, "P"), "hierarchy.parent": (-1, "n"), "hierarc
           "basis_mesh.faces": (0, "V")}
 
 
-def _check_arrays(path: Path, arrays: dict, groups: int) -> None:
+def _check_arrays(path: Path, arrays: dict, record: dict) -> None:
     """Refuse a session whose arrays cannot be what save_session wrote: a wrong dtype or shape,
     sizes that disagree between arrays, non-finite floats, indices out of range. (The gather and
     the ray caster index without bounds checks: a bad index would crash, not raise.)"""
-    sizes = {"G": groups}
+    sizes = {"G": len(record["solution"]["names"])}
     for name, a in arrays.items():
         if name not in _SCHEMA:
             continue
@@ -140,6 +140,11 @@ def _check_arrays(path: Path, arrays: dict, groups: int) -> None:
         a = arrays.get(name)
         if a is not None and a.size and (a.min() < least or a.max() >= sizes.get(bound, 0)):
             raise InputError(f"{path}: saved array {name} holds indices outside {least}..{sizes.get(bound, 0) - 1}")
+    for prefix in ("real", "model", "solution"):
+        names, group = len(record[prefix]["names"]), arrays[f"{prefix}.group"]
+        if (group.size and (group.min() < 0 or group.max() >= names)) or \
+                any(not 0 <= int(g) < names for g in record[prefix]["lamps"]):
+            raise InputError(f"{path}: saved {prefix} polygons name groups outside their {names} names")
     child = arrays["hierarchy.child"]
     if (child[child >= 0] + 3 >= sizes["n"]).any():
         raise InputError(f"{path}: saved hierarchy has children past its last element")
@@ -158,7 +163,7 @@ def load_session(path, ctx: Context | None = None):
             raise InputError(f"{path}: not a saved relighting session (its record is not an object)")
         if record.get("format") != FORMAT:
             raise InputError(f"{path}: saved as {record.get('format')!r}, this illusio reads {FORMAT!r}")
-        _check_arrays(path, arrays, len(record["solution"]["names"]))
+        _check_arrays(path, arrays, record)
         p = dict(record["params"])
         params = RelightParams(**{**p, "hierarchy": HierarchyParams(**p["hierarchy"]),
                                   "final_hierarchy": HierarchyParams(**p["final_hierarchy"]),

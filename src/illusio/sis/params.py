@@ -5,9 +5,11 @@ The CLI, the gallery and the viewer read their defaults from here.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 from ..core.errors import InputError
+from ..core.gl import MAX_SIZE
 from ..core.params import check_ranges, param
 from ..passes.scene_renderer import RenderSettings
 from ..scene.camera import Screen
@@ -69,6 +71,16 @@ class StereogramParams:
         if not 1 <= int(self.dot_size) <= 64:
             raise InputError(f"dot size must be in 1..64 pixels, got {self.dot_size}")
         check_ranges(self)
+
+    def check_width(self, width: int) -> None:
+        """InputError unless a stereogram ``width`` pixels wide holds one strip of the farthest
+        separation (W_s + β) and its oversampled width fits a texture (refused before drawing)."""
+        if width <= self.far_separation:
+            raise InputError(f"a stereogram {width} px wide cannot hold one strip of W_s + β = {self.far_separation:g} px: "
+                             f"give a depth map at least {math.floor(self.far_separation) + 1} px wide, or narrower strips")
+        if width * self.oversample > MAX_SIZE:
+            raise InputError(f"oversampling {self.oversample}× makes a {width} px wide stereogram {width * self.oversample} px "
+                             f"wide, past the {MAX_SIZE} px texture limit: lower the oversampling or the width")
 
     @property
     def far_separation(self) -> float:

@@ -104,6 +104,7 @@ class StereogramRenderer(Renderer):
         """The stereogram, RGBA8 texture at ``oversample`` times the frame's width (pooled)."""
         params = self._params(params)
         depth = self.depth_texture(frame.size)
+        params.check_width(frame.size[0])
         maps: dict[str, moderngl.Texture] = {"depth": depth}
         out = self.stereogram_texture(depth, params, frame.index, maps=maps)
         self._keep_maps(maps)
@@ -213,6 +214,7 @@ def stereogram_cpu(depth: np.ndarray, params: StereogramParams = StereogramParam
     """The same image as :func:`stereogram`, computed by the NumPy/numba reference."""
     d = check_depth(depth)
     h, w = d.shape
+    params.check_width(w)
     n = params.oversample
     sep = reference.separation(d, params.strip_width, params.depth_factor, params.exact, params.screen,
                                params.invert != params.cross_eyed, n)
