@@ -50,8 +50,8 @@ def test_fullscreen_triangle_covers_every_pixel_with_centred_uv(ctx, tmp_path):
     ctx.fullscreen.draw(ctx.programs.get(src))
     img = ctx.readback(out)
     assert (img[..., 3] == 1).all()
-    np.testing.assert_allclose(img[0, :, 0], (np.arange(w) + 0.5) / w, atol=1e-5)
-    np.testing.assert_allclose(img[:, 0, 1], 1 - (np.arange(h) + 0.5) / h, atol=1e-5)  # row 0 on top = uv.y near 1
+    np.testing.assert_allclose(img[0, :, 0], (np.arange(w) + 0.5) / w, **tolerance("same arithmetic"))
+    np.testing.assert_allclose(img[:, 0, 1], 1 - (np.arange(h) + 0.5) / h, **tolerance("same arithmetic"))  # row 0 on top = uv.y near 1
     ctx.release(out)
 
 

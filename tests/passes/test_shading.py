@@ -130,8 +130,7 @@ def test_forward_pass_matches_shading_reference_on_random_scenes(ctx, rng):
     interior = ndimage.minimum_filter(g.object_id, 3) == ndimage.maximum_filter(g.object_id, 3)
     same = interior & (forward_ids == g.object_id)
     assert same.mean() > 0.8
-    # the G-buffer keeps colour and normals in half floats: the reference's inputs carry ~1e-3
-    np.testing.assert_allclose(forward[same], expected[same], rtol=5e-3, atol=2e-3)
+    np.testing.assert_allclose(forward[same], expected[same], **tolerance("shading half-float inputs"))
 
 
 def test_forward_and_deferred_paths_agree_with_shadows(ctx, rng):
@@ -159,7 +158,7 @@ def test_screen_material_colours_its_nodes_from_a_screen_space_texture(ctx, rng)
     ctx.release(out)
     tex.release()
     # no light reaches it (intensity 0), no ambient: what shows is the emission, texture × 1
-    np.testing.assert_allclose(got, screen, atol=1e-5)
+    np.testing.assert_allclose(got, screen, **tolerance("same arithmetic"))
 
 
 def test_reused_static_layer_gives_the_full_forward_frame(ctx, rng):
@@ -214,7 +213,7 @@ def test_gbuffer_hook_replaces_attachments_before_shading(ctx, rng):
     g = renderer.gbuffer(Frame(scene.camera(), size))
     hit = g.read().mask
     g.release()
-    np.testing.assert_allclose(got[hit], np.broadcast_to(np.asarray(scene.ambient, np.float32), got[hit].shape), atol=1e-5)
+    np.testing.assert_allclose(got[hit], np.broadcast_to(np.asarray(scene.ambient, np.float32), got[hit].shape), **tolerance("same arithmetic"))
     with pytest.raises(InputError):
         renderer.render_texture(Frame(scene.camera(), size), RenderSettings(forward=True), gbuffer_hook=white_albedo)
 

@@ -2,7 +2,7 @@ import numpy as np
 
 from illusio.core.renderer import Frame
 from illusio.passes import RenderSettings, SceneRenderer
-from tests.conftest import prepared
+from tests.conftest import prepared, tolerance
 from illusio.scene import Camera, Material, Node, PointLight, Pose, Scene, View
 from illusio.scene.builtin import shapes
 from illusio.scene.transforms import translate
@@ -59,7 +59,7 @@ def test_shadow_maps_are_kept_until_the_scene_or_their_size_changes(ctx, monkeyp
     first = r.render(Frame(views[0], size), settings)
     second = r.render(Frame(views[1], size), settings)
     assert len(calls) == 1
-    np.testing.assert_allclose(second, prepared(SceneRenderer(ctx), s).render(Frame(views[1], size), settings), atol=1e-6)
+    np.testing.assert_allclose(second, prepared(SceneRenderer(ctx), s).render(Frame(views[1], size), settings), **tolerance("same arithmetic"))
     calls.clear()
     s.lights[0] = PointLight((-1.5, 3.0, 0.2), intensity=8.0)
     r.prepare(s)

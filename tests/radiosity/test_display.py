@@ -11,7 +11,7 @@ from illusio.radiosity import HierarchyParams, Radiosity, RadiosityParams, Radio
 from illusio.radiosity import reference
 from illusio.radiosity.display import DisplayPass, leaf_mesh
 from illusio.scene import load_scene
-from tests.conftest import call_cli
+from tests.conftest import call_cli, tolerance
 
 SIZE = (96, 96)
 COARSE = HierarchyParams(epsilon=3e-4)
@@ -43,7 +43,7 @@ def test_display_pass_matches_ray_cast_reference(ctx, cornell, rng, smooth):
     leaf = np.where(face >= 0, mesh.face_element[np.maximum(face, 0)], -1)
     inner = (face >= 0) & (ndimage.maximum_filter(leaf, 3) == ndimage.minimum_filter(leaf, 3))
     assert inner.mean() > 0.2
-    np.testing.assert_allclose(got[inner], want[inner], rtol=2e-3, atol=2e-4)   # rasterised vs ray-cast hit points
+    np.testing.assert_allclose(got[inner], want[inner], **tolerance("hit point"))
     assert (got_element[inner] == mesh.face_element[face[inner]]).all()
     assert (got_element[face < 0] == -1).all()
 
@@ -196,7 +196,7 @@ def test_display_pass_loads_into_its_own_context(ctx):
     fresh.prepare(scene)
     expected = other.readback_image(fresh.render_texture(frame, dimmed), 3)
     assert first.mean() > 0.01 and second.mean() < first.mean()
-    np.testing.assert_allclose(second, expected, atol=1e-5)
+    np.testing.assert_allclose(second, expected, **tolerance("same arithmetic"))
     fresh.release()
     renderer.release()
     ctx.make_current()                  # leave the suite's context current before the other one goes

@@ -19,6 +19,7 @@ def one_frame(ctx, depth, params, index=0):
     renderer = StereogramRenderer(ctx)
     renderer.prepare(depth)
     return renderer.render(Frame(size=(depth.shape[1], depth.shape[0]), index=index), params)
+from tests.conftest import tolerance
 from tests.sis.test_reference import smooth_depth
 
 
@@ -136,7 +137,7 @@ def test_row_start_pass_finds_each_rows_first_host_column(ctx, rng):
     tex.release()
 
 
-def test_separation_pass_exact_and_oversampled(ctx, rng, tolerance=None):
+def test_separation_pass_exact_and_oversampled(ctx, rng):
     depth = rng.random((13, 57)).astype(np.float32)
     renderer = StereogramRenderer(ctx)
     tex = ctx.upload(depth, filter="nearest")
@@ -147,7 +148,7 @@ def test_separation_pass_exact_and_oversampled(ctx, rng, tolerance=None):
         got = ctx.readback(out)[..., 0]
         ctx.release(out)
         want = R.separation(depth, 90, 60, exact, p.screen, invert, n)
-        np.testing.assert_allclose(got, want, rtol=1e-5, atol=1e-3)
+        np.testing.assert_allclose(got, want, **tolerance("separation px"))
     tex.release()
 
 
@@ -156,7 +157,7 @@ def test_snow_pass_matches_reference(ctx, rng):
     out = SnowPass(ctx)((61, 29), seed, frame, 2)
     got = ctx.readback(out, 3)
     ctx.release(out)
-    np.testing.assert_allclose(got, quantise(snow(61, 29, seed, frame, 2)), atol=1 / 255 + 1e-6)
+    np.testing.assert_allclose(got, quantise(snow(61, 29, seed, frame, 2)), **tolerance("uint8"))
     assert not np.array_equal(snow(61, 29, seed, frame), snow(61, 29, seed, frame + 1))
 
 
