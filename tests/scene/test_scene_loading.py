@@ -42,3 +42,21 @@ def test_builtin_names_and_unknown_names():
         assert s.name == name and "main" in s.cameras and s.lights
     with pytest.raises(InputError, match="not a built-in scene"):
         load_scene("kitchen")
+
+
+def test_a_camera_that_sees_nothing_is_refused_up_front(tmp_path, capsys):
+    """A view whose frustum holds none of the scene's bounding boxes is refused before anything is
+    drawn (the image would be background only); a view inside the scene or at its edge is kept."""
+    from illusio.scene.camera import Camera, Pose, View
+    from tests.conftest import call_cli
+
+    scene = load_scene("living-room")
+    camera = Camera(45.0, 0.05, 100.0)
+    with pytest.raises(InputError, match="sees nothing of scene 'living-room'"):
+        scene.check_in_view(View(Pose((0, 100, 0), (0, 200, 0)), camera), (64, 48))
+    with pytest.raises(InputError, match="sees nothing"):   # the scene beyond the far plane
+        scene.check_in_view(View(Pose((0, 1, 500), (0, 1, 0)), camera), (64, 48))
+    scene.check_in_view(View(Pose((0, 1, 0), (0, 50, 0)), camera), (64, 48))     # inside, looking up
+    scene.check_in_view(View(Pose((0, 1, 9), (5.5, 1, 0)), camera), (64, 48))    # the room at the edge
+    code, out = call_cli(["render", "living-room", "--camera", "0,100,0:0,200,0", "-o", str(tmp_path / "x.png")], capsys)
+    assert code == 2 and "sees nothing" in out.err and not (tmp_path / "x.png").exists()

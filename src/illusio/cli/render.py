@@ -58,6 +58,7 @@ def render(
     if angles is not None:
         azimuth, elevation = angles
         base = View(Pose.orbit(tuple(target), distance, azimuth, elevation), base.camera)
+    sc.check_in_view(base, (w, h))                  # refused before a context is made
     settings = RenderSettings(shadows=shadows, exposure=exposure)
     ctx = default_context()
     if not turntable:

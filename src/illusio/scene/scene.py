@@ -234,5 +234,28 @@ class Scene:
         return allp.min(axis=0), allp.max(axis=0)
 
 
+    def check_in_view(self, view, size: tuple[int, int]) -> None:
+        """InputError when ``view`` sees none of the visible nodes: every node's bounding box lies
+        wholly outside one plane of the view frustum (near and far included). Conservative: a box
+        that merely straddles planes counts as seen."""
+        from .transforms import transform_points
+
+        clip_from_world = np.asarray(view.view_projection(size), np.float64)
+        for node in self.nodes:
+            if not node.visible:
+                continue
+            corners = transform_points(node.transform, np.array(_corners(*node.mesh.bounds)))
+            clip = np.c_[corners, np.ones(len(corners))] @ clip_from_world.T
+            x, y, z, w = clip.T
+            outside = [x < -w, x > w, y < -w, y > w, z < -w, z > w]
+            if not any(side.all() for side in outside):
+                return
+        eye = ", ".join(f"{c:g}" for c in view.pose.position)
+        target = ", ".join(f"{c:g}" for c in view.pose.target)
+        lo, hi = (", ".join(f"{c:.3g}" for c in corner) for corner in self.bounds())
+        raise InputError(f"the camera at ({eye}) looking at ({target}) sees nothing of scene {self.name!r}: "
+                         f"point it at the scene (its bounds run from ({lo}) to ({hi}))")
+
+
 def _corners(lo, hi):
     return [[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
