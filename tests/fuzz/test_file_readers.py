@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from hypothesis import given, seed
+from hypothesis import strategies as st
 
 from illusio.batch.job import load_job
 from illusio.core.images import read_image
@@ -109,3 +110,15 @@ KEPT = [(reader, case) for reader in READERS for case in corpus_cases(reader)]
 @pytest.mark.parametrize("reader, case", KEPT, ids=lambda x: getattr(x, "name", x))
 def test_kept_cases(reader, case):
     must_refuse(READERS[reader][1], case)
+
+
+@pytest.mark.parametrize("name", sorted(image_seeds()))
+@seed(SESSION_SEED)
+@FUZZ
+@given(fraction=st.floats(0.0, 1.0, exclude_max=True))
+def test_cut_short_images_are_refused(name, fraction, tmp_path_factory):
+    """An image or array cut anywhere is refused — never decoded from the rows that are left."""
+    data = image_seeds()[name]
+    path = tmp_path_factory.mktemp("cut") / name
+    path.write_bytes(data[: int((len(data) - 1) * fraction)])
+    must_refuse(READERS["image"][1], path)

@@ -77,6 +77,8 @@ def read_image(path: str | os.PathLike, srgb: bool | None = None) -> np.ndarray:
             return as_image(load_npy(p, "image array"), str(p))
         if ext == ".exr":
             return as_image(_read_exr(p), str(p))
+        if ext == ".png":
+            _check_png_end(p)
         if ext == ".png" and _png_bit_depth(p) == 16:
             arr, bits = _read_png16(p), 16
         else:
@@ -99,6 +101,19 @@ def read_image(path: str | os.PathLike, srgb: bool | None = None) -> np.ndarray:
         rgb = srgb_to_linear(img[..., :3])
         img = np.concatenate([rgb, img[..., 3:]], axis=2) if img.shape[2] > 3 else rgb
     return img
+
+
+def _check_png_end(p: Path) -> None:
+    """A PNG ends with its IEND chunk; without it the file was cut, and pillow would still decode
+    whatever rows the data that is left holds."""
+    with open(p, "rb") as fh:
+        head = fh.read(24)
+        fh.seek(max(p.stat().st_size - 12, 0))
+        tail = fh.read(12)
+    if head[:8] == b"\x89PNG\r\n\x1a\n" and tail[4:8] != b"IEND":
+        size = f"{int.from_bytes(head[16:20], 'big')}×{int.from_bytes(head[20:24], 'big')}" if len(head) >= 24 else "?"
+        raise InputError(f"{p}: the PNG header declares a {size} image but the file ends before its last "
+                         f"chunk (IEND) — is it cut short?")
 
 
 def _png_bit_depth(p: Path) -> int:
