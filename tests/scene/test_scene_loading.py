@@ -60,3 +60,5 @@ def test_a_camera_that_sees_nothing_is_refused_up_front(tmp_path, capsys):
     scene.check_in_view(View(Pose((0, 1, 9), (5.5, 1, 0)), camera), (64, 48))    # the room at the edge
     code, out = call_cli(["render", "living-room", "--camera", "0,100,0:0,200,0", "-o", str(tmp_path / "x.png")], capsys)
     assert code == 2 and "sees nothing" in out.err and not (tmp_path / "x.png").exists()
+    code, out = call_cli(["lines", "torus", "--camera", "0,0,-5,0,0,-10", "-o", str(tmp_path / "l.png")], capsys)
+    assert code == 2 and "sees nothing of scene 'torus'" in out.err and not (tmp_path / "l.png").exists()

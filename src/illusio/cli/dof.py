@@ -62,6 +62,7 @@ def dof(
     w, h = parse_size(size)
     sc = resolve_scene(scene)
     view = sc.camera(camera)
+    sc.check_in_view(view, (w, h))
     params = DofParams(method=method, focus_distance=focus_distance, aperture_mm=aperture, focal_length_mm=focal_length,
                        samples=samples, max_coc=max_coc, stereo=stereo, eye_separation=eye_separation / 100,
                        planes_behind=planes_behind, planes_front=planes_front, distribution=distribution,

@@ -57,6 +57,7 @@ def lines(
     from ..lines.drawing import LineRenderer, framing_view
     from ..lines.svg import write_drawing_svg
     from ..scene.camera import Pose, View
+    from ..scene.scene import Node, Scene
 
     inputs = [mesh] + ([compare] if compare and compare not in cmp.EDGE_METHODS else [])
     out = check_output_path(output, [i for i in inputs if Path(i).exists()])
@@ -86,6 +87,7 @@ def lines(
         target = tuple(c[3:]) if len(c) == 6 else tuple((np.asarray(lo, float) + hi) / 2)
         base = framing_view(m)
         v = View(Pose(tuple(c[:3]), target), replace(base.camera, near=1e-3 * base.camera.near, far=base.camera.far * 10))
+        Scene(m.name, nodes=[Node(m.name, m)]).check_in_view(v, (w, h))
     else:
         az_el = _floats(view, (2,), "--view")
         v = framing_view(m, az_el[0], az_el[1])

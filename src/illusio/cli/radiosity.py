@@ -73,6 +73,7 @@ def radiosity(
         show=show, exposure=exposure, element=element, lamp_scales=parse_lamps(set_lamp))
     sc = resolve_scene(scene)
     view = sc.camera(camera)
+    sc.check_in_view(view, (w, h))
     renderer = default_context().kept(RadiosityRenderer)
     renderer.prepare(sc)
     solution = renderer.solve(params)
