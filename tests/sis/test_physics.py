@@ -68,3 +68,30 @@ def test_depth_range_of_the_paper_example():
 def test_parameters_out_of_the_paper_ranges_are_refused(strip_width, depth_factor):
     with pytest.raises(InputError, match="must lie in"):
         StereogramParams(strip_width=strip_width, depth_factor=depth_factor)
+
+
+def test_section_3_4_linear_approximation_error(rng):
+    """The linear mode's depth error, against an independent reference: for each D, the depth whose
+    equation-(1) separation (in pixels) is W_s + β·D, found by bisection instead of equation (4).
+    Zero at both ends, negative between (the viewer sees every point nearer), a few cm for the
+    paper's screen."""
+    screen = Screen()
+    strip_width, depth_factor = float(rng.uniform(60, 120)), float(rng.uniform(20, 80))
+    d, error = physics.linear_depth_error(strip_width, depth_factor, screen, samples=41)
+    near, far = physics.depth_range(strip_width, depth_factor, screen)
+    px_per_cm = screen.width_px / screen.width_cm
+    for k in (5, 20, 33):
+        target = strip_width + depth_factor * d[k]
+        lo, hi = 0.0, 10 * far
+        for _ in range(200):
+            mid = (lo + hi) / 2
+            if physics.separation_cm(mid, screen.viewing_distance_cm, screen.eye_separation_cm) * px_per_cm < target:
+                lo = mid
+            else:
+                hi = mid
+        assert error[k] == pytest.approx(mid - (near + d[k] * (far - near)), abs=1e-6)
+    assert abs(error[0]) < 1e-9 and abs(error[-1]) < 1e-9
+    assert (error[1:-1] < 0).all()
+    # the paper's example (W_s = 100, β = 50): at worst some ten centimetres nearer, in the middle
+    d, error = physics.linear_depth_error(100, 50, screen)
+    assert 5 < -error.min() < 30 and 0.3 < d[np.argmin(error)] < 0.7

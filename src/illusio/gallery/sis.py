@@ -18,7 +18,7 @@ from ..sis.depth import depth_from_scene, hidden_scene
 from ..core.renderer import Frame
 from ..sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
 from ..sis.params import ALGORITHMS, StereogramParams
-from ..sis.physics import Screen, depth_range, separation_px
+from ..sis.physics import Screen, depth_range, linear_depth_error, separation_px
 from ..sis.reference import separation
 from ..sis.stereogram import StereogramRenderer
 from .html import Item, Section, Table
@@ -35,6 +35,9 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     w, h = size
     scale = w / 1920
     section.items.append(separation_plot(out_dir, "sis/figure-20.png"))
+    item, table = linear_error_plot(out_dir, "sis/linear-error.png")
+    section.items.append(item)
+    section.tables.append(table)
     sis = StereogramRenderer(ctx)
     depth = depth_from_scene(ctx, hidden_scene(shape("torus-knot")), (w, h))
     sis.prepare(depth)
@@ -141,9 +144,54 @@ def separation_plot(out_dir: Path, rel: str, strip_width: float = 100.0, depth_f
     ax.set_title(f'{screen.diagonal_cm:g} cm screen, {screen.width_px} px wide, {screen.viewing_distance_cm:g} cm away')
     ax.grid(alpha=0.3)
     ax.legend(loc="lower right")
-    fig.tight_layout()
-    with atomic_output(out_dir / rel) as tmp:
-        fig.savefig(tmp, format="png")
-    plt.close(fig)
+    _save(fig, out_dir / rel)
     return Item(rel, "separation against depth", f"[W_s, W_s + β] = [{strip_width:g}, {strip_width + depth_factor:g}] px simulates f' ∈ [{near:.0f}, {far:.0f}] cm",
                 figure="Dehos et al. 2014, Figure 20")
+
+
+def _save(fig, path: Path) -> None:
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    with atomic_output(path) as tmp:
+        fig.savefig(tmp, format="png")
+    plt.close(fig)
+
+
+#: (W_s, β) pairs of the linear-approximation figure: the paper's example first
+LINEAR_CASES = ((100.0, 50.0), (80.0, 40.0), (150.0, 50.0), (100.0, 100.0), (60.0, 120.0))
+
+
+def linear_error_plot(out_dir: Path, rel: str) -> tuple[Item, Table]:
+    """Beside Figure 20: how far the linear approximation (section 3.4) puts each depth, in cm,
+    against D, for a few (W_s, β) on the default screen; and the worst error of each as a table."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    screen = Screen()
+    fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=100)
+    rows = []
+    for strip_width, depth_factor in LINEAR_CASES:
+        d, error = linear_depth_error(strip_width, depth_factor, screen)
+        near, far = depth_range(strip_width, depth_factor, screen)
+        ax.plot(d, error, label=f"W_s = {strip_width:g}, β = {depth_factor:g} (f' {near:.0f}–{far:.0f} cm)")
+        worst = int(np.argmin(error))
+        rows.append([f"{strip_width:g}", f"{depth_factor:g}", f"{near:.1f} – {far:.1f}", f"{-error[worst]:.1f}",
+                     f"{d[worst]:.2f}", f"{-error[worst] / (far - near) * 100:.1f} %"])
+    ax.axhline(0, color="grey", lw=0.8)
+    ax.set_xlabel("depth value D (0 = near)")
+    ax.set_ylabel("f' linear − f' exact (cm)")
+    ax.set_title("the linear approximation shows every point nearer")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="lower left", fontsize=8)
+    _save(fig, out_dir / rel)
+    table = Table(f"The linear approximation's depth error (section 3.4) on the default screen ({screen.diagonal_cm:g} cm, "
+                  f"{screen.width_px} px, viewer {screen.viewing_distance_cm:g} cm away)",
+                  ["W_s (px)", "β (px)", "depth range f' (cm)", "worst error (cm nearer)", "at D", "of the range"], rows)
+    item = Item(rel, "the linear approximation's depth error",
+                "f' seen with separations W_s + β·D against the depth D stands for (exact mode); table below",
+                figure="Dehos et al. 2014, section 3.4 (beside Figure 20)",
+                command="illusio sis torus-knot --exact -o exact.png")
+    return item, table

@@ -18,7 +18,7 @@ from ..core.errors import InputError
 from ..scene.camera import Screen
 
 __all__ = ["separation_cm", "screen_width_cm", "separation_px", "depth_from_separation", "max_separation_px",
-           "depth_range", "Screen"]
+           "depth_range", "linear_depth_error", "Screen"]
 
 
 def separation_cm(depth_cm, viewing_distance_cm: float = 100.0, eye_separation_cm: float = 6.5):
@@ -64,3 +64,17 @@ def depth_range(strip_width: float, depth_factor: float, screen: Screen = Screen
         raise InputError(f"depth factor β = {depth_factor:g} px must lie in ]0, e_p − W_s[ = ]0, {e_p - strip_width:.1f}[ for this screen")
     near, far = depth_from_separation([strip_width, strip_width + depth_factor], screen, width_cm)
     return float(near), float(far)
+
+
+def linear_depth_error(strip_width: float, depth_factor: float, screen: Screen = Screen(), samples: int = 101):
+    """The error of the paper's linear approximation (section 3.4), in cm: (D, f'_linear − f'_exact).
+
+    Exact mode puts D linearly in the simulated depth, f'_exact = f'_min + D·(f'_max − f'_min); the
+    linear mode puts it linearly in the separation, W_s + β·D, which the viewer sees at
+    f'_linear = equation (4) of that separation. Both agree at D = 0 and D = 1; f' is convex in the
+    separation, so between them the linear mode shows every point nearer (the error is ≤ 0)."""
+    near, far = depth_range(strip_width, depth_factor, screen)
+    d = np.linspace(0.0, 1.0, samples)
+    exact = near + d * (far - near)
+    linear = depth_from_separation(strip_width + depth_factor * d, screen)
+    return d, linear - exact
