@@ -56,9 +56,10 @@ def write_results(path: Path, suite: str, ctx, timings: list[Timing], ratios: di
 
 
 def print_table(timings: list[Timing], ratios: dict[str, float]) -> None:
-    width = max(len(t.name) for t in timings)
-    print(f"{'case':<{width}}  {'median ms':>10}  {'min':>8}  {'max':>8}  runs")
+    if timings:  # a quality suite (sis_quality) has measurements only
+        width = max(len(t.name) for t in timings)
+        print(f"{'case':<{width}}  {'median ms':>10}  {'min':>8}  {'max':>8}  runs")
     for t in timings:
         print(f"{t.name:<{width}}  {t.median_ms:>10.2f}  {t.min_ms:>8.2f}  {t.max_ms:>8.2f}  {t.runs}")
     for k, v in ratios.items():
-        print(f"ratio {k}: {v:.2f}")
+        print(f"ratio {k}: {v:.2f}" if timings else f"{k}: {v:g}")

@@ -80,6 +80,10 @@ def test_random_dot_stereograms_decode_to_their_depth(rng, algorithm):
     report = check(img, sep, 0 if anchor == "centre" else 80, anchor)
     assert report.matched >= 0.99, str(report)
     assert report.checked > 0.5 * h * w
+    # the halves (the left-to-right bias measurement) split the checked pixels between them
+    halves = [check(img, sep, 0 if anchor == "centre" else 80, anchor, columns=c) for c in ((0, w // 2), (w // 2, w))]
+    assert sum(r.checked for r in halves) == report.checked
+    assert all(r.matched >= 0.98 for r in halves), [str(r) for r in halves]
 
 
 def test_decoded_depth_round_trip(rng):

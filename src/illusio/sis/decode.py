@@ -119,12 +119,14 @@ class DecodeReport:
 
 
 def check(image: np.ndarray, sep: np.ndarray, first_strip: int, anchor: str = "left", tolerance: int = 1,
-          window: tuple[int, int] = (7, 3), row_start: np.ndarray | None = None) -> DecodeReport:
+          window: tuple[int, int] = (7, 3), row_start: np.ndarray | None = None,
+          columns: tuple[int, int] | None = None) -> DecodeReport:
     """Decode ``image`` and compare with the separation ``sep`` it was made from.
 
     Checked pixels: past each row's first strip, with one expected separation (±1) over the matching
     window at both ends of the link (pixels at depth edges are where occlusion lives), and not
-    ambiguous (see :func:`decode_separation`; their number is reported).
+    ambiguous (see :func:`decode_separation`; their number is reported). ``columns``: (first, end)
+    — only right-hand pixels in these columns are checked (the left or right half, say).
     """
     expected = expected_separation(sep, anchor)
     known = expected[expected > 0]
@@ -150,6 +152,8 @@ def check(image: np.ndarray, sep: np.ndarray, first_strip: int, anchor: str = "l
     rows = np.zeros(h, np.int32) if row_start is None else np.asarray(row_start, np.int32)
     mask = (expected > 0) & flat & (xs - rows[:, None] >= first_strip + rx) & (partner >= rx) & (xs < w - rx)
     mask &= flat[ys, np.clip(partner, 0, w - 1)]
+    if columns is not None:
+        mask &= (xs >= columns[0]) & (xs < columns[1])
     left_out = int((mask & ambiguous).sum())
     mask &= ~ambiguous
     n = int(mask.sum())

@@ -112,7 +112,13 @@ def sequential(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_str
                row_start: np.ndarray | None = None, row_end: np.ndarray | None = None) -> np.ndarray:
     """Section 3.3, left to right along each row: the first strip (x − row_start < ``first_strip``)
     samples the pattern shifted by s − W_s (Algorithm 1's x − βD), every later pixel copies
-    S[x − s(x)]. Returns float32 (H, W, C)."""
+    S[x − s(x)]. Returns float32 (H, W, C).
+
+    Departure from the paper: its sequential algorithm (Figure 16) copies S[x − αD], separations in
+    [0, α]; here the separation is the same s = W_s + βD (or equation (3)) as the strip algorithm's.
+    With αD a point at D = 0 would copy itself (no separation, no depth), and the physical model of
+    section 3.1 wants separations of at least W_s for a depth behind the screen; one mapping for all
+    algorithms also makes their images comparable — sequential, strip and chain give the same one."""
     sep_px = rounded(sep)
     h, w = sep_px.shape
     pattern = np.ascontiguousarray(pattern, np.float32)
@@ -123,7 +129,8 @@ def sequential(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_str
 
 def strip_passes(width: int, strip_width: int, first_strip: int) -> int:
     """How many passes Algorithm 1 takes for rows of ``width`` pixels: the first strip, then one per
-    W_s columns (20 for Full HD with W_s = 100, β = 50)."""
+    W_s columns — 19 for Full HD with W_s = 100, β = 50 (a first strip of W_s + β = 150 px, then 18
+    of 100). The paper's "20 passes" (section 2) counts 1920 / 100."""
     return 1 + max(0, -(-(width - first_strip) // strip_width))
 
 

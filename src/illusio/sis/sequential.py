@@ -1,5 +1,6 @@
 """Sequential algorithm on the GPU: one compute invocation per row walks it left to right
-(reference: :func:`.reference.sequential`)."""
+(reference: :func:`.reference.sequential`, which says why the separation is W_s + βD and not the
+paper's αD)."""
 
 from __future__ import annotations
 

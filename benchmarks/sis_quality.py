@@ -1,0 +1,48 @@
+"""Autostereogram quality, not speed (issue 20): the left-to-right bias of each algorithm.
+
+For a hidden torus knot, each algorithm's stereogram is decoded back: the fraction of checked pixels
+within 1 px of the expected separation in the left half and in the right half (and how many pixels
+each half could check: left-anchored algorithms cannot check their first strip), and how far the
+near part of the hidden scene is seen from where the depth map draws it (geometry: a fused pair is
+seen at its middle).
+Written as "ratios" (the numbers of the JSON), with no timings.
+"""
+
+from __future__ import annotations
+
+from illusio.core import Context
+from illusio.core.renderer import Frame
+from illusio.scene.builtin import shape
+from illusio.sis import reference
+from illusio.sis.decode import check
+from illusio.sis.depth import depth_from_scene, hidden_scene
+from illusio.sis.params import StereogramParams
+from illusio.sis.stereogram import StereogramRenderer
+
+ALGORITHMS = ("sequential", "fast", "strip", "symmetric")
+
+
+def run(ctx: Context, repeat: int, quick: bool = False):
+    w, h = (480, 270) if quick else (960, 540)
+    strip_width, depth_factor = 100.0 * w / 1920 * 2, 50.0 * w / 1920 * 2
+    depth = depth_from_scene(ctx, hidden_scene(shape("torus-knot")), (w, h))
+    renderer = StereogramRenderer(ctx)
+    renderer.prepare(depth)
+    sep = reference.separation(depth, strip_width, depth_factor)
+    results: dict[str, float] = {}
+    for algorithm in ALGORITHMS:
+        params = StereogramParams(algorithm=algorithm, strip_width=strip_width, depth_factor=depth_factor, seed=3)
+        image = renderer.render(Frame(size=(w, h)), params)
+        anchor = "centre" if algorithm == "symmetric" else "left"
+        first = 0 if algorithm == "symmetric" else int(strip_width)
+        for half, columns in (("left", (0, w // 2)), ("right", (w // 2, w))):
+            report = check(image, sep, first, anchor, columns=columns)
+            results[f"{algorithm} {half} half decoded"] = round(report.matched, 4)
+            results[f"{algorithm} {half} half checked px"] = report.checked
+        # where a point is seen (the middle of its fused pair) less where the depth map drew it:
+        # left-anchored algorithms link depth pixel x to x − s, the symmetric one x − s/2 to x + s/2
+        near = sep < strip_width + depth_factor / 2
+        results[f"{algorithm} near part seen shifted px"] = 0.0 if anchor == "centre" else round(-float(sep[near].mean()) / 2, 1)
+    results["mean separation px"] = round(float(sep.mean()), 1)
+    renderer.release()
+    return [], results
