@@ -5,18 +5,25 @@ within 1 px of the expected separation in the left half and in the right half (a
 each half could check: left-anchored algorithms cannot check their first strip), and how far the
 near part of the hidden scene is seen from where the depth map draws it (geometry: a fused pair is
 seen at its middle).
-Written as "ratios" (the numbers of the JSON), with no timings.
+Then lighting on the host (section 6): the final frame of the living room, decoded where the host is
+seen, with no shadows, with shadows falling on the host, and with the room shadowed but the host lit
+unshadowed (`host_shadows=False`). Written as "ratios" (the numbers of the JSON), with no timings.
 """
 
 from __future__ import annotations
 
+import numpy as np
+
 from illusio.core import Context
 from illusio.core.renderer import Frame
+from illusio.passes.scene_renderer import RenderSettings
+from illusio.scene import load_scene
 from illusio.scene.builtin import shape
 from illusio.sis import reference
 from illusio.sis.decode import check
 from illusio.sis.depth import depth_from_scene, hidden_scene
-from illusio.sis.params import StereogramParams
+from illusio.sis.multiscene import MultiSceneRenderer, MultiSceneSubject
+from illusio.sis.params import MultiSceneParams, StereogramParams
 from illusio.sis.stereogram import StereogramRenderer
 
 ALGORITHMS = ("sequential", "fast", "strip", "symmetric")
@@ -45,4 +52,32 @@ def run(ctx: Context, repeat: int, quick: bool = False):
         results[f"{algorithm} near part seen shifted px"] = 0.0 if anchor == "centre" else round(-float(sep[near].mean()) / 2, 1)
     results["mean separation px"] = round(float(sep.mean()), 1)
     renderer.release()
+    results.update(host_lighting(ctx, (w, h)))
     return [], results
+
+
+def host_lighting(ctx: Context, size) -> dict[str, float]:
+    """Fraction decoded and pixels checked on the seen host of the final frame, per lighting."""
+    scene = load_scene("living-room")
+    renderer = MultiSceneRenderer(ctx)
+    renderer.object_ids = True
+    renderer.prepare(MultiSceneSubject(scene, hidden_scene(shape("torus-knot"))))
+    out = {}
+    for host, camera, emission in (("tv-screen", "tv", 0.9), ("back-wall", "main", 0.0)):
+        for label, shadows, host_shadows in (("no shadows", False, False), ("shadows on the host", True, True),
+                                             ("room shadowed, host not", True, False)):
+            params = MultiSceneParams(host=host, emission=emission, settings=RenderSettings(shadows=shadows),
+                                      host_shadows=host_shadows)
+            image = renderer.render(Frame(scene.camera(camera), size, index=3), params)
+            depth = renderer.ctx.readback(renderer.maps()["depth"])[..., 0]
+            seen, on_host = renderer.host_mask(params), depth >= 0
+            sis = params.scaled_stereogram(size[0])
+            sep = reference.separation(np.where(on_host, depth, 1.0), sis.strip_width, sis.depth_factor)
+            rows = np.where(on_host.any(axis=1), on_host.argmax(axis=1), size[0]).astype(np.int32)
+            gain = 1.0 / max(float(np.percentile(image[seen], 99)), 1e-6)   # a global exposure, not a relighting
+            report = check(np.where(seen[..., None], np.clip(image * gain, 0, 1), 0), sep, int(sis.far_separation + 0.5),
+                           "left", row_start=rows)
+            out[f"{host} {label} decoded"] = round(report.matched, 4)
+            out[f"{host} {label} checked px"] = report.checked
+    renderer.release()
+    return out

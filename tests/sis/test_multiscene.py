@@ -134,3 +134,28 @@ def test_host_projection_pass_matches_reference_on_a_tilted_quad(ctx, rng):
     np.testing.assert_allclose(got_d[on_both], want_d[on_both], **tolerance("projected depth"))
     same = np.abs(got_p - want_p).max(axis=-1) <= 1 / 255 + 1e-6
     assert same[on_both].mean() > 0.97
+
+
+def test_shadows_in_the_room_leave_the_host_unshadowed_unless_asked(ctx):
+    """Section 6: hard shadows on a stereogram disturb fusion. With the room's shadows on and
+    ``host_shadows`` off, the host is lit exactly as with no shadows at all (while the room around it
+    is shadowed); with ``host_shadows`` on, shadows fall on it and fewer of its pixels decode."""
+    from illusio.passes.scene_renderer import RenderSettings
+
+    scene = load_scene("living-room")
+    size = (480, 270)
+
+    def frame(shadows, host_shadows):
+        keep = {}
+        params = MultiSceneParams(host="back-wall", emission=0.0, settings=RenderSettings(shadows=shadows),
+                                  host_shadows=host_shadows)
+        return render(MultiSceneRenderer(ctx), scene, scene.camera("main"), size, params, 3, keep), keep
+
+    plain, keep = frame(False, False)
+    kept, _ = frame(True, False)
+    shadowed, _ = frame(True, True)
+    host = keep["visible"]
+    np.testing.assert_allclose(kept[host], plain[host], **tolerance("same arithmetic"))
+    assert (np.abs(kept[~host] - plain[~host]).max(axis=-1) > 0.01).mean() > 0.01      # the room has its shadows
+    darker = (shadowed[host].sum(axis=-1) < 0.8 * plain[host].sum(axis=-1)) & (plain[host].sum(axis=-1) > 0.05)
+    assert darker.mean() > 0.01                                                          # shadows on the wall

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -183,6 +184,9 @@ def sis_scene(
     emission: float = typer.Option(_MULTI.emission, "--emission", help="host glow (TV); 0 for a lit surface such as a wall"),
     interactive: bool = typer.Option(_MULTI.interactive, "--interactive/--no-interactive", help="orient the hidden scene by the viewer's position (Dehos et al. 2014, Figure 25)"),
     spin: float = typer.Option(_MULTI.spin, "--spin", help="degrees per frame the hidden scene turns"),
+    shadows: bool = typer.Option(_MULTI.settings.shadows, "--shadows/--no-shadows", help="shadows in the main scene"),
+    host_shadows: bool = typer.Option(_MULTI.host_shadows, "--host-shadows/--no-host-shadows",
+                                      help="shadows fall on the host too (they break fusion; off: the host is lit unshadowed)"),
     size: str = typer.Option(f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"),
     frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
     frame: int = typer.Option(0, "--frame", help="index of the first frame (its snow and spin; 24 frames a second)"),
@@ -212,7 +216,8 @@ def sis_scene(
     hidden_mesh = resolve_mesh(hidden)
     params = MultiSceneParams(host=host, stereogram=StereogramParams(algorithm=algorithm, pattern=pattern, strip_width=strip_width,
                                                                      depth_factor=depth_factor, seed=seed),
-                              emission=emission, interactive=interactive, spin=spin)
+                              emission=emission, interactive=interactive, spin=spin,
+                              settings=replace(_MULTI.settings, shadows=shadows), host_shadows=host_shadows)
     renderer = default_context().kept(MultiSceneRenderer)     # warm between the tasks of a batch
     renderer.prepare(MultiSceneSubject(main, hidden_scene(hidden_mesh)))
     images = []

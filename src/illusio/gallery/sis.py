@@ -5,6 +5,7 @@ mode of Figure 25."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -108,6 +109,15 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                               details=
                               "the wall's mottled texture hides a torus; lit like any wall (no glow)"))
     d = ctx.readback(multi.maps()["depth"])[..., 0]
+    for name, host_shadows, what in (("wall-shadowed", True, "shadows fall on the wall: their hard edges cut the repeats"),
+                                     ("wall-unshadowed", False, "the room keeps its shadows, the wall is lit unshadowed")):
+        lit = replace(wall, settings=replace(wall.settings, shadows=True), host_shadows=host_shadows)
+        write_image(out_dir / f"sis/{name}.png", multi.render(Frame(scene.camera("main"), (w, h), index=1), lit))
+        section.items.append(Item(f"sis/{name}.png", f"shadows {'on' if host_shadows else 'off'} the host", what,
+                                  figure=PAPER + "section 6",
+                                  command=f"illusio sis-scene living-room --camera main --host back-wall --hidden torus "
+                                          f"--pattern wall-texture.png --strip-width 100 --depth-factor 40 --emission 0 --shadows "
+                                          f"--{'' if host_shadows else 'no-'}host-shadows -o {name}.png --size {w}x{h}"))
     write_image(out_dir / "sis/wall-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
     section.items.append(Item("sis/wall-depth.png", "the wall's screen-space depth", "white = near, black = off the wall",
                               figure=PAPER + "Figure 24 (bottom)"))

@@ -36,6 +36,7 @@ class ScreenMaterial:
     nodes: frozenset[int]
     tint: tuple[float, float, float] = (1.0, 1.0, 1.0)
     emission: float = 0.0
+    shadows: bool = True  # False: these nodes are lit as if nothing stood between them and the lights
 
 
 class ForwardPass:
@@ -142,7 +143,8 @@ class ForwardPass:
         # one program per kind of surface; the order between groups does not change the image (the
         # depth test decides), within a group front to back
         for (textured, glossy, screen), indices in gpu_scene.groups(variant, only).items():
-            prog = self.ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadow_atlas is not None),
+            shadowed = shadow_atlas is not None and not (screen and not screen_material.shadows)
+            prog = self.ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadowed),
                                     TEXTURED=int(textured), GLOSSY=int(glossy), SCREEN_MATERIAL=int(screen))
             set_uniform(prog, "view_matrix", view.view_matrix())
             set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))

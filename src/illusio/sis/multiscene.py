@@ -171,7 +171,7 @@ class MultiSceneRenderer(Renderer):
         # (6) the main scene, lit in one forward pass, the host coloured (and, for a TV, lit) by the
         # stereogram as a screen-space texture
         tint = tuple(float(c) for c in hosts[0][1].material.colour) if params.emission == 0 else (1.0, 1.0, 1.0)
-        material = ScreenMaterial(stereo, frozenset(i for i, _ in hosts), tint, float(params.emission))
+        material = ScreenMaterial(stereo, frozenset(i for i, _ in hosts), tint, float(params.emission), params.host_shadows)
         settings = replace(params.settings, forward=True)
         out, ids = self.scene_renderer.render_forward(Frame(view, (w, h), frame.time, frame.index), settings, material,
                                                       object_ids=self.object_ids, reuse_static=params.reuse_static)

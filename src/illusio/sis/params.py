@@ -121,6 +121,7 @@ class MultiSceneParams:
     interactive: bool = param(False, help="orient the hidden scene by where the viewer stands (Figure 25)")
     spin: float = param(0.0, range=(-30.0, 30.0), unit="°/frame", help="the hidden scene turns")
     settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+    host_shadows: bool = param(False, help="shadows fall on the host too (they break the stereogram's fusion)")
     reuse_static: bool = param(True, help="a still camera shades only the host again")
 
     __post_init__ = check_ranges
