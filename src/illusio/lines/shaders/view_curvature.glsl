@@ -6,7 +6,10 @@
 // vector. Rasterised into a float target (q, t1.x, t1.y, view depth > 0); background (0, 0, 0, 0).
 // Differences from annex B, on purpose: q1 is the singular value, not the eigenvalue of QᵀQ the
 // report's shader keeps (Judd's definition and the issue's); degenerate directions (view along the
-// normal, isotropic points) give t1 = 0 instead of a NaN. NumPy reference: lines.view_curvature.
+// normal, isotropic points) give t1 = 0 instead of a NaN; the principal directions go through the
+// model-view matrix (tangent vectors), the normal through its inverse transpose — annex B sends all
+// three through the normal matrix, the same for a rigid camera but not under a scaled model matrix.
+// NumPy reference: lines.view_curvature.
 #include "common/camera.glsl"
 
 uniform mat4 model_matrix;
