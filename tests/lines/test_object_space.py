@@ -9,7 +9,8 @@ from illusio.lines.curvature import estimate_curvature
 from illusio.core.renderer import Frame
 from illusio.lines.drawing import LineRenderer, framing_view
 from illusio.lines.params import LineParams
-from illusio.lines.object_space import chain, contours, ridges, suggestive_contours, valleys, vertex_gradient, zero_crossings
+from illusio.lines.object_space import (boundaries, chain, contours, ridges, suggestive_contours, valleys, vertex_gradient,
+                                        zero_crossings)
 from illusio.scene.mesh import load_mesh
 
 
@@ -78,3 +79,30 @@ def test_hybrid_and_object_space_apparent_ridges_agree(ctx, models, name):
     s = score(line_mask(hybrid), line_mask(judd), 3.0)
     assert s.f1 >= 0.8, str(s)
     renderer.release()
+
+
+def test_boundaries_are_the_edges_one_face_uses(ctx):
+    """rtsc's mesh boundaries: an open plane's four sides (their length is its perimeter, chained into
+    one closed loop), none on a closed sphere, none on a box stored as six separate faces (welded by
+    position first); drawn, they outline the plane seen from above."""
+    from illusio.scene.builtin import shapes
+    from illusio.scene.camera import Camera, Pose, View
+
+    plane = shapes.plane((2.0, 1.0))
+    segs = boundaries(plane)
+    lengths = np.linalg.norm(segs.points[:, 1] - segs.points[:, 0], axis=1)
+    assert lengths.sum() == pytest.approx(6.0)
+    loops = chain(segs)
+    assert len(loops) == 1 and np.allclose(loops[0][0], loops[0][-1])
+    border = np.maximum(np.abs(segs.points[..., 0]) / 1.0, np.abs(segs.points[..., 2]) / 0.5)
+    assert np.allclose(border, 1.0)                                          # every end on the rim
+    assert len(boundaries(analytic.icosphere(3)[0])) == 0
+    assert len(boundaries(shapes.box((1, 1, 1)))) == 0
+    renderer = LineRenderer(ctx)
+    renderer.prepare(plane)
+    view = View(Pose((0.0, 3.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, -1.0)), Camera(45.0, 0.1, 10.0))
+    image = renderer.render(Frame(view, (200, 200)), LineParams(lines=("boundaries",)))
+    ink = image.max(axis=-1) < 0.5
+    rows, cols = np.nonzero(ink)
+    assert ink.mean() > 0.005 and ink[90:110, 90:110].sum() == 0            # an outline, empty inside
+    assert (cols.max() - cols.min()) > 1.5 * (rows.max() - rows.min())      # 2 m wide, 1 m deep

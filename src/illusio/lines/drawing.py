@@ -23,7 +23,7 @@ from ..scene.mesh import Mesh
 from .compose import ComposePass
 from .curvature import Curvature, estimate_curvature
 from .gpu_mesh import CurvatureMesh
-from .object_space import Segments, apparent_ridges, contours, ridges, suggestive_contours, valleys
+from .object_space import Segments, apparent_ridges, boundaries, contours, ridges, suggestive_contours, valleys
 from .params import LINE_TYPES, CurvatureParams, LineParams
 from .reference import view_curvature
 from .ridge_filter import RidgeFilterPass
@@ -228,6 +228,8 @@ class LineRenderer(Renderer):
                 out[kind] = ridges(mesh, curv, params.ridge_threshold, scale)
             elif kind == "valleys":
                 out[kind] = valleys(mesh, curv, params.ridge_threshold, scale)
+            elif kind == "boundaries":
+                out[kind] = boundaries(mesh)
         return out
 
 

@@ -25,7 +25,7 @@ from ..scene.mesh import Mesh
 from .curvature import Curvature
 
 __all__ = ["Segments", "zero_crossings", "contours", "suggestive_contours", "ridges", "valleys",
-           "apparent_ridges", "radial_curvature", "vertex_gradient", "chain"]
+           "apparent_ridges", "boundaries", "radial_curvature", "vertex_gradient", "chain"]
 
 
 @dataclass
@@ -195,6 +195,27 @@ def apparent_ridges(mesh: Mesh, q1: np.ndarray, w1: np.ndarray, threshold: float
     grad = vertex_gradient(mesh, q1)
     dq = (grad * w1).sum(1)
     return _extremum_lines(mesh, w1, dq, q1 > threshold * scale, True, q1 / scale)
+
+
+def boundaries(mesh: Mesh) -> Segments:
+    """Mesh boundaries (one of rtsc's line types): the edges only one face uses, once vertices at
+    the same position are taken as one (a shape stored as separate faces, for its uvs or flat
+    normals, has no boundary where those faces meet). View-independent. Each end of a segment is a
+    vertex, keyed as the pair (v, v) so that :func:`chain` joins consecutive edges."""
+    v = np.asarray(mesh.vertices, np.float64)
+    _, welded = np.unique(v, axis=0, return_inverse=True)
+    welded = welded.reshape(-1)
+    f = welded[np.asarray(mesh.faces, np.int64)]
+    edges = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
+    edges = edges[edges[:, 0] != edges[:, 1]]  # faces degenerate once welded
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    single = unique[counts == 1]
+    if not len(single):
+        return Segments.empty()
+    position = np.zeros((welded.max() + 1, 3))
+    position[welded] = v
+    ends = np.stack([single, single], axis=2)  # (S, 2 ends, 2): the vertex as a degenerate edge
+    return Segments(position[single], ends, np.ones(len(single)))
 
 
 def chain(segments: Segments) -> list[np.ndarray]:
