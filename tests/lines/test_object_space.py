@@ -106,3 +106,26 @@ def test_boundaries_are_the_edges_one_face_uses(ctx):
     rows, cols = np.nonzero(ink)
     assert ink.mean() > 0.005 and ink[90:110, 90:110].sum() == 0            # an outline, empty inside
     assert (cols.max() - cols.min()) > 1.5 * (rows.max() - rows.min())      # 2 m wide, 1 m deep
+
+
+def test_k_zero_and_h_zero_curves_of_tori_where_geometry_puts_them():
+    """A torus (axis y, tube radius r around a circle of radius R): K = 0 on its top and bottom
+    circles (|y| = r, R from the axis); H = 0, for a fat torus (R < 2r), where cos v = −R/(2r) (the
+    circles R + r cos v from the axis, |y| = r sin v). Estimated curvature, so within a few %."""
+    from illusio.scene.builtin import shapes
+    from illusio.lines.object_space import mean_zero_lines, parabolic_lines
+
+    thin = shapes.torus(1.0, 0.35, 160, 64)
+    segs = parabolic_lines(thin, estimate_curvature(thin, cache=False))
+    p = segs.points.reshape(-1, 3)
+    assert len(segs) > 100
+    np.testing.assert_allclose(np.abs(p[:, 1]), 0.35, atol=0.01)
+    np.testing.assert_allclose(np.hypot(p[:, 0], p[:, 2]), 1.0, atol=0.02)
+    fat = shapes.torus(1.0, 0.7, 160, 96)
+    v = np.arccos(-1.0 / 1.4)
+    segs = mean_zero_lines(fat, estimate_curvature(fat, cache=False))
+    p = segs.points.reshape(-1, 3)
+    assert len(segs) > 100
+    np.testing.assert_allclose(np.hypot(p[:, 0], p[:, 2]), 1.0 + 0.7 * np.cos(v), atol=0.03)
+    np.testing.assert_allclose(np.abs(p[:, 1]), 0.7 * np.sin(v), atol=0.03)
+    assert len(mean_zero_lines(thin, estimate_curvature(thin, cache=False))) == 0   # R > 2r: none

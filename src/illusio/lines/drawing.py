@@ -23,7 +23,8 @@ from ..scene.mesh import Mesh
 from .compose import ComposePass
 from .curvature import Curvature, estimate_curvature
 from .gpu_mesh import CurvatureMesh
-from .object_space import Segments, apparent_ridges, boundaries, contours, ridges, suggestive_contours, valleys
+from .object_space import (Segments, apparent_ridges, boundaries, contours, mean_zero_lines, parabolic_lines, ridges,
+                           suggestive_contours, valleys)
 from .params import LINE_TYPES, CurvatureParams, LineParams
 from .reference import view_curvature
 from .ridge_filter import RidgeFilterPass
@@ -230,6 +231,10 @@ class LineRenderer(Renderer):
                 out[kind] = valleys(mesh, curv, params.ridge_threshold, scale)
             elif kind == "boundaries":
                 out[kind] = boundaries(mesh)
+            elif kind == "k-zero":
+                out[kind] = parabolic_lines(mesh, curv)
+            elif kind == "h-zero":
+                out[kind] = mean_zero_lines(mesh, curv)
         return out
 
 

@@ -25,7 +25,7 @@ from ..scene.mesh import Mesh
 from .curvature import Curvature
 
 __all__ = ["Segments", "zero_crossings", "contours", "suggestive_contours", "ridges", "valleys",
-           "apparent_ridges", "boundaries", "radial_curvature", "vertex_gradient", "chain"]
+           "apparent_ridges", "boundaries", "parabolic_lines", "mean_zero_lines", "radial_curvature", "vertex_gradient", "chain"]
 
 
 @dataclass
@@ -195,6 +195,18 @@ def apparent_ridges(mesh: Mesh, q1: np.ndarray, w1: np.ndarray, threshold: float
     grad = vertex_gradient(mesh, q1)
     dq = (grad * w1).sum(1)
     return _extremum_lines(mesh, w1, dq, q1 > threshold * scale, True, q1 / scale)
+
+
+def parabolic_lines(mesh: Mesh, curvature: Curvature) -> Segments:
+    """rtsc's "K = 0" curves: zeros of the Gaussian curvature K = k_min·k_max, where the surface turns
+    from dome to saddle (a torus: its top and bottom circles). View-independent."""
+    return zero_crossings(mesh, curvature.k_min.astype(np.float64) * curvature.k_max)
+
+
+def mean_zero_lines(mesh: Mesh, curvature: Curvature) -> Segments:
+    """rtsc's "H = 0" curves: zeros of the mean curvature H = (k_min + k_max)/2, where the saddle is
+    balanced (a fat torus, R < 2r: one circle on each side of its hole). View-independent."""
+    return zero_crossings(mesh, curvature.k_min.astype(np.float64) + curvature.k_max)
 
 
 def boundaries(mesh: Mesh) -> Segments:

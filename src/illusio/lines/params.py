@@ -11,16 +11,16 @@ from .reference import REPORT_THRESHOLD
 
 __all__ = ["LINE_TYPES", "METHODS", "SILHOUETTE_SPACES", "LineParams", "CurvatureParams"]
 
-LINE_TYPES = ("apparent-ridges", "silhouettes", "suggestive", "ridges", "valleys", "boundaries")
+LINE_TYPES = ("apparent-ridges", "silhouettes", "suggestive", "ridges", "valleys", "boundaries", "k-zero", "h-zero")
 METHODS = ("hybrid", "object-space")
 SILHOUETTE_SPACES = ("object", "image")
 
 #: linear RGB per line type
 DEFAULT_COLOURS = (("apparent-ridges", (0.0, 0.0, 0.0)), ("silhouettes", (0.0, 0.0, 0.0)),
                    ("suggestive", (0.05, 0.1, 0.45)), ("ridges", (0.55, 0.05, 0.05)), ("valleys", (0.05, 0.35, 0.1)),
-                   ("boundaries", (0.0, 0.0, 0.0)))
+                   ("boundaries", (0.0, 0.0, 0.0)), ("k-zero", (0.45, 0.2, 0.0)), ("h-zero", (0.3, 0.0, 0.4)))
 #: pixels per line type (object-space lines)
-DEFAULT_WIDTHS = (("apparent-ridges", 1.5), ("silhouettes", 2.0), ("suggestive", 1.5), ("ridges", 1.5), ("valleys", 1.5), ("boundaries", 2.0))
+DEFAULT_WIDTHS = (("apparent-ridges", 1.5), ("silhouettes", 2.0), ("suggestive", 1.5), ("ridges", 1.5), ("valleys", 1.5), ("boundaries", 2.0), ("k-zero", 1.5), ("h-zero", 1.5))
 
 
 @dataclass(frozen=True)
