@@ -129,3 +129,19 @@ def test_k_zero_and_h_zero_curves_of_tori_where_geometry_puts_them():
     np.testing.assert_allclose(np.hypot(p[:, 0], p[:, 2]), 1.0 + 0.7 * np.cos(v), atol=0.03)
     np.testing.assert_allclose(np.abs(p[:, 1]), 0.7 * np.sin(v), atol=0.03)
     assert len(mean_zero_lines(thin, estimate_curvature(thin, cache=False))) == 0   # R > 2r: none
+
+
+def test_isophotes_of_a_sphere_are_circles_of_constant_n_dot_l(rng):
+    """On a unit sphere n = p, so the isophote n·l = c is the circle p·l = c (estimated normals, so
+    within 0.01)."""
+    from illusio.lines.object_space import isophotes
+
+    mesh, _, _ = analytic.icosphere(4)
+    curv = estimate_curvature(mesh, cache=False)
+    light = rng.normal(size=3)
+    light /= np.linalg.norm(light)
+    level = float(rng.uniform(0.1, 0.9))
+    segs = isophotes(mesh, curv.normals, light, level)
+    p = segs.points.reshape(-1, 3)
+    assert len(segs) > 50
+    np.testing.assert_allclose(p @ light, level, atol=0.01)

@@ -10,7 +10,7 @@ import typer
 
 from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, read_image, write_image
-from ..lines.params import CurvatureParams, LineParams
+from ..lines.params import LINE_TYPES, CurvatureParams, LineParams
 from .common import parse_size, resolve_mesh
 
 _DEFAULT = LineParams()
@@ -29,7 +29,7 @@ def _floats(text: str, count: tuple[int, ...], name: str) -> list[float]:
 def lines(
     mesh: str = typer.Argument(..., help="mesh file (.obj .ply .off .stl .gltf .glb) or built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="drawing to write: .png, or .svg (polylines per line type)"),
-    line_types: str = typer.Option(",".join(_DEFAULT.lines), "--lines", help="comma-separated: apparent-ridges, silhouettes, suggestive, ridges, valleys"),
+    line_types: str = typer.Option(",".join(_DEFAULT.lines), "--lines", help=f"comma-separated: {', '.join(LINE_TYPES)}"),
     method: str = typer.Option(_DEFAULT.method, "--method", help="apparent ridges by the hybrid GPU method or Judd's object-space one"),
     tau: float = typer.Option(_DEFAULT.tau, "--tau", help="τ: q = 2^τ q1 (relative to the mesh's curvature scale unless --raw)"),
     lam: float = typer.Option(_DEFAULT.lam, "--lambda", help="λ of the direction-adaptive Laplacian"),
@@ -39,6 +39,7 @@ def lines(
     view: str = typer.Option("30,15", "--view", help="AZIMUTH,ELEVATION in degrees around the mesh"),
     camera: str = typer.Option(None, "--camera", help="EYE_X,EYE_Y,EYE_Z[,TARGET_X,TARGET_Y,TARGET_Z] instead of --view"),
     size: str = typer.Option("1024x1024", "--size", help="WIDTHxHEIGHT"),
+    isophote_level: float = typer.Option(_DEFAULT.isophote_level, "--isophote-level", help="isophotes: the n·l they follow, lit by a headlight"),
     silhouettes: str = typer.Option(_DEFAULT.silhouette_space, "--silhouettes", help="object (n·v = 0 zero crossings) or image (depth edges)"),
     grid: bool = typer.Option(False, "--grid/--no-grid", help="write the τ × λ grid of hybrid apparent ridges instead"),
     compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny or an edge IMAGE: print scores, write OUT-compare.png"),
@@ -79,7 +80,7 @@ def lines(
     parse_size(f"{w * antialias}x{h * antialias}")          # the supersampled drawing must fit too
     kinds = tuple(t.strip() for t in line_types.split(",") if t.strip())
     params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw, tau=tau, lam=lam,
-                        threshold=threshold, min_ridge_pixels=min_ridge_pixels)
+                        threshold=threshold, min_ridge_pixels=min_ridge_pixels, isophote_level=isophote_level)
     m = resolve_mesh(mesh)
     if camera:
         c = _floats(camera, (3, 6), "--camera")

@@ -23,8 +23,8 @@ from ..scene.mesh import Mesh
 from .compose import ComposePass
 from .curvature import Curvature, estimate_curvature
 from .gpu_mesh import CurvatureMesh
-from .object_space import (Segments, apparent_ridges, boundaries, contours, mean_zero_lines, parabolic_lines, ridges,
-                           suggestive_contours, valleys)
+from .object_space import (Segments, apparent_ridges, boundaries, contours, isophotes, mean_zero_lines, parabolic_lines,
+                           ridges, suggestive_contours, valleys)
 from .params import LINE_TYPES, CurvatureParams, LineParams
 from .reference import view_curvature
 from .ridge_filter import RidgeFilterPass
@@ -235,6 +235,8 @@ class LineRenderer(Renderer):
                 out[kind] = parabolic_lines(mesh, curv)
             elif kind == "h-zero":
                 out[kind] = mean_zero_lines(mesh, curv)
+            elif kind == "isophotes":  # a headlight: towards the camera, along its axis
+                out[kind] = isophotes(mesh, curv.normals, -view.pose.axes()[2], params.isophote_level)
         return out
 
 

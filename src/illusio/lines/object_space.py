@@ -25,7 +25,7 @@ from ..scene.mesh import Mesh
 from .curvature import Curvature
 
 __all__ = ["Segments", "zero_crossings", "contours", "suggestive_contours", "ridges", "valleys",
-           "apparent_ridges", "boundaries", "parabolic_lines", "mean_zero_lines", "radial_curvature", "vertex_gradient", "chain"]
+           "apparent_ridges", "boundaries", "parabolic_lines", "mean_zero_lines", "isophotes", "radial_curvature", "vertex_gradient", "chain"]
 
 
 @dataclass
@@ -207,6 +207,13 @@ def mean_zero_lines(mesh: Mesh, curvature: Curvature) -> Segments:
     """rtsc's "H = 0" curves: zeros of the mean curvature H = (k_min + k_max)/2, where the saddle is
     balanced (a fat torus, R < 2r: one circle on each side of its hole). View-independent."""
     return zero_crossings(mesh, curvature.k_min.astype(np.float64) + curvature.k_max)
+
+
+def isophotes(mesh: Mesh, normals: np.ndarray, light: np.ndarray, level: float) -> Segments:
+    """rtsc's isophotes: where the diffuse shading n·l of a directional light ``light`` (unit, towards
+    the light; a headlight is the direction towards the camera) equals ``level``."""
+    light = np.asarray(light, np.float64)
+    return zero_crossings(mesh, np.asarray(normals, np.float64) @ (light / np.linalg.norm(light)) - level)
 
 
 def boundaries(mesh: Mesh) -> Segments:

@@ -11,16 +11,17 @@ from .reference import REPORT_THRESHOLD
 
 __all__ = ["LINE_TYPES", "METHODS", "SILHOUETTE_SPACES", "LineParams", "CurvatureParams"]
 
-LINE_TYPES = ("apparent-ridges", "silhouettes", "suggestive", "ridges", "valleys", "boundaries", "k-zero", "h-zero")
+LINE_TYPES = ("apparent-ridges", "silhouettes", "suggestive", "ridges", "valleys", "boundaries", "k-zero", "h-zero", "isophotes")
 METHODS = ("hybrid", "object-space")
 SILHOUETTE_SPACES = ("object", "image")
 
 #: linear RGB per line type
 DEFAULT_COLOURS = (("apparent-ridges", (0.0, 0.0, 0.0)), ("silhouettes", (0.0, 0.0, 0.0)),
                    ("suggestive", (0.05, 0.1, 0.45)), ("ridges", (0.55, 0.05, 0.05)), ("valleys", (0.05, 0.35, 0.1)),
-                   ("boundaries", (0.0, 0.0, 0.0)), ("k-zero", (0.45, 0.2, 0.0)), ("h-zero", (0.3, 0.0, 0.4)))
+                   ("boundaries", (0.0, 0.0, 0.0)), ("k-zero", (0.45, 0.2, 0.0)), ("h-zero", (0.3, 0.0, 0.4)),
+                   ("isophotes", (0.4, 0.4, 0.4)))
 #: pixels per line type (object-space lines)
-DEFAULT_WIDTHS = (("apparent-ridges", 1.5), ("silhouettes", 2.0), ("suggestive", 1.5), ("ridges", 1.5), ("valleys", 1.5), ("boundaries", 2.0), ("k-zero", 1.5), ("h-zero", 1.5))
+DEFAULT_WIDTHS = (("apparent-ridges", 1.5), ("silhouettes", 2.0), ("suggestive", 1.5), ("ridges", 1.5), ("valleys", 1.5), ("boundaries", 2.0), ("k-zero", 1.5), ("h-zero", 1.5), ("isophotes", 1.0))
 
 
 @dataclass(frozen=True)
@@ -65,6 +66,7 @@ class LineParams:
     object_threshold: float = param(0.2, range=(0.0, 100.0), help="object-space apparent ridges: q1 / scale")
     ridge_threshold: float = param(1.0, range=(0.0, 100.0), help="ridges and valleys: |k| / scale")
     suggestive_threshold: float = param(0.05, range=(0.0, 100.0), help="suggestive contours: D_w κ_r / scale²")
+    isophote_level: float = param(0.5, range=(0.0, 1.0), help="isophotes: the n·l they follow (headlight)")
     silhouette_space: str = param("object", choices=SILHOUETTE_SPACES)
     depth_jump: float = param(0.05, range=(0.0, 10.0), help="image silhouettes: relative depth jump")
     min_ridge_pixels: int = param(24, range=(0, 100000), step=1, unit="px", help="drop shorter ridge fragments")
