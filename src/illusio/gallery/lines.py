@@ -17,7 +17,7 @@ from ..core.renderer import Frame
 from ..lines.drawing import LineRenderer, framing_view
 from ..lines.params import LineParams
 from ..lines.tuning import parameter_grid
-from ..scene.builtin import shape
+from ..scene.builtin import shape, shapes
 from ..scene.mesh import load_mesh
 from .html import Item, Section, Table
 
@@ -53,6 +53,17 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
         write_image(out_dir / rel, img)
         section.items.append(Item(rel, label, "built-in torus knot", figure="Judd et al. 2007 and the report, ch. 2",
                                   command=f"illusio lines torus-knot --lines {','.join(kinds)} -o knot.png"))
+    fat = shapes.torus(1.0, 0.7)             # R < 2r: it has H = 0 curves
+    fat_view = framing_view(fat, 20, 35)
+    renderer.prepare(fat)
+    kinds = ("silhouettes", "k-zero", "h-zero", "isophotes")
+    write_image(out_dir / "lines/rtsc-types.png", renderer.render(Frame(fat_view, tile), LineParams(lines=kinds)))
+    section.items.append(Item("lines/rtsc-types.png", "more of rtsc's line types on a fat torus",
+                              "K = 0 (brown: top and bottom circles), H = 0 (purple: inside the hole), isophote n·l = 0.5 "
+                              "(grey), silhouettes; the built-in torus of the command is thinner (R > 2r): no H = 0 curve",
+                              figure="rtsc, the tool the report compares against",
+                              command="illusio lines torus --lines silhouettes,k-zero,h-zero,isophotes -o torus.png"))
+    renderer.prepare(knot)
     models = _models()
     meshes = [("blob", shape("blob"), (30, 15), "blob")]
     if not models:
