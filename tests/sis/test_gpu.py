@@ -183,7 +183,9 @@ def test_oversampled_stereogram_keeps_its_size_and_guides(ctx, rng):
     assert image.shape == (60, 300, 3)
     plain = one_frame(ctx, depth, StereogramParams(strip_width=50, depth_factor=30, oversample=4))
     report = check(plain, R.separation(depth, 50, 30), 80)
-    assert report.matched >= 0.9 and report.checked >= 0.3 * 60 * 300, str(report)
+    # checked: 26–75 % of the pixels over 300 seeds (the box reduction leaves low-contrast, ambiguous
+    # windows); the bound only says the check is not vacuous
+    assert report.matched >= 0.9 and report.checked >= 0.15 * 60 * 300, str(report)
     # the guide dots: black discs centred (W_s + β) apart near the top
     y = int(max(4, 0.05 * 60))
     for cx in (150 - 40, 150 + 40):
