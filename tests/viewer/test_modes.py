@@ -223,3 +223,21 @@ def test_relight_lamp_and_crate_follow_the_pointer(ctx):
     session = viewer.mode.renderer.session
     assert "virtual-lamp-0" in session.lamp_names and "crate" in session.solution.polygons.names
     viewer.release()
+
+
+def test_a_window_too_small_to_draw_keeps_the_last_frame_and_says_why(ctx):
+    """The raw stereogram needs a strip (W_s + β = 150 px) in its half of the window: shrunk below
+    that, the viewer keeps the last frame and the panel says why instead of closing; grown back, it
+    draws again. The first frame of a bad setup still raises (a recording stops with its error)."""
+    viewer = Viewer(ctx, "sis", variant="raw", size=(640, 360))
+    first = viewer.step()
+    viewer.resize((200, 360))
+    assert viewer.step() is first and "cannot hold one strip" in viewer.last_error
+    viewer.resize((640, 360))
+    viewer.step()
+    assert viewer.index == 2 and viewer.last_error == ""
+    viewer.release()
+    small = Viewer(ctx, "sis", variant="raw", size=(200, 360))
+    with pytest.raises(Exception, match="cannot hold one strip"):
+        small.step()
+    small.release()

@@ -46,6 +46,7 @@ class Viewer:
         self.recorder = record
         self.frame_ms = 0.0  # smoothed wall time of a step, for the readout
         self.last_error = ""  # the last refused panel value, shown in the panel
+        self._stale_error = ""  # a frame that could not be drawn with values that drew before
         self.frame_texture: moderngl.Texture | None = None
         self.sources[self._check(technique)] = source
         self.set_mode(technique, variant)
@@ -161,11 +162,18 @@ class Viewer:
             # params that passed their checks but cannot be drawn (a host the scene lacks): the
             # last values that drew come back, and the panel says why
             if self._good_params is None or self._good_params == self.mode.params:
-                raise
+                if self.frame_texture is None:
+                    raise            # nothing drawn yet: the input itself is bad (a recording stops)
+                # the same values drew before: the window changed (too narrow for one strip, say);
+                # the last frame stays and the panel says why
+                self.last_error = self._stale_error = exc.one_line()
+                return self.frame_texture
             self.mode.params = self._good_params
             image = self.mode.render(frame)
             self.last_error = f"{exc.one_line()} (the last values that worked are back)"
         self._good_params = self.mode.params
+        if self.last_error and self.last_error == self._stale_error:
+            self.last_error = self._stale_error = ""     # it draws again: the reason no longer holds
         if self.frame_texture is None or self.frame_texture.size != self.size:
             self.ctx.release(self.frame_texture)
             self.frame_texture = self.ctx.acquire(self.size, 4, "f1")
