@@ -27,17 +27,9 @@ def load_npy(path: str | os.PathLike, what: str):
     ``what`` it should have been when it is missing, cut short, not an array or not numeric."""
     import numpy as np
 
-    p = Path(path)
-    try:
-        array = np.load(p, allow_pickle=False)
-    except FileNotFoundError:
-        raise InputError(f"{p}: no such {what} file") from None
-    except MemoryError:
-        raise InputError(f"{p}: the {what}'s header declares an array too large for memory") from None
-    except Exception as exc:  # numpy's header parser raises EOFError, SyntaxError, TokenError… on bad bytes
-        raise InputError(f"{p}: cannot read the {what} ({exc or 'empty file'})") from None
+    array = _numpy_read(path, what, lambda p: np.load(p, allow_pickle=False))
     if not isinstance(array, np.ndarray) or not np.issubdtype(array.dtype, np.number):
-        raise InputError(f"{p}: the {what} is not a numeric array (dtype {getattr(array, 'dtype', '?')})")
+        raise InputError(f"{path}: the {what} is not a numeric array (dtype {getattr(array, 'dtype', '?')})")
     return array
 
 
@@ -62,14 +54,22 @@ def load_npz(path: str | os.PathLike, what: str) -> dict:
     InputError naming the file and ``what`` it should have been when it is missing or damaged."""
     import numpy as np
 
-    p = Path(path)
-    try:
+    def read(p):
         with np.load(p, allow_pickle=False) as archive:
             return {name: archive[name] for name in archive.files}
+
+    return _numpy_read(path, what, read)
+
+
+def _numpy_read(path, what: str, read):
+    """``read(path)``, numpy's many errors on bad bytes turned into one InputError."""
+    p = Path(path)
+    try:
+        return read(p)
     except FileNotFoundError:
         raise InputError(f"{p}: no such {what} file") from None
     except MemoryError:
         raise InputError(f"{p}: the {what} declares an array too large for memory") from None
-    except Exception as exc:  # zip and header parsing raise BadZipFile, EOFError, zlib.error, KeyError…
-        reason = " ".join(str(exc).split())[:200] or type(exc).__name__
+    except Exception as exc:  # headers and zips raise EOFError, SyntaxError, TokenError, BadZipFile, zlib.error…
+        reason = " ".join(str(exc).split())[:200] or f"{type(exc).__name__}, an empty or cut file"
         raise InputError(f"{p}: not a {what} ({reason})") from None

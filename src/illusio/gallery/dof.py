@@ -19,6 +19,7 @@ from ..dof.params import DofParams
 from ..dof.reference import plane_index
 from ..dof.renderer import DofRenderer
 from ..scene.builtin import builtin_scene
+from .figures import pyplot, save_figure
 from .html import Item, Section, Table
 
 #: the paper the figures below are from
@@ -87,18 +88,13 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
 
 def _table(path: Path, rows, note: str) -> Item:
     """The methods' scores as a small table image."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     fig, ax = plt.subplots(figsize=(5.0, 0.5 + 0.35 * len(rows)), dpi=120)
     ax.axis("off")
     table = ax.table(cellText=[list(r) for r in rows], colLabels=["method", "PSNR vs reference", "time"], loc="center")
     table.scale(1, 1.4)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, bbox_inches="tight")
-    plt.close(fig)
+    save_figure(fig, path, tight=True)
     return Item(f"dof/{path.name}", "every method against the accumulation reference", note)
 
 

@@ -19,6 +19,7 @@ from ..lines.params import LineParams
 from ..lines.tuning import parameter_grid
 from ..scene.builtin import shape, shapes
 from ..scene.mesh import load_mesh
+from .figures import pyplot, save_figure
 from .html import Item, Section, Table
 
 __all__ = ["lines_showcase"]
@@ -121,13 +122,9 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
 def f1_map(renderer, view, tile, target, out_dir: Path, rel: str, name: str) -> Item:
     """The τ × λ grid as a colour map: F1 of each hybrid drawing against the Canny edges of the shaded
     render (what "best parameters" means, one number per cell), with its colour scale."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from ..core.images import atomic_output
     from ..lines.tuning import LAMBDAS, TAUS
+
+    plt = pyplot()
 
     f1 = np.array([[cmp.score(cmp.line_mask(renderer.render(Frame(view, tile), LineParams(tau=t, lam=lam))), target).f1
                     for lam in LAMBDAS] for t in TAUS])
@@ -140,10 +137,7 @@ def f1_map(renderer, view, tile, target, out_dir: Path, rel: str, name: str) -> 
     for (r, c), v in np.ndenumerate(f1):
         ax.text(c, r, f"{v:.2f}", ha="center", va="center", color="white" if v < 0.6 * f1.max() else "black", fontsize=8)
     fig.colorbar(shown, ax=ax, label="F1 against Canny edges")
-    fig.tight_layout()
-    with atomic_output(out_dir / rel) as tmp:
-        fig.savefig(tmp, format="png")
-    plt.close(fig)
+    save_figure(fig, out_dir / rel)
     r, c = np.unravel_index(int(np.argmax(f1)), f1.shape)
     return Item(rel, f"τ × λ on the {name}: F1 of each cell against Canny edges",
                 f"best τ = {TAUS[r]:g}, λ = {LAMBDAS[c]:g} (F1 {f1[r, c]:.2f})", figure="the apparent-ridges report, Figure 4.2")

@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.context import Context
-from ..core.images import atomic_output, write_image, write_video
+from ..core.images import write_image, write_video
 from ..scene import builtin_scene
 from ..scene.builtin import shape, textures
 from ..sis.decode import check
@@ -22,6 +22,7 @@ from ..sis.params import ALGORITHMS, StereogramParams
 from ..sis.physics import Screen, depth_range, linear_depth_error, separation_px
 from ..sis.reference import separation
 from ..sis.stereogram import StereogramRenderer
+from .figures import pyplot, save_figure
 from .html import Item, Section, Table
 
 #: the paper every figure below is from
@@ -137,10 +138,7 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
 def separation_plot(out_dir: Path, rel: str, strip_width: float = 100.0, depth_factor: float = 50.0) -> Item:
     """Figure 20: separation e'_p against simulated depth f' (equation 3) for the default screen, with
     the linear map W_s + β·D over the depth range that (W_s, β) simulates, dashed."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     screen = Screen()
     near, far = depth_range(strip_width, depth_factor, screen)
@@ -154,18 +152,9 @@ def separation_plot(out_dir: Path, rel: str, strip_width: float = 100.0, depth_f
     ax.set_title(f'{screen.diagonal_cm:g} cm screen, {screen.width_px} px wide, {screen.viewing_distance_cm:g} cm away')
     ax.grid(alpha=0.3)
     ax.legend(loc="lower right")
-    _save(fig, out_dir / rel)
+    save_figure(fig, out_dir / rel)
     return Item(rel, "separation against depth", f"[W_s, W_s + β] = [{strip_width:g}, {strip_width + depth_factor:g}] px simulates f' ∈ [{near:.0f}, {far:.0f}] cm",
                 figure="Dehos et al. 2014, Figure 20")
-
-
-def _save(fig, path: Path) -> None:
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    with atomic_output(path) as tmp:
-        fig.savefig(tmp, format="png")
-    plt.close(fig)
 
 
 #: (W_s, β) pairs of the linear-approximation figure: the paper's example first
@@ -175,10 +164,7 @@ LINEAR_CASES = ((100.0, 50.0), (80.0, 40.0), (150.0, 50.0), (100.0, 100.0), (60.
 def linear_error_plot(out_dir: Path, rel: str) -> tuple[Item, Table]:
     """Beside Figure 20: how far the linear approximation (section 3.4) puts each depth, in cm,
     against D, for a few (W_s, β) on the default screen; and the worst error of each as a table."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     screen = Screen()
     fig, ax = plt.subplots(figsize=(6.4, 4.0), dpi=100)
@@ -196,7 +182,7 @@ def linear_error_plot(out_dir: Path, rel: str) -> tuple[Item, Table]:
     ax.set_title("the linear approximation shows every point nearer")
     ax.grid(alpha=0.3)
     ax.legend(loc="lower left", fontsize=8)
-    _save(fig, out_dir / rel)
+    save_figure(fig, out_dir / rel)
     table = Table(f"The linear approximation's depth error (section 3.4) on the default screen ({screen.diagonal_cm:g} cm, "
                   f"{screen.width_px} px, viewer {screen.viewing_distance_cm:g} cm away)",
                   ["W_s (px)", "β (px)", "depth range f' (cm)", "worst error (cm nearer)", "at D", "of the range"], rows)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..scene.mesh import Mesh
+from ..scene.mesh import Mesh, weld
 from .curvature import Curvature
 
 __all__ = ["Segments", "zero_crossings", "contours", "suggestive_contours", "ridges", "valleys",
@@ -221,9 +221,7 @@ def boundaries(mesh: Mesh) -> Segments:
     the same position are taken as one (a shape stored as separate faces, for its uvs or flat
     normals, has no boundary where those faces meet). View-independent. Each end of a segment is a
     vertex, keyed as the pair (v, v) so that :func:`chain` joins consecutive edges."""
-    v = np.asarray(mesh.vertices, np.float64)
-    _, welded = np.unique(v, axis=0, return_inverse=True)
-    welded = welded.reshape(-1)
+    position, welded = weld(np.asarray(mesh.vertices, np.float64))
     f = welded[np.asarray(mesh.faces, np.int64)]
     edges = np.sort(np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]]), axis=1)
     edges = edges[edges[:, 0] != edges[:, 1]]  # faces degenerate once welded
@@ -231,8 +229,6 @@ def boundaries(mesh: Mesh) -> Segments:
     single = unique[counts == 1]
     if not len(single):
         return Segments.empty()
-    position = np.zeros((welded.max() + 1, 3))
-    position[welded] = v
     ends = np.stack([single, single], axis=2)  # (S, 2 ends, 2): the vertex as a degenerate edge
     return Segments(position[single], ends, np.ones(len(single)))
 

@@ -109,8 +109,8 @@ _SCHEMA = {"photograph": ("f", ("H", "W", 3)), "lamp_scale": ("f", ("G",)),
            "basis_mesh.corner": ("f", ("V", 3)), "basis_mesh.element": ("f", ("V",)), "basis_mesh.faces": ("i", ("F", 3)),
            "basis_mesh.face_element": ("i", ("F",))}
 # integer (and element) arrays that index others: name → (least, bound); a bound names a size above
-_INDEX = {"hierarchy.polygon": (0, "P"), "hierarchy.parent": (-1, "n"), "hierarchy.child": (-1, "n"),
-          "hierarchy.roots": (0, "n"), "links.receiver": (0, "n"), "links.source": (0, "n"),
+# (the quadtree's own links, parent, child and roots, are checked by Hierarchy.from_arrays)
+_INDEX = {"hierarchy.polygon": (0, "P"), "links.receiver": (0, "n"), "links.source": (0, "n"),
           "session.pixel_polygon": (-1, "P_model"), "session.pixel_element": (-1, "n"),
           "session.lamp_rows": (0, "P_model"), "basis_mesh.element": (0, "n"), "basis_mesh.face_element": (0, "n"),
           "basis_mesh.faces": (0, "V")}
@@ -145,9 +145,6 @@ def _check_arrays(path: Path, arrays: dict, record: dict) -> None:
         if (group.size and (group.min() < 0 or group.max() >= names)) or \
                 any(not 0 <= int(g) < names for g in record[prefix]["lamps"]):
             raise InputError(f"{path}: saved {prefix} polygons name groups outside their {names} names")
-    child = arrays["hierarchy.child"]
-    if (child[child >= 0] + 3 >= sizes["n"]).any():
-        raise InputError(f"{path}: saved hierarchy has children past its last element")
 
 
 def load_session(path, ctx: Context | None = None):

@@ -16,7 +16,7 @@ import numpy as np
 from ..core.errors import InputError
 from .mesh_counts import check_declared_counts, length_error
 
-__all__ = ["Mesh", "MeshWarning", "load_mesh", "vertex_normals", "crease_split", "MESH_FORMATS"]
+__all__ = ["Mesh", "MeshWarning", "load_mesh", "vertex_normals", "crease_split", "weld", "MESH_FORMATS"]
 
 MESH_FORMATS = (".obj", ".ply", ".off", ".stl", ".gltf", ".glb")
 
@@ -78,6 +78,13 @@ class Mesh:
         v, f, n, uv, origin = crease_split(self.vertices, self.faces, angle, self.uvs, return_origin=True)
         source = None if self.source_index is None else self.source_index[origin]
         return replace(self, vertices=v, faces=f, normals=n, uvs=uv, notes=list(self.notes), source_index=source)
+
+
+def weld(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(unique positions (K, 3), index of each input vertex's position (N,)): vertices at the same
+    position taken as one."""
+    unique, inverse = np.unique(np.asarray(vertices), axis=0, return_inverse=True)
+    return unique, inverse.reshape(-1)
 
 
 def validate_arrays(vertices: np.ndarray, faces: np.ndarray, name: str) -> None:
@@ -241,6 +248,6 @@ def _read_with_trimesh(p: Path):
     if p.suffix.lower() == ".stl" and len(vertices):
         # STL stores three separate corners per facet: weld identical positions so that the
         # surface is connected (smooth normals, and topology for curvature)
-        vertices, inverse = np.unique(vertices, axis=0, return_inverse=True)
-        faces = inverse.reshape(-1)[faces]
+        vertices, inverse = weld(vertices)
+        faces = inverse[faces]
     return vertices, faces, uvs
