@@ -278,9 +278,12 @@ class RelightSession:
 
     def _inherit_display_factor(self) -> None:
         """Elements made since preparation take D interpolated from their parent's corners (bilinear on
-        quads, barycentric on triangles); a virtual object's elements have none (shown by B/π)."""
+        quads, barycentric on triangles); a virtual object's elements have none (shown by B/π). Their
+        texture factor is 1 (no texture work reached them), so every per-element array covers them."""
         h = self.solution.hierarchy
         n = len(h)
+        if n > len(self.texture_factor):
+            self.texture_factor = np.concatenate([self.texture_factor, np.ones((n - len(self.texture_factor), 3))])
         if n > len(self.corner_d):
             self.corner_d = np.concatenate([self.corner_d, np.zeros((n - len(self.corner_d), 4, 3), np.float32)])
             self.has_d = np.r_[self.has_d, np.zeros(n - len(self.has_d), bool)]

@@ -58,6 +58,7 @@ def save_session(session, path) -> Path:
     if path.suffix.lower() != ".npz":
         raise InputError(f"a prepared session is saved as .npz, got {path.name}")
     session._corner_radiosity()                       # the lamps' basis, saved so edits start at once
+    session._inherit_display_factor()                 # per-element arrays cover elements made by edits
     sol = session.solution
     arrays: dict[str, np.ndarray] = {"photograph": session.real.photograph}
     record = {"format": FORMAT, "params": dataclasses.asdict(session.params),
@@ -67,6 +68,8 @@ def save_session(session, path) -> Path:
     _polygons_out("model", session.model, arrays, record)
     _polygons_out("solution", sol.polygons, arrays, record)
     record["solution_params"] = dataclasses.asdict(sol.params)
+    # where the visibility's ray sampling stands, so that edits after loading sample as they would have
+    record["visibility_rng"] = sol.visibility.rng.bit_generator.state
     for name, a in sol.hierarchy.arrays().items():
         arrays[f"hierarchy.{name}"] = a
     for name in ("receiver", "source", "form_factor", "visibility"):
@@ -176,6 +179,8 @@ def load_session(path, ctx: Context | None = None):
             raise InputError(f"{path}: a link names an element the saved hierarchy does not have")
         sol = Radiosity.from_state(solution_polygons, HierarchyParams(**record["solution_params"]), hierarchy, links,
                                    arrays["lamp_scale"])
+        if "visibility_rng" in record:
+            sol.visibility.rng.bit_generator.state = record["visibility_rng"]
         s = RelightSession.__new__(RelightSession)
         s.real, s.params, s.ctx = real, params, ctx or default_context()
         s.model = _polygons_in("model", arrays, record)
