@@ -287,6 +287,23 @@ def test_shaft_test_is_conservative(rng):
     assert not meets.all()                    # and it does cull
 
 
+def test_shaft_test_over_links_matches_the_reference(rng):
+    """The numba loop the dynamic updates run (a link's shaft against several boxes) gives
+    shaft_meets_box's answer for every link, on random element boxes (some flat, as polygons are)."""
+    from illusio.radiosity.dynamic import _links_in_shafts
+
+    lo = rng.uniform(-2, 2, (300, 3))
+    hi = lo + rng.uniform(0, 0.5, (300, 3)) * (rng.random((300, 3)) > 0.3)
+    receiver, source = rng.integers(0, 300, 5000), rng.integers(0, 300, 5000)
+    boxes = [(c - e, c + e) for c, e in zip(rng.uniform(-1, 1, (2, 3)), rng.uniform(0.05, 0.6, (2, 3)))]
+    expected = np.zeros(5000, bool)
+    for box_lo, box_hi in boxes:
+        expected |= shaft_meets_box(lo[receiver], hi[receiver], lo[source], hi[source], box_lo, box_hi)
+    got = np.zeros(5000, bool)
+    _links_in_shafts(lo, hi, receiver, source, np.array([b[0] for b in boxes]), np.array([b[1] for b in boxes]), got)
+    assert 0 < expected.sum() < 5000 and np.array_equal(got, expected)
+
+
 @pytest.mark.parametrize("scene, name, epsilon", [("cornell-box", "short-block", 1e-4), ("office", "chair-seat", 2e-4)])
 def test_moving_an_object_matches_a_full_rebuild(scene, name, epsilon):
     """Move an object with the dynamic update and rebuild the moved scene from scratch: the mean

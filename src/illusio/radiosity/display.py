@@ -22,6 +22,7 @@ import numpy as np
 from ..core.context import Context
 from ..core.gl import set_uniform
 from ..scene.camera import View
+from .formfactor import point_polygon
 from .hierarchy import Hierarchy
 from .links import Links
 from .visibility import INVISIBLE, PARTIAL, VISIBLE
@@ -48,14 +49,44 @@ class LeafMesh:
     face_element: np.ndarray
 
 
+def leaves_under(h: Hierarchy, leaves: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every (element, leaf under it) of ``leaves`` and their ancestors, sorted by element: (element
+    (m,), leaf (m,)); the leaves under element e are ``leaf[searchsorted(element, e) : …right]``."""
+    element_of, leaf_of = [], []
+    element, leaf = leaves.copy(), leaves.copy()
+    while len(element):
+        element_of.append(element)
+        leaf_of.append(leaf)
+        up = h.parent[element] >= 0
+        element, leaf = h.parent[element[up]], leaf[up]
+    element, leaf = np.concatenate(element_of), np.concatenate(leaf_of)
+    order = np.argsort(element, kind="stable")
+    return element[order], leaf[order]
+
+
+def corner_form_factors(h: Hierarchy, leaf: np.ndarray, source: np.ndarray) -> np.ndarray:
+    """F from each corner of ``leaf`` to element ``source`` (pairs, (n, 4)). A corner on a seam lies
+    in the neighbouring polygon's plane (F = 0 there), so it is taken 1 % of the way to the centre."""
+    corners = h.corners[leaf] + 0.01 * (h.centre[leaf][:, None] - h.corners[leaf])
+    return point_polygon(corners, h.normal[leaf], h.corners[source], h.triangle[source], average=False)
+
+
 def corner_gather(h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3), gathered at the corner point through the links of
     the leaf and its ancestors from the solved B (see the module docstring); ``exitance``: E per
-    element (n_elements, 3), lamp scales applied. Computed afresh; ``corner_cache.CornerGather`` is
-    the same gather keeping its form factors between calls."""
-    from .corner_cache import CornerGather
-
-    return CornerGather()(h, links, leaves, exitance)
+    element (n_elements, 3), lamp scales applied. The plain statement, every pair computed afresh:
+    ``corner_cache.CornerGather`` is the same gather keeping its form factors between calls."""
+    element, leaf_under = leaves_under(h, leaves)
+    lo = np.searchsorted(element, links.receiver)
+    count = np.searchsorted(element, links.receiver, side="right") - lo
+    pair_link = np.repeat(np.arange(len(links)), count)                  # every (link, leaf under it)
+    leaf = leaf_under[lo[pair_link] + np.arange(len(pair_link)) - np.repeat(np.cumsum(count) - count, count)]
+    weight = corner_form_factors(h, leaf, links.source[pair_link]) * links.visibility[pair_link][:, None]
+    row = np.full(len(h), -1)
+    row[leaves] = np.arange(len(leaves))
+    irradiance = np.zeros((len(leaves), 4, 3))
+    np.add.at(irradiance, row[leaf], weight[:, :, None] * h.radiosity[links.source[pair_link]][:, None])
+    return exitance[leaves][:, None] + h.reflectance[leaves][:, None] * irradiance
 
 
 def exposure_weights(h: Hierarchy, links: Links, leaves: np.ndarray) -> np.ndarray:
@@ -81,9 +112,15 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
     q = np.round(corners / (1e-7 * extent)).astype(np.int64)
     key = np.c_[np.repeat(h.polygon[leaves], 4), q.reshape(-1, 3)]
     corner_of_tri = np.tile([True, True, True, False], len(leaves)) | ~np.repeat(h.triangle[leaves], 4)
-    _, vertex = np.unique(key, axis=0, return_inverse=True)
-    vertex = vertex.reshape(-1)
-    b = ((gather or corner_gather)(h, links, leaves, exitance) if links is not None else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)).reshape(-1, 3)
+    # one id per distinct key row (np.unique(axis=0) sorts the rows as opaque records, 10× slower)
+    order = np.lexsort(key.T[::-1])
+    starts = np.r_[True, np.any(key[order[1:]] != key[order[:-1]], axis=1)]
+    vertex = np.empty(len(key), np.int64)
+    vertex[order] = np.cumsum(starts) - 1
+    if links is not None and gather is None:
+        from .corner_cache import CornerGather     # the fast gather (it imports this module's helpers)
+        gather = CornerGather()
+    b = (gather(h, links, leaves, exitance) if links is not None else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)).reshape(-1, 3)
     w = np.repeat(exposure_weights(h, links, leaves) if links is not None else np.ones(len(leaves)), 4)
     total = np.zeros((vertex.max() + 1, 3))
     count = np.zeros(vertex.max() + 1)

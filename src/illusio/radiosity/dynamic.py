@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import time
 
+import numba
 import numpy as np
 
 from ..core.errors import InputError
@@ -52,6 +53,29 @@ def shaft_meets_box(lo_i, hi_i, lo_j, hi_j, box_lo, box_hi) -> np.ndarray:
     return ok & (t0 <= t1)
 
 
+@numba.njit(parallel=True, cache=True)
+def _links_in_shafts(lo, hi, receiver, source, box_lo, box_hi, out):
+    """out[k] |= the shaft of link k (receiver's box lo/hi to source's) meets one of the boxes
+    (m, 3): :func:`shaft_meets_box` as one loop over the links, without its (n, 3) temporaries."""
+    for k in numba.prange(len(receiver)):
+        i, j = receiver[k], source[k]
+        for b in range(box_lo.shape[0]):
+            t0, t1, ok = 0.0, 1.0, True
+            for a in range(3):
+                # lower faces: lo_i + (lo_j − lo_i)·t ≤ box_hi; upper: hi_i + (hi_j − hi_i)·t ≥ box_lo
+                for c, d, bound in ((lo[i, a], lo[j, a] - lo[i, a], box_hi[b, a]),
+                                    (-hi[i, a], hi[i, a] - hi[j, a], -box_lo[b, a])):
+                    if d > 1e-15:
+                        t1 = min(t1, (bound - c) / d)
+                    elif d < -1e-15:
+                        t0 = max(t0, (bound - c) / d)
+                    elif c > bound:
+                        ok = False
+            if ok and t0 <= t1:
+                out[k] = True
+                break
+
+
 def _object_elements(sol, group: int) -> np.ndarray:
     h = sol.hierarchy
     roots = h.roots[sol.polygons.group[h.polygon[h.roots]] == group]
@@ -79,10 +103,9 @@ def _relink_shafts(sol, boxes) -> int:
     how many were redone."""
     h, L = sol.hierarchy, sol.links
     lo, hi = element_boxes(h, np.arange(len(h)))          # once per element, then per link end
-    lo_i, hi_i, lo_j, hi_j = lo[L.receiver], hi[L.receiver], lo[L.source], hi[L.source]
     hit = np.zeros(len(L), bool)
-    for box_lo, box_hi in boxes:
-        hit |= shaft_meets_box(lo_i, hi_i, lo_j, hi_j, box_lo, box_hi)
+    _links_in_shafts(lo, hi, L.receiver, L.source, np.array([b[0] for b in boxes], np.float64),
+                     np.array([b[1] for b in boxes], np.float64), hit)
     gone = L.remove(hit)
     refine(h, sol.visibility, gone.receiver, gone.source, sol.threshold, sol.min_area,
            sol.params.criterion, links=L)

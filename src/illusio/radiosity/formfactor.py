@@ -32,26 +32,33 @@ import numpy as np
 __all__ = ["point_to_disk", "point_polygon", "facing"]
 
 
-@numba.njit(cache=True, fastmath=False)
+@numba.njit(cache=True, inline="always")
+def contour_integral(x0, x1, x2, n0, n1, n2, corners, m):
+    """F from the point (x0, x1, x2) with normal (n0, n1, n2) to the polygon of the first ``m`` rows
+    of ``corners`` (4, 3): the formula of the module docstring, for numba kernels."""
+    total = 0.0
+    for e in range(m):
+        f = (e + 1) % m
+        a0, a1, a2 = corners[e, 0] - x0, corners[e, 1] - x1, corners[e, 2] - x2
+        b0, b1, b2 = corners[f, 0] - x0, corners[f, 1] - x1, corners[f, 2] - x2
+        c0, c1, c2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+        cn = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
+        if cn < 1e-300:
+            continue
+        dot = a0 * b0 + a1 * b1 + a2 * b2
+        gamma = np.arctan2(cn, dot)
+        total += gamma * (n0 * c0 + n1 * c1 + n2 * c2) / cn
+    return min(abs(total) / (2 * np.pi), 1.0)
+
+
+@numba.njit(parallel=True, cache=True, fastmath=False)
 def _point_polygon(points, normals, corners, triangle, out):
     n, k = points.shape[0], points.shape[1]
-    for p in range(n):
+    for p in numba.prange(n):
         m = 3 if triangle[p] else 4
         for s in range(k):
-            x0, x1, x2 = points[p, s, 0], points[p, s, 1], points[p, s, 2]
-            total = 0.0
-            for e in range(m):
-                f = (e + 1) % m
-                a0, a1, a2 = corners[p, e, 0] - x0, corners[p, e, 1] - x1, corners[p, e, 2] - x2
-                b0, b1, b2 = corners[p, f, 0] - x0, corners[p, f, 1] - x1, corners[p, f, 2] - x2
-                c0, c1, c2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
-                cn = np.sqrt(c0 * c0 + c1 * c1 + c2 * c2)
-                if cn < 1e-300:
-                    continue
-                dot = a0 * b0 + a1 * b1 + a2 * b2
-                gamma = np.arctan2(cn, dot)
-                total += gamma * (normals[p, 0] * c0 + normals[p, 1] * c1 + normals[p, 2] * c2) / cn
-            out[p, s] = min(abs(total) / (2 * np.pi), 1.0)
+            out[p, s] = contour_integral(points[p, s, 0], points[p, s, 1], points[p, s, 2],
+                                         normals[p, 0], normals[p, 1], normals[p, 2], corners[p], m)
 
 
 def point_polygon(points: np.ndarray, normals: np.ndarray, corners: np.ndarray, triangle: np.ndarray,

@@ -29,9 +29,14 @@ __all__ = ["refine", "transfer_estimate", "needs_refinement", "CHUNK"]
 CHUNK = 200_000
 
 
+def channel_max(rgb: np.ndarray) -> np.ndarray:
+    """max over RGB of (n, 3): three columns compared (a reduction along the short axis costs 10×)."""
+    return np.maximum(np.maximum(rgb[:, 0], rgb[:, 1]), rgb[:, 2])
+
+
 def transfer_estimate(h: Hierarchy, receiver, source, form_factor, radiosity=None) -> np.ndarray:
     """B_j·F_ij·A_i (W, max over RGB) for each pair: the power the link would carry unoccluded."""
-    b = (h.radiosity if radiosity is None else radiosity)[source].max(axis=1)
+    b = channel_max(h.radiosity if radiosity is None else radiosity)[source]     # per element, then pair
     return b * form_factor * h.area[receiver]
 
 
@@ -55,7 +60,7 @@ def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: 
         if len(recv) > CHUNK:       # bounded memory: a round holds k samples × 3 coordinates per pair
             queue.append((recv[CHUNK:], src[CHUNK:]))
             recv, src = recv[:CHUNK], src[:CHUNK]
-        useful = (h.polygon[recv] != h.polygon[src]) & (h.reflectance[recv].max(axis=1) > 0)
+        useful = (h.polygon[recv] != h.polygon[src]) & (channel_max(h.reflectance)[recv] > 0)
         recv, src = recv[useful], src[useful]
         some, every = facing(h.corners[recv], h.normal[recv], h.centre[recv],
                              h.corners[src], h.normal[src], h.centre[src])
@@ -70,7 +75,7 @@ def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: 
             d2 = ((h.centre[src[straddle]] - h.centre[recv[straddle]]) ** 2).sum(axis=1)
             a_s = h.area[src[straddle]]
             point_bound = a_s / (np.pi * d2 + a_s)
-            b = (h.radiosity if radiosity is None else radiosity)[src[straddle]].max(axis=1)
+            b = channel_max(h.radiosity if radiosity is None else radiosity)[src[straddle]]
             split[straddle] |= b * point_bound * h.area[recv[straddle]] > threshold
         area_r, area_s = h.area[recv], h.area[src]
         can_r, can_s = area_r / 4 >= min_area, area_s / 4 >= min_area

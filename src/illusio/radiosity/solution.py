@@ -194,7 +194,7 @@ class Radiosity:
         receiver (F and V computed per leaf)."""
         t = time.perf_counter()
         h, L = self.hierarchy, self.links
-        from_lamp = (h.exitance[L.source].max(axis=1) > 0) & (h.child[L.receiver] >= 0)
+        from_lamp = (h.exitance.max(axis=1)[L.source] > 0) & (h.child[L.receiver] >= 0)
         gone = L.remove(from_lamp)
         recv, src = [], []
         for r, s in zip(gone.receiver, gone.source):

@@ -16,6 +16,7 @@ ray does not hit its own ends); the rays are cast with Embree (embreex).
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from ..core.errors import InputError
@@ -38,10 +39,67 @@ def jittered_grid(n: int, samples: int, rng: np.random.Generator) -> np.ndarray:
     first ``samples`` cells in a random order per row (one random permutation of the cells, cycled
     by a random shift per row: cheaper than one permutation per row and as well spread)."""
     side = int(np.ceil(np.sqrt(samples)))
-    cells = (rng.permutation(side * side)[None, :samples] + rng.integers(0, side * side, (n, 1))) % (side * side)
-    cu, cv = cells % side, cells // side
-    jitter = rng.random((n, samples, 2))
-    return np.stack([(cu + jitter[..., 0]) / side, (cv + jitter[..., 1]) / side], axis=2)
+    order = rng.permutation(side * side)[:samples]
+    shift = rng.integers(0, side * side, (n, 1))
+    return _grid_points(order, shift[:, 0], rng.random((n, samples, 2)), side)
+
+
+@numba.njit(cache=True)
+def _grid_points(order, shift, jitter, side):
+    """(n, samples, 2): sample s of row p in cell (order[s] + shift[p]) mod side², jittered."""
+    n, samples = jitter.shape[0], jitter.shape[1]
+    out = np.empty((n, samples, 2))
+    for p in range(n):
+        for s in range(samples):
+            cell = (order[s] + shift[p]) % (side * side)
+            out[p, s, 0] = (cell % side + jitter[p, s, 0]) / side
+            out[p, s, 1] = (cell // side + jitter[p, s, 1]) / side
+    return out
+
+
+@numba.njit(cache=True)
+def _segments(a, b, receiver_normal, offset):
+    """The rays of the (n, k) samples a → b, as embree takes them (float32): origins, unit
+    directions, lengths short of b by ``offset``, and the probes' directions (the receiver's normal)."""
+    n, k = a.shape[0], a.shape[1]
+    origins = np.empty((n * k, 3), np.float32)
+    directions = np.empty((n * k, 3), np.float32)
+    dists = np.empty(n * k, np.float32)
+    up = np.empty((n * k, 3), np.float32)
+    for p in range(n):
+        for s in range(k):
+            i = p * k + s
+            d0, d1, d2 = b[p, s, 0] - a[p, s, 0], b[p, s, 1] - a[p, s, 1], b[p, s, 2] - a[p, s, 2]
+            length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            norm = max(length, 1e-300)
+            directions[i, 0], directions[i, 1], directions[i, 2] = d0 / norm, d1 / norm, d2 / norm
+            dists[i] = max(length - offset, 0.0)
+            for c in range(3):
+                origins[i, c] = a[p, s, c]
+                up[i, c] = receiver_normal[p, c]
+    return origins, directions, dists, up
+
+
+@numba.njit(cache=True)
+def _exposed_clear_fraction(hit, probe_prim, probe_distance, probe_normal, up, contact, k):
+    """V per pair: among its k samples whose probe met nothing within ``contact`` nor the back of a
+    face (exposed), the fraction whose ray was clear (hit < 0); 0 when none is exposed."""
+    n = len(hit) // k
+    out = np.zeros(n)
+    for p in range(n):
+        exposed = clear = 0
+        for s in range(k):
+            i = p * k + s
+            if probe_prim[i] >= 0:
+                back = probe_normal[i, 0] * up[i, 0] + probe_normal[i, 1] * up[i, 1] + probe_normal[i, 2] * up[i, 2] > 0
+                if probe_distance[i] < contact or back:
+                    continue
+            exposed += 1
+            if hit[i] < 0:
+                clear += 1
+        if exposed > 0:
+            out[p] = clear / exposed
+    return out
 
 
 class Visibility:
@@ -91,24 +149,14 @@ class Visibility:
                                     h.corners[sources], h.triangle[sources])
         if self.empty:
             return form_factor, np.ones(n)
-        d = (b - a).reshape(-1, 3)
-        length = np.linalg.norm(d, axis=1)
-        direction = d / np.maximum(length, 1e-300)[:, None]
-        origins = a.reshape(-1, 3).astype(np.float32)
-        hit = self.scene.run(origins, direction.astype(np.float32),
-                             dists=np.maximum(length - self.offset, 0).astype(np.float32), query="OCCLUDED")
+        origins, directions, dists, up = _segments(a, b, h.normal[receivers], self.offset)
+        hit = self.scene.run(origins, directions, dists=dists, query="OCCLUDED")
         # a sample point with something right above it (under a board on a wall, behind a door in
         # contact) is not part of the surface anyone sees: a probe along the normal finds it
         # contact, or inside a closed object (the probe meets the back of a face: under a door that
         # stands on the wall, the points are inside the door)
-        up = np.repeat(h.normal[receivers], k, axis=0).astype(np.float32)
         probe = self.scene.run(origins, up, output=1)
-        met = np.asarray(probe["primID"]) >= 0
-        back = (np.asarray(probe["Ng"]) * up).sum(axis=1) > 0
-        covered = (met & ((np.asarray(probe["tfar"]) < self.contact) | back)).reshape(n, k)
         self.rays += 2 * n * k
-        clear = np.asarray(hit).reshape(n, k) < 0
-        exposed = ~covered
-        count = exposed.sum(axis=1)
-        visibility = np.where(count > 0, (clear & exposed).sum(axis=1) / np.maximum(count, 1), 0.0)
+        visibility = _exposed_clear_fraction(np.asarray(hit), np.asarray(probe["primID"]), np.asarray(probe["tfar"]),
+                                             np.asarray(probe["Ng"]), up, self.contact, k)
         return form_factor, visibility
