@@ -37,3 +37,27 @@ def test_kept_form_factors_give_the_plain_gather_after_each_change():
     sol.move_object("crate", move)
     check(True)
     assert 0 < gather.computed < gather.reused
+
+
+def test_gathering_only_the_shown_leaves_keeps_their_corners_exact(rng):
+    """vertex_radiosity(shown=…): a random half of the leaves shown; every corner of a shown leaf
+    equals the full gather's (its neighbours sharing a corner were gathered too), and the gather
+    kept between calls follows a change of the shown set."""
+    from illusio.radiosity.display import vertex_radiosity
+
+    sol = Radiosity(scene_polygons(load_scene("cornell-box")), HierarchyParams(epsilon=1e-3)).build()
+    h = sol.hierarchy
+    leaves = h.leaves()
+    full = vertex_radiosity(h, leaves, sol.links, sol.exitance())
+    gather = CornerGather()
+    for call in range(2):
+        shown = np.zeros(len(h), bool)
+        shown[rng.choice(leaves, len(leaves) // 2, replace=False)] = True
+        part = vertex_radiosity(h, leaves, sol.links, sol.exitance(), gather=gather, shown=shown)
+        assert np.allclose(part[shown[leaves]], full[shown[leaves]], rtol=1e-9, atol=1e-12)
+        if call:                        # another half: the blocks of the links above both kept
+            assert gather.reused > 0 and gather.computed > 0
+    # and the leaves left out were left out: fewer pairs than the full gather
+    every = CornerGather()
+    every(h, sol.links, leaves, sol.exitance())
+    assert len(gather._pair_leaf) < len(every._pair_leaf)

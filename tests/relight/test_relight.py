@@ -190,6 +190,14 @@ def test_virtual_object_and_lamp(ctx, photograph, tmp_path):
     assert darker.sum() > 0
     moved = s.move_object("crate", (-0.8, 0.0, -0.5))
     assert np.abs(moved - after).mean() > 1e-4
+    # the edits gather only at the leaves the photograph shows (and their neighbours): the same image
+    # as gathering at every leaf, from the same solution (both gathered directly, no lamp basis)
+    s._geometry_key = s._basis_key = None
+    culled = s.image()
+    s._shown = lambda: np.ones(len(s.solution.hierarchy), bool)
+    s._geometry_key = s._basis_key = None
+    assert np.allclose(s.image(), culled, rtol=1e-6, atol=1e-7)
+    del s._shown
     brighter = s.add_lamp((0.5, 2.5, 1.0), 0.4, (40.0, 40.0, 40.0), "virtual")
     assert brighter.mean() > moved.mean() * 1.02
     assert "virtual" in s.lamp_names and all(k in s.times for k in ("add object", "move object", "add lamp"))

@@ -6,7 +6,8 @@ The gather at the corners of a leaf sums, over every link its element and its an
 F(corner → source)·V·B_source. F depends only on the corner and the source's polygon, so it is kept
 per link (receiver r, source j) for every leaf under r — one block of pairs per link, the blocks in
 the order of the links' keys r·2³² + j. On the next call a link's block is reused when the link
-(r, j) existed before, no leaf under r was split, merged or moved, and j did not move; every other
+(r, j) existed before, no leaf under r was split, merged, moved, or joined or left the leaves asked
+for (a display that gathers only what it shows), and j did not move; every other
 link's block is computed afresh. V and B are read at each call (they change with every solve). After
 any change the result equals the plain gather (tested).
 
@@ -106,6 +107,7 @@ class CornerGather:
         self._spare = (np.zeros(0, np.int64), np.zeros((0, 4)))
         self._child = np.zeros(0, np.int64)
         self._corners = np.zeros((0, 4, 3))
+        self._asked = np.zeros(0, bool)         # the leaves of the last call, as a mask
         self.reused = self.computed = 0         # pairs in the last call
 
     def _buffers(self, total: int) -> tuple[np.ndarray, np.ndarray]:
@@ -118,15 +120,15 @@ class CornerGather:
         self._spare_in_use = (leaf, ff)
         return leaf[:total], ff[:total]
 
-    def _changed(self, h: Hierarchy) -> tuple[np.ndarray, np.ndarray]:
-        """(dirty (n,): some leaf under the element was split, merged or moved since the last call,
-        moved (n,): the element's corners changed or it is new)."""
+    def _changed(self, h: Hierarchy, asked: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(dirty (n,): some leaf under the element was split, merged, moved, asked for or no longer
+        since the last call, moved (n,): the element's corners changed or it is new)."""
         n, old = len(h), len(self._child)
         keep = min(n, old)
         moved = np.ones(n, bool)
         moved[:keep] = np.any(h.corners[:keep] != self._corners[:keep], axis=(1, 2))
         changed = moved.copy()
-        changed[:keep] |= h.child[:keep] != self._child[:keep]
+        changed[:keep] |= (h.child[:keep] != self._child[:keep]) | (asked[:keep] != self._asked[:keep])
         changed &= h.active | (np.arange(n) < keep)
         dirty = np.zeros(n, bool)
         frontier = np.flatnonzero(changed)
@@ -138,7 +140,9 @@ class CornerGather:
         return dirty, moved
 
     def __call__(self, h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
-        dirty, moved = self._changed(h)
+        asked = np.zeros(len(h), bool)
+        asked[leaves] = True
+        dirty, moved = self._changed(h, asked)
         keys = _link_keys(links)
         order = np.argsort(keys, kind="stable")     # links keep their order between edits: nearly sorted runs
         keys = keys[order]
@@ -171,7 +175,7 @@ class CornerGather:
         self._spare = (self._pair_leaf_buffer, self._pair_ff_buffer)
         self._pair_leaf_buffer, self._pair_ff_buffer = self._spare_in_use
         self._keys, self._start, self._pair_leaf, self._pair_ff = keys, start, pair_leaf, pair_ff
-        self._child, self._corners = h.child.copy(), h.corners.copy()
+        self._child, self._corners, self._asked = h.child.copy(), h.corners.copy(), asked
         # the gather itself, with this call's V and B
         row = np.full(len(h), -1, np.int64)
         row[leaves] = np.arange(len(leaves))

@@ -102,11 +102,14 @@ def exposure_weights(h: Hierarchy, links: Links, leaves: np.ndarray) -> np.ndarr
 
 
 def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = None,
-                     exitance: np.ndarray | None = None, gather=None) -> np.ndarray:
+                     exitance: np.ndarray | None = None, gather=None, shown: np.ndarray | None = None) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3): gathered at the corners (with ``links`` and
     ``exitance``; by ``gather``, a CornerGather that keeps its form factors between calls, when
     given) or each leaf's own B, then averaged over the leaves of the same polygon sharing that
-    corner point."""
+    corner point. ``shown`` (mask over the elements, optional): the leaves whose pixels will be
+    displayed; only they and the leaves sharing a corner point with them are gathered (every corner
+    of a shown leaf is then exact), the others keep their own B: a view that sees part of a room
+    pays for that part."""
     corners = h.corners[leaves]                                     # (n, 4, 3)
     extent = max(float(np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max()), 1e-9)
     q = np.round(corners / (1e-7 * extent)).astype(np.int64)
@@ -120,7 +123,17 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
     if links is not None and gather is None:
         from .corner_cache import CornerGather     # the fast gather (it imports this module's helpers)
         gather = CornerGather()
-    b = (gather(h, links, leaves, exitance) if links is not None else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)).reshape(-1, 3)
+    b = np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
+    if links is not None:
+        needed = np.ones(len(leaves), bool)
+        if shown is not None:
+            near = np.zeros(len(key), bool)
+            near[np.repeat(shown[leaves], 4)] = True
+            touched = np.zeros(int(vertex.max()) + 1, bool)
+            touched[vertex[near]] = True
+            needed = touched[vertex].reshape(-1, 4).any(axis=1)
+        b[needed] = gather(h, links, leaves[needed], exitance)
+    b = b.reshape(-1, 3)
     w = np.repeat(exposure_weights(h, links, leaves) if links is not None else np.ones(len(leaves)), 4)
     total = np.zeros((vertex.max() + 1, 3))
     count = np.zeros(vertex.max() + 1)
@@ -130,13 +143,13 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
 
 
 def leaf_mesh(h: Hierarchy, links: Links | None = None, exitance: np.ndarray | None = None,
-              smooth: bool = True, gather=None) -> LeafMesh:
+              smooth: bool = True, gather=None, shown: np.ndarray | None = None) -> LeafMesh:
     """The leaves as a triangle mesh for display (see the module docstring). Smooth: gathered at the
-    corners with ``links`` and ``exitance`` (E per element; ``gather``: see vertex_radiosity), or
-    averaged from the leaves without."""
+    corners with ``links`` and ``exitance`` (E per element; ``gather``, ``shown``: see
+    vertex_radiosity), or averaged from the leaves without."""
     leaves = h.leaves()
     n = len(leaves)
-    b = vertex_radiosity(h, leaves, links, exitance if exitance is not None else h.exitance, gather) if smooth else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
+    b = vertex_radiosity(h, leaves, links, exitance if exitance is not None else h.exitance, gather, shown) if smooth else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
     tri = h.triangle[leaves]
     base = np.arange(n) * 4
     faces = np.concatenate([np.c_[base, base + 1, base + 2], np.c_[base[~tri], base[~tri] + 2, base[~tri] + 3]])

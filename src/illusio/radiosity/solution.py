@@ -174,7 +174,7 @@ class Radiosity:
         if len(gone):
             # the pairs re-enter refinement one level down, so an accepted pair is not re-accepted as is
             self._split_and_refine(gone.receiver, gone.source)
-        self._matrix = None
+            self._matrix = None
         self.stats.add_time("refine", time.perf_counter() - t)
         return len(gone)
 
@@ -227,6 +227,11 @@ class Radiosity:
     def set_lamps(self, scales: dict[str, float] | tuple = (), tolerance: float = 1e-4,
                   max_iterations: int = 200) -> SolveResult:
         """Lamp exitances scaled by name (others back to 1), then re-solved with the links kept."""
+        self.lamp_scale = self.lamp_scales(scales)
+        return self.solve(tolerance, max_iterations)
+
+    def lamp_scales(self, scales: dict[str, float] | tuple = ()) -> np.ndarray:
+        """The per-group scale vector of ``scales`` (by lamp name, others 1), as set_lamps sets it."""
         scales = dict(scales)
         unknown = sorted(set(scales) - set(self.lamp_names))
         if unknown:
@@ -235,8 +240,7 @@ class Radiosity:
         new = np.ones(len(self.polygons.names))
         for name, value in scales.items():
             new[self.polygons.names.index(name)] = float(value)
-        self.lamp_scale = new
-        return self.solve(tolerance, max_iterations)
+        return new
 
     # --- dynamic updates (illusio.radiosity.dynamic)
     def add_lamp(self, centre, edge_u, edge_v, exitance, name: str, **solve) -> SolveResult:

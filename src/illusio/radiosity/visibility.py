@@ -58,9 +58,10 @@ def _grid_points(order, shift, jitter, side):
 
 
 @numba.njit(cache=True)
-def _segments(a, b, receiver_normal, offset):
-    """The rays of the (n, k) samples a → b, as embree takes them (float32): origins, unit
-    directions, lengths short of b by ``offset``, and the probes' directions (the receiver's normal)."""
+def _segments(a, b, receiver_normal, source_normal, offset):
+    """The rays of the (n, k) surface samples a → b, both lifted by ``offset`` along their normals,
+    as embree takes them (float32): origins, unit directions, lengths short of b by ``offset``, and
+    the probes' directions (the receiver's normal)."""
     n, k = a.shape[0], a.shape[1]
     origins = np.empty((n * k, 3), np.float32)
     directions = np.empty((n * k, 3), np.float32)
@@ -69,13 +70,18 @@ def _segments(a, b, receiver_normal, offset):
     for p in range(n):
         for s in range(k):
             i = p * k + s
-            d0, d1, d2 = b[p, s, 0] - a[p, s, 0], b[p, s, 1] - a[p, s, 1], b[p, s, 2] - a[p, s, 2]
+            a0 = a[p, s, 0] + offset * receiver_normal[p, 0]
+            a1 = a[p, s, 1] + offset * receiver_normal[p, 1]
+            a2 = a[p, s, 2] + offset * receiver_normal[p, 2]
+            d0 = b[p, s, 0] + offset * source_normal[p, 0] - a0
+            d1 = b[p, s, 1] + offset * source_normal[p, 1] - a1
+            d2 = b[p, s, 2] + offset * source_normal[p, 2] - a2
             length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
             norm = max(length, 1e-300)
             directions[i, 0], directions[i, 1], directions[i, 2] = d0 / norm, d1 / norm, d2 / norm
             dists[i] = max(length - offset, 0.0)
+            origins[i, 0], origins[i, 1], origins[i, 2] = a0, a1, a2
             for c in range(3):
-                origins[i, c] = a[p, s, c]
                 up[i, c] = receiver_normal[p, c]
     return origins, directions, dists, up
 
@@ -142,14 +148,14 @@ class Visibility:
             return np.zeros(0), np.zeros(0)
         h = self.hierarchy
         k = self.samples
-        a = h.sample_points(receivers, jittered_grid(n, k, self.rng)) + self.offset * h.normal[receivers][:, None]
-        b = h.sample_points(sources, jittered_grid(n, k, self.rng)) + self.offset * h.normal[sources][:, None]
+        a = h.sample_points(receivers, jittered_grid(n, k, self.rng))
+        b = h.sample_points(sources, jittered_grid(n, k, self.rng))
         q = min(k, self.form_factor_points)
-        form_factor = point_polygon(a[:, :q] - self.offset * h.normal[receivers][:, None], h.normal[receivers],
-                                    h.corners[sources], h.triangle[sources])
+        receiver_normal = h.normal[receivers]
+        form_factor = point_polygon(a[:, :q], receiver_normal, h.corners[sources], h.triangle[sources])
         if self.empty:
             return form_factor, np.ones(n)
-        origins, directions, dists, up = _segments(a, b, h.normal[receivers], self.offset)
+        origins, directions, dists, up = _segments(a, b, receiver_normal, h.normal[sources], self.offset)
         hit = self.scene.run(origins, directions, dists=dists, query="OCCLUDED")
         # a sample point with something right above it (under a board on a wall, behind a door in
         # contact) is not part of the surface anyone sees: a probe along the normal finds it

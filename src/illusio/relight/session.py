@@ -421,6 +421,28 @@ class RelightSession:
             return (image * out).astype(np.float32)
         return (out * self.params.exposure).astype(np.float32)
 
+    def _shown(self) -> np.ndarray:
+        """Elements the photograph's view can show (mask): the leaves seen through its pixels at
+        preparation, what they were split into since, the elements they were merged into, and every
+        virtual object's (not in the photograph). The edits gather only at those leaves' corners."""
+        h = self.solution.hierarchy
+        seen = np.zeros(len(h), bool)
+        seen[self.pixel_element[(self.pixel_element >= 0) & (self.pixel_element < len(h))]] = True
+        shown = seen.copy()
+        frontier = np.flatnonzero(seen)
+        while len(frontier):                          # up: a seen leaf merged into its parent
+            frontier = h.parent[frontier]
+            frontier = frontier[frontier >= 0]
+            frontier = frontier[~shown[frontier]]
+            shown[frontier] = True
+        down = seen.copy()
+        for lv in h.by_level()[1:]:                   # down: a seen leaf split since
+            down[lv] |= down[h.parent[lv]]
+        shown = (shown & h.leaf) | down
+        if self.virtual_groups:
+            shown |= np.isin(self.solution.polygons.group[h.polygon], list(self.virtual_groups))
+        return shown
+
     def _corner_radiosity(self):
         """The leaf mesh with B at the corners under ``self.scales``. With the links kept, B is linear in
         the lamps' exitances, so the corners' B are gathered once per lamp (and once with every lamp
@@ -433,17 +455,20 @@ class RelightSession:
             # the geometry just changed (a virtual object moved): one gather now; the basis waits for
             # a second edit of the same geometry, so dragging an object does not pay for it each step
             self._geometry_key = key
-            sol.set_lamps(self.scales)
-            return leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
+            if not np.array_equal(sol.lamp_scales(self.scales), sol.lamp_scale):
+                sol.set_lamps(self.scales)     # (the edit solved under the session's lamps already)
+            return leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather, shown=self._shown())
         if getattr(self, "_basis_key", None) != key:
             t = time.perf_counter()
             off = {n: 0.0 for n in self.lamp_names}
             sol.set_lamps(off)
-            base = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
+            shown = self._shown()
+            base = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather, shown=shown)
             basis = []
             for name in self.lamp_names:
                 sol.set_lamps({**off, name: 1.0})
-                basis.append(leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather).radiance - base.radiance)
+                basis.append(leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather, shown=shown).radiance
+                             - base.radiance)
             self._basis, self._basis_mesh, self._basis_key = basis, base, key
             self.times["lamp basis"] = time.perf_counter() - t
         sol.set_lamps(self.scales)     # the solution's state follows the edit (cheap: links kept)
