@@ -12,7 +12,7 @@ from pathlib import Path
 
 from .runner import print_table, write_results
 
-SUITES = ["core", "sis", "sis_quality", "lines", "protocol", "viewer", "dof", "ibr", "radiosity", "batch", "relight"]
+SUITES = ["core", "sis", "sis_quality", "lines", "lines_transfer", "protocol", "viewer", "dof", "ibr", "radiosity", "batch", "relight"]
 
 
 def main(argv=None) -> int:

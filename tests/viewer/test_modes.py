@@ -241,3 +241,25 @@ def test_a_window_too_small_to_draw_keeps_the_last_frame_and_says_why(ctx):
     with pytest.raises(Exception, match="cannot hold one strip"):
         small.step()
     small.release()
+
+
+def test_lines_t_chooses_parameters_that_match_the_view_edges(ctx):
+    """T in the lines mode: τ, λ and the threshold chosen for the view as it is (the drawing then
+    matches the shaded mesh's Canny edges at least as well as before), and the panel says what."""
+    from dataclasses import replace
+
+    from illusio.lines.compare import line_mask, score
+    from illusio.lines.tuning import edge_target
+
+    viewer = Viewer(ctx, "lines", "torus-knot", size=SIZE)
+    viewer.mode.params = replace(viewer.mode.params, tau=-4.0, threshold=0.8)   # a poor start
+    viewer.step()
+    mode = viewer.mode
+    target = edge_target(mode.renderer, mode.mesh, mode._frame.view, mode._frame.size)
+    before = score(line_mask(viewer.image()), target).f1
+    assert viewer.mode_key("T")
+    assert mode.params.threshold != 0.8 and mode.message.startswith("auto: tau")
+    viewer.step()
+    assert score(line_mask(viewer.image()), target).f1 > before + 0.05
+    assert not viewer.mode_key("z")
+    viewer.release()

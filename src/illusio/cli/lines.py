@@ -43,6 +43,7 @@ def lines(
     silhouettes: str = typer.Option(_DEFAULT.silhouette_space, "--silhouettes", help="object (n·v = 0 zero crossings) or image (depth edges)"),
     grid: bool = typer.Option(False, "--grid/--no-grid", help="write the τ × λ grid of hybrid apparent ridges instead"),
     compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny or an edge IMAGE: print scores, write OUT-compare.png"),
+    auto: bool = typer.Option(False, "--auto/--no-auto", help="choose τ, λ and --threshold that best match the edges of --compare (default: canny of the shaded mesh)"),
     debug: str = typer.Option(None, "--debug", help="write a debug view instead: q1, t1 or curvature"),
     line_width: float = typer.Option(1.0, "--line-width", help="line width in pixels of the output"),
     colour: str = typer.Option(None, "--colour", help="one ink for every line: #rrggbb or R,G,B in [0, 1] (default: each type's)"),
@@ -94,6 +95,21 @@ def lines(
         v = framing_view(m, az_el[0], az_el[1])
     renderer = default_context().kept(LineRenderer)
     renderer.prepare(m)
+
+    def target_edges():
+        if not compare or compare in cmp.EDGE_METHODS:
+            return cmp.image_edges(cmp.phong_render(renderer.ctx, m, v, (w, h)), compare or "canny")
+        edges = read_image(compare, srgb=False)
+        if edges.shape[:2] != (h, w):
+            raise InputError(f"{compare}: edge image is {edges.shape[1]}×{edges.shape[0]}, the drawing {w}×{h}")
+        return cmp.line_mask(edges)
+
+    if auto:
+        from ..lines.tuning import auto_parameters
+
+        chosen = auto_parameters(renderer, v, (w, h), target_edges(), params)
+        params = chosen.params
+        typer.echo(f"auto against {compare or 'canny'}: {chosen}")
     if grid:
         from ..lines.tuning import parameter_grid
 
@@ -120,13 +136,7 @@ def lines(
         typer.echo(f"wrote {out} ({w}×{h})")
     if compare:
         ours = cmp.line_mask(drawing.image)
-        if compare in cmp.EDGE_METHODS:
-            target = cmp.image_edges(cmp.phong_render(renderer.ctx, m, v, (w, h)), compare)
-        else:
-            edges = read_image(compare, srgb=False)
-            if edges.shape[:2] != (h, w):
-                raise InputError(f"{compare}: edge image is {edges.shape[1]}×{edges.shape[0]}, the drawing {w}×{h}")
-            target = cmp.line_mask(edges)
+        target = target_edges()
         typer.echo(f"against {compare}: {cmp.score(ours, target)}")
         side = out.with_name(out.stem + "-compare.png")
         write_image(side, cmp.overlay(ours, target))

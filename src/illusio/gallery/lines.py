@@ -115,8 +115,30 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
     section.items.append(Item("lines/methods.png", "hybrid (red) against Judd's object-space apparent ridges + contours (blue)",
                               "agreement in the table above (tolerance 3 px)",
                               figure="the apparent-ridges report, ch. 3", command="illusio lines torus-knot --method object-space -o judd.png"))
+    section.items.append(auto_pairs(renderer, meshes[:3], tile, out_dir))
     renderer.release()
     return section
+
+
+def auto_pairs(renderer, meshes, tile, out_dir: Path) -> Item:
+    """Default parameters (left) and the automatic choice (right, `--auto`) per mesh, one row each,
+    with their F1 against the Canny edges of the shaded render."""
+    from ..lines.tuning import auto_parameters, edge_target
+
+    rows, scores = [], []
+    for name, mesh, (az, el), _ in meshes:
+        v = framing_view(mesh, az, el)
+        renderer.prepare(mesh)
+        chosen = auto_parameters(renderer, v, tile, edge_target(renderer, mesh, v, tile))
+        rows.append(np.hstack([renderer.render(Frame(v, tile), LineParams()), np.full((tile[1], 4, 3), 0.8, np.float32),
+                               renderer.render(Frame(v, tile), chosen.params)]))
+        p = chosen.params
+        scores.append(f"{name} {chosen.start.f1:.2f} → {chosen.scores.f1:.2f} (τ {p.tau:g}, λ {p.lam:g}, threshold {p.threshold:g})")
+    write_image(out_dir / "lines/auto.png", np.vstack(rows))
+    return Item("lines/auto.png", "defaults (left) and the automatic choice (right)",
+                "F1 against Canny edges of the shaded render: " + "; ".join(scores) + ". Transfer over every test mesh: "
+                "benchmarks/RESULTS.md", figure="the report's open problem (parameters per mesh)",
+                command="illusio lines blob --auto -o blob.png")
 
 
 def f1_map(renderer, view, tile, target, out_dir: Path, rel: str, name: str) -> Item:

@@ -21,8 +21,9 @@ from .modes import MODES
 from .path import CameraPath, PathRecorder
 from .viewer import Viewer
 
-#: letter keys the window passes to the mode (the relight mode: L a lamp, O an object)
-MODE_KEYS = "lo"
+#: letter keys the window passes to the mode (the relight mode: L a lamp, O an object; the lines
+#: mode: T the automatic choice of its parameters)
+MODE_KEYS = "lot"
 
 __all__ = ["ViewerWindow"]
 

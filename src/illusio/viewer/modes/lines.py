@@ -1,5 +1,6 @@
 """The line-drawing mode: a mesh drawn with apparent ridges and the classic line types, orbiting
-it; the panel sets line types, τ, λ and the thresholds, and the variants show the debug maps."""
+it; the panel sets line types, τ, λ and the thresholds, T chooses τ, λ and the threshold for the
+view (matching its image edges), and the variants show the debug maps."""
 
 from __future__ import annotations
 
@@ -31,6 +32,8 @@ class LinesMode(Mode):
         self.renderer = LineRenderer(ctx)
         self.renderer.prepare(self.mesh)
         self.params = LineParams()
+        self._frame: Frame | None = None
+        self.message = "T: choose τ, λ and the threshold that best match this view's image edges"
 
     def home_view(self):
         return self.renderer.default_view()
@@ -43,9 +46,32 @@ class LinesMode(Mode):
         return hugging_camera(self.mesh, eye, self.home_view().camera.fov_y)
 
     def render(self, frame: Frame):
+        self._frame = frame
         if self.variant == "drawing":
             return super().render(frame)
         drawing = self.renderer.drawing(frame, self.params)
         image = np.atleast_3d(debug_view(self.variant, drawing, self.mesh, self.renderer.curvature(self.params.curvature)))
         rgb = np.repeat(image, 3, axis=2) if image.shape[2] == 1 else image  # q1 is a grey map
         return self.ctx.acquire_upload(np.dstack([rgb, np.ones(rgb.shape[:2])]).astype(np.float32))
+
+    def key(self, name: str) -> bool:
+        """T: the automatic choice (lines.tuning.auto_parameters) against the Canny edges of the shaded
+        mesh seen as now."""
+        if name != "t" or self._frame is None or self._frame.view is None:
+            return False
+        from ...core.errors import InputError
+        from ...lines.tuning import auto_parameters, edge_target
+
+        frame = self._frame
+        try:
+            chosen = auto_parameters(self.renderer, frame.view, frame.size,
+                                     edge_target(self.renderer, self.mesh, frame.view, frame.size), self.params)
+        except InputError as exc:
+            self.message = str(exc)
+            return True
+        self.params = chosen.params
+        self.message = f"auto: {chosen}"
+        return True
+
+    def panel(self, imgui, viewer) -> None:
+        imgui.text(self.message)
