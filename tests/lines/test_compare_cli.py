@@ -144,3 +144,24 @@ def test_lines_cli_styles_the_page(tmp_path, capsys):
     for args in (["--antialias", "7"], ["--colour", "purple"]):
         code, _ = call(["lines", "torus-knot", "-o", str(tmp_path / "x.png"), *args], capsys)
         assert code == 2 and not (tmp_path / "x.png").exists()
+
+
+def test_rtsc_highlight_and_dwkr_lines_in_the_png_and_the_svg(tmp_path, capsys):
+    """The three newest line types through the command: each SVG has its own group of polylines, and
+    the PNG shows each type's ink."""
+    from illusio.lines.params import LineParams
+
+    kinds = ("suggestive-highlights", "principal-highlights", "dwkr")
+    svg, png = tmp_path / "knot.svg", tmp_path / "knot.png"
+    assert call(["lines", "torus-knot", "-o", str(svg), "--size", "256x256", "--lines", ",".join(kinds)], capsys)[0] == 0
+    text = svg.read_text()
+    for kind in kinds:
+        group = re.search(rf'<g id="{kind}"[^>]*>(.*?)</g>', text, re.S)
+        assert group and group.group(1).count("<polyline") >= 3, kind
+    for kind in kinds:
+        assert call(["lines", "torus-knot", "-o", str(png), "--size", "256x256", "--lines", kind, "--antialias", "1"], capsys)[0] == 0
+        image = read_image(png)                                   # linear, as the colours are
+        ink = image.min(axis=-1) < 0.6
+        colour = np.asarray(LineParams().colour(kind), np.float32)
+        darkest = image[ink][np.argsort(image[ink].sum(axis=-1))[:10]]
+        assert ink.sum() > 20 and np.abs(darkest - colour).max() < 0.12, kind

@@ -11,6 +11,7 @@ from illusio.lines.drawing import LineRenderer, framing_view
 from illusio.lines.params import LineParams
 from illusio.lines.object_space import (boundaries, chain, contours, ridges, suggestive_contours, valleys, vertex_gradient,
                                         zero_crossings)
+from illusio.scene.builtin import shape
 from illusio.scene.mesh import load_mesh
 
 
@@ -98,6 +99,8 @@ def test_boundaries_are_the_edges_one_face_uses(ctx):
     assert np.allclose(border, 1.0)                                          # every end on the rim
     assert len(boundaries(analytic.icosphere(3)[0])) == 0
     assert len(boundaries(shapes.box((1, 1, 1)))) == 0
+    for name in ("sphere", "torus", "blob", "torus-knot"):     # seams of sin 0 against sin 2π, −0.0 against 0.0
+        assert len(boundaries(shape(name))) == 0, name
     renderer = LineRenderer(ctx)
     renderer.prepare(plane)
     view = View(Pose((0.0, 3.0, 0.0), (0.0, 0.0, 0.0), (0.0, 0.0, -1.0)), Camera(45.0, 0.1, 10.0))
@@ -145,3 +148,61 @@ def test_isophotes_of_a_sphere_are_circles_of_constant_n_dot_l(rng):
     p = segs.points.reshape(-1, 3)
     assert len(segs) > 50
     np.testing.assert_allclose(p @ light, level, atol=0.01)
+
+
+def _phase(segments, wavenumber):
+    """k·x mod 2π of the segment ends away from the sheet's border (the estimate is one-sided there)."""
+    p = segments.points.reshape(-1, 3)
+    inner = (np.abs(p[:, 0]) < 0.8) & (np.abs(p[:, 1]) < 0.8)
+    return np.mod(wavenumber * p[inner, 0], 2 * np.pi)
+
+
+def test_suggestive_highlights_contours_and_dwkr_on_a_corrugated_sheet():
+    """z = a sin(kx) seen from far off, tilted 40° towards +x (steeper than the folds, tan 40° > ak:
+    no point faces the eye): across the folds n·v is largest where the slope turns towards the eye
+    (kx = π) and smallest where it turns away (kx = 0), both at inflections (κ_r = 0). So the
+    suggestive highlights (n·v a maximum along w) lie on kx ≡ π, the suggestive contours (a
+    minimum) on kx ≡ 0, and D_w κ_r — the derivative of the fold's curvature along w, τ_r = 0
+    here — changes sign where that curvature is extreme, kx ≡ π/2 (mod π): the DwKr lines at 0."""
+    from illusio.lines.object_space import dwkr_lines, suggestive_highlights
+
+    mesh, _, _ = analytic.corrugated(0.1, 2 * np.pi)
+    curv = estimate_curvature(mesh, cache=False)
+    tilt = np.radians(40)
+    eye = 50 * np.array([np.sin(tilt), 0.0, np.cos(tilt)])
+    scale = curv.scale()
+    highlights = _phase(suggestive_highlights(mesh, curv, eye, 0.05, scale), 2 * np.pi)
+    contours_ = _phase(suggestive_contours(mesh, curv, eye, 0.05, scale), 2 * np.pi)
+    dwkr = _phase(dwkr_lines(mesh, curv, eye, 0.0, scale), 2 * np.pi)
+    assert len(highlights) > 100 and len(contours_) > 100 and len(dwkr) > 100
+    np.testing.assert_allclose(highlights, np.pi, atol=0.05)
+    np.testing.assert_allclose(np.minimum(contours_, 2 * np.pi - contours_), 0.0, atol=0.05)
+    np.testing.assert_allclose(np.mod(dwkr, np.pi), np.pi / 2, atol=0.05)
+    # a threshold keeps D_w κ_r at that level: its lines move off the extremes of the curvature
+    shifted = _phase(dwkr_lines(mesh, curv, eye, 0.5, scale), 2 * np.pi)
+    assert len(shifted) > 100 and np.abs(np.mod(shifted, np.pi) - np.pi / 2).min() > 0.05
+
+
+def test_principal_highlights_where_the_surface_faces_the_eye():
+    """Principal highlights (w ⊥ e_max on convex parts): on an open cylinder seen from the side, the
+    generator facing the eye (x = 0, z = r); on the corrugated sheet seen 25° off its normal with
+    ak = 0.75 > tan 25°, the crests' points whose normal points at the eye, cos kx = −tan 25°/(ak)."""
+    from illusio.lines.object_space import principal_highlights
+
+    mesh, _, _ = analytic.cylinder(0.5, 2.0)
+    curv = estimate_curvature(mesh, cache=False)
+    segs = principal_highlights(mesh, curv, np.array([0.0, 0.3, 4.0]), 0.05, curv.scale())
+    p = segs.points.reshape(-1, 3)
+    assert len(segs) > 50 and np.ptp(p[:, 1]) > 1.5
+    np.testing.assert_allclose(p[:, 0], 0.0, atol=0.01)
+    np.testing.assert_allclose(p[:, 2], 0.5, atol=0.01)
+    sheet, _, _ = analytic.corrugated(0.12, 2 * np.pi)
+    curv = estimate_curvature(sheet, cache=False)
+    tilt = np.radians(25)
+    segs = principal_highlights(sheet, curv, 50 * np.array([np.sin(tilt), 0.0, np.cos(tilt)]), 0.05, curv.scale())
+    expected = np.arccos(-np.tan(tilt) / (0.12 * 2 * np.pi))
+    phase = _phase(segs, 2 * np.pi)
+    assert len(phase) > 100
+    np.testing.assert_allclose(phase, expected, atol=0.06)
+    # none on a concave part: the sheet seen from below (normals away) has no convex face towards it
+    assert len(principal_highlights(sheet, curv, -50 * np.array([np.sin(tilt), 0.0, np.cos(tilt)]), 0.05, curv.scale())) == 0

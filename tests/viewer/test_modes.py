@@ -263,3 +263,22 @@ def test_lines_t_chooses_parameters_that_match_the_view_edges(ctx):
     assert score(line_mask(viewer.image()), target).f1 > before + 0.05
     assert not viewer.mode_key("z")
     viewer.release()
+
+
+def test_lines_mode_draws_every_line_type(ctx):
+    """Every line type the panel offers (LineParams.lines' choices) draws ink in the lines mode, and
+    differently from the default drawing: on the blob every type but valleys (none past the default
+    threshold) and boundaries (it is closed); in order, so a failure names the first."""
+    from dataclasses import replace
+
+    from illusio.lines.params import LINE_TYPES
+
+    viewer = Viewer(ctx, "lines", "blob", size=SIZE)
+    viewer.step()
+    default = viewer.image()
+    for kind in [k for k in LINE_TYPES if k not in ("valleys", "boundaries")]:
+        viewer.mode.params = replace(viewer.mode.params, lines=(kind,))
+        viewer.step()
+        image = viewer.image()
+        assert (image.min(axis=-1) < 0.6).sum() > 10 and np.abs(image - default).mean() > 1e-4, kind
+    viewer.release()

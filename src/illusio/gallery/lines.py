@@ -64,6 +64,20 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
                               "(grey), silhouettes; the built-in torus of the command is thinner (R > 2r): no H = 0 curve",
                               figure="rtsc, the tool the report compares against",
                               command="illusio lines torus --lines silhouettes,k-zero,h-zero,isophotes -o torus.png"))
+    blob = shape("blob")
+    blob_view = framing_view(blob, 30, 15)
+    renderer.prepare(blob)
+    for kinds, rel, label, caption in (
+            (("silhouettes", "suggestive", "suggestive-highlights", "principal-highlights"), "lines/highlights.png",
+             "suggestive and principal highlights (DeCarlo & Rusinkiewicz 2007) on the blob",
+             "suggestive contours (blue: n·v a minimum along the view), suggestive highlights (orange: a maximum), "
+             "principal highlights (gold: the view across the strongest curvature), silhouettes"),
+            (("silhouettes", "suggestive", "dwkr"), "lines/dwkr.png", "DwKr lines on the blob",
+             "where D_w κ_r equals the suggestive contours' threshold (magenta): the edge of the region where "
+             "the suggestive contours (blue) may run")):
+        write_image(out_dir / rel, renderer.render(Frame(blob_view, tile), LineParams(lines=kinds)))
+        section.items.append(Item(rel, label, caption, figure="rtsc, the tool the report compares against",
+                                  command=f"illusio lines blob --lines {','.join(kinds)} -o blob.png"))
     renderer.prepare(knot)
     models = _models()
     meshes = [("blob", shape("blob"), (30, 15), "blob")]

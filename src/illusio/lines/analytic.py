@@ -1,5 +1,5 @@
-"""Closed, welded test surfaces with known principal curvatures (sphere, torus, ellipsoid), for the
-curvature tests and the accuracy benchmark. Curvatures follow lines.curvature's convention
+"""Welded test surfaces with known principal curvatures (sphere, torus, ellipsoid closed; a
+corrugated sheet and an open cylinder), for the curvature and line tests and the accuracy benchmark. Curvatures follow lines.curvature's convention
 (positive on a sphere with outward normals)."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import numpy as np
 
 from ..scene.mesh import Mesh
 
-__all__ = ["icosphere", "torus", "ellipsoid", "add_noise"]
+__all__ = ["icosphere", "torus", "ellipsoid", "corrugated", "cylinder", "add_noise"]
 
 
 def icosphere(subdivisions: int = 3, radius: float = 1.0) -> tuple[Mesh, np.ndarray, np.ndarray]:
@@ -51,6 +51,38 @@ def ellipsoid(axes=(1.0, 0.7, 0.5), subdivisions: int = 4) -> tuple[Mesh, np.nda
     gauss = (g * g * np.roll(hess, 1) * np.roll(hess, 2)).sum(1) / gn**4
     disc = np.sqrt(np.maximum(mean**2 - gauss, 0))
     return Mesh(v, sphere.faces, name=f"ellipsoid-{subdivisions}"), mean - disc, mean + disc
+
+
+def _grid_faces(rows: int, columns: int, wrap: bool = False) -> np.ndarray:
+    """Two triangles per cell of a rows × columns vertex grid (row-major), columns wrapped or not."""
+    i, j = np.meshgrid(np.arange(rows - 1), np.arange(columns if wrap else columns - 1), indexing="ij")
+    a = i * columns + j
+    b = i * columns + (j + 1) % columns
+    c, d = b + columns, a + columns
+    return np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
+
+
+def corrugated(amplitude: float = 0.1, wavenumber: float = 2 * np.pi, extent: float = 2.0,
+               n: int = 161) -> tuple[Mesh, np.ndarray, np.ndarray]:
+    """Returns (mesh, k_min, k_max) of the sheet z = a·sin(k x) over [−extent/2, extent/2]², wound with
+    normals up
+    (+z). Across the folds κ = a k² sin(k x) / (1 + a²k² cos² k x)^{3/2} (positive on the crests),
+    along them 0."""
+    x, y = np.meshgrid(np.linspace(-extent / 2, extent / 2, n), np.linspace(-extent / 2, extent / 2, n), indexing="ij")
+    v = np.stack([x, y, amplitude * np.sin(wavenumber * x)], -1).reshape(-1, 3)
+    across = (amplitude * wavenumber**2 * np.sin(wavenumber * x)
+              / (1 + (amplitude * wavenumber * np.cos(wavenumber * x)) ** 2) ** 1.5).reshape(-1)
+    return Mesh(v, _grid_faces(n, n)[:, ::-1], name="corrugated"), np.minimum(across, 0.0), np.maximum(across, 0.0)
+
+
+def cylinder(radius: float = 0.5, length: float = 2.0, segments: int = 128, rings: int = 64) -> tuple[Mesh, np.ndarray, np.ndarray]:
+    """Returns (mesh, k_min, k_max) of an open cylinder of axis y (outward normals): k_max = 1/radius
+    around it, k_min = 0 along it."""
+    y, t = np.meshgrid(np.linspace(-length / 2, length / 2, rings), np.arange(segments) * 2 * np.pi / segments, indexing="ij")
+    v = np.stack([radius * np.sin(t), y, radius * np.cos(t)], -1).reshape(-1, 3)
+    f = _grid_faces(rings, segments, wrap=True)
+    k = np.full(len(v), 1.0 / radius)
+    return Mesh(v, f, name="cylinder"), np.zeros_like(k), k
 
 
 def add_noise(mesh: Mesh, amount: float, seed: int = 0) -> Mesh:

@@ -23,7 +23,8 @@ from ..scene.mesh import Mesh
 from .compose import ComposePass
 from .curvature import Curvature, estimate_curvature
 from .gpu_mesh import CurvatureMesh
-from .object_space import (Segments, apparent_ridges, boundaries, contours, isophotes, mean_zero_lines, parabolic_lines,
+from .object_space import (Segments, apparent_ridges, boundaries, contours, dwkr_lines, isophotes, mean_zero_lines,
+                           parabolic_lines, principal_highlights, suggestive_highlights,
                            ridges, suggestive_contours, valleys)
 from .params import LINE_TYPES, CurvatureParams, LineParams
 from .reference import view_curvature
@@ -237,6 +238,12 @@ class LineRenderer(Renderer):
                 out[kind] = mean_zero_lines(mesh, curv)
             elif kind == "isophotes":  # a headlight: towards the camera, along its axis
                 out[kind] = isophotes(mesh, curv.normals, -view.pose.axes()[2], params.isophote_level)
+            elif kind == "suggestive-highlights":
+                out[kind] = suggestive_highlights(mesh, curv, eye, params.highlight_threshold, scale)
+            elif kind == "principal-highlights":
+                out[kind] = principal_highlights(mesh, curv, eye, params.highlight_threshold, scale)
+            elif kind == "dwkr":
+                out[kind] = dwkr_lines(mesh, curv, eye, params.suggestive_threshold, scale)
         return out
 
 

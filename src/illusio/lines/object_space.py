@@ -24,7 +24,8 @@ import numpy as np
 from ..scene.mesh import Mesh, weld
 from .curvature import Curvature
 
-__all__ = ["Segments", "zero_crossings", "contours", "suggestive_contours", "ridges", "valleys",
+__all__ = ["Segments", "zero_crossings", "contours", "suggestive_contours", "suggestive_highlights", "dwkr_lines",
+           "principal_highlights", "ridges", "valleys",
            "apparent_ridges", "boundaries", "parabolic_lines", "mean_zero_lines", "isophotes", "radial_curvature", "vertex_gradient", "chain"]
 
 
@@ -135,14 +136,53 @@ def radial_curvature(curvature: Curvature, view: np.ndarray):
     return kr, cwww - 2 * torsion * torsion * cot, ndotv
 
 
-def suggestive_contours(mesh: Mesh, curvature: Curvature, eye, threshold: float, scale: float) -> Segments:
-    """``threshold``: minimum D_w κ_r relative to scale² (scale: the mesh's curvature scale)."""
+def _radial_zeros(mesh: Mesh, curvature: Curvature, eye, threshold: float, scale: float, sign: float) -> Segments:
+    """κ_r = 0 on faces facing the viewer where sign·D_w κ_r / scale² > ``threshold`` at every vertex."""
     view = _view_vectors(mesh, eye)
     kr, dwkr, ndotv = radial_curvature(curvature, view)
     f = mesh.faces
-    strength = dwkr / (scale * scale)
+    strength = sign * dwkr / (scale * scale)
     keep = (strength[f].min(1) > threshold) & (ndotv[f].min(1) > 0.05)
     return zero_crossings(mesh, kr, keep, strength)
+
+
+def suggestive_contours(mesh: Mesh, curvature: Curvature, eye, threshold: float, scale: float) -> Segments:
+    """``threshold``: minimum D_w κ_r relative to scale² (scale: the mesh's curvature scale)."""
+    return _radial_zeros(mesh, curvature, eye, threshold, scale, 1.0)
+
+
+def suggestive_highlights(mesh: Mesh, curvature: Curvature, eye, threshold: float, scale: float) -> Segments:
+    """rtsc's suggestive highlights (DeCarlo & Rusinkiewicz 2007): κ_r = 0 where D_w κ_r < 0 — n·v is
+    a local maximum along w there, where suggestive contours are its minima — on the surface facing
+    the viewer; ``threshold``: minimum −D_w κ_r relative to scale²."""
+    return _radial_zeros(mesh, curvature, eye, threshold, scale, -1.0)
+
+
+def dwkr_lines(mesh: Mesh, curvature: Curvature, eye, threshold: float, scale: float) -> Segments:
+    """rtsc's "DwKr" lines: where D_w κ_r / scale² equals ``threshold`` (the suggestive contours'
+    threshold) on the surface facing the viewer — the edge of the region the suggestive-contour test
+    keeps; at threshold 0, where D_w κ_r changes sign."""
+    view = _view_vectors(mesh, eye)
+    _, dwkr, ndotv = radial_curvature(curvature, view)
+    return zero_crossings(mesh, dwkr / (scale * scale) - threshold, ndotv[mesh.faces].min(1) > 0.05)
+
+
+def principal_highlights(mesh: Mesh, curvature: Curvature, eye, threshold: float, scale: float) -> Segments:
+    """rtsc's principal highlights (DeCarlo & Rusinkiewicz 2007; its ridge flavour): where the view
+    direction seen in the tangent plane is perpendicular to the maximum principal direction
+    (w·e_max = 0, so n·v is a maximum along e_max: a highlight line), on convex parts (k_max > 0 at
+    the three vertices) facing the viewer, kept where (k_max² − k_min²)·(n·v) / scale² exceeds
+    ``threshold``. e_max is sign-aligned per face; a face whose directions differ by more than 45°
+    is skipped (rtsc's rule)."""
+    view = _view_vectors(mesh, eye)
+    f = np.asarray(mesh.faces, np.int64)
+    k_max, k_min = curvature.k_max.astype(np.float64), curvature.k_min.astype(np.float64)
+    ndotv = (curvature.normals * view).sum(1)
+    along, dirs = _aligned_derivative(curvature.e_max, (view * curvature.e_max).sum(1), f)
+    agree = ((dirs * dirs[:, :1]).sum(2) >= np.sqrt(0.5)).all(1)
+    strength = (k_max * k_max - k_min * k_min) * ndotv / (scale * scale)
+    keep = agree & (k_max[f].min(1) > 0) & (ndotv[f].min(1) > 0.05) & (strength[f].mean(1) > threshold)
+    return _face_corner_crossings(mesh, along, keep, strength[f].mean(1))
 
 
 def _aligned_derivative(directions: np.ndarray, derivative: np.ndarray, faces: np.ndarray):
@@ -168,9 +208,16 @@ def _extremum_lines(mesh: Mesh, direction: np.ndarray, derivative: np.ndarray, k
     grad = (np.cross(unit, p2 - p1) * fd[:, :1] + np.cross(unit, p0 - p2) * fd[:, 1:2] + np.cross(unit, p1 - p0) * fd[:, 2:]) / a2[:, None]
     along = (grad * dirs.mean(1)).sum(1)
     keep = keep_vertex[f].all(1) & ((along < 0) if maximum else (along > 0))
-    # crossings of the aligned per-face values: build a per-face-corner mesh
-    segs = _crossings(v.reshape(-1, 3), np.arange(len(f) * 3).reshape(-1, 3), fd.reshape(-1), keep,
-                      np.repeat(strength[f].mean(1), 3))
+    return _face_corner_crossings(mesh, fd, keep, strength[f].mean(1))
+
+
+def _face_corner_crossings(mesh: Mesh, values: np.ndarray, keep: np.ndarray, strength: np.ndarray) -> Segments:
+    """Zero crossings of per-face-corner ``values`` (F, 3) (a sign-aligned quantity differs from face
+    to face) on the faces ``keep``, ``strength`` per face; segment ends keyed by the mesh's edges."""
+    f = np.asarray(mesh.faces, np.int64)
+    v = np.asarray(mesh.vertices, np.float64)[f]
+    segs = _crossings(v.reshape(-1, 3), np.arange(len(f) * 3).reshape(-1, 3), values.reshape(-1), keep,
+                      np.repeat(strength, 3))
     if len(segs):
         segs.edges = np.sort(f.reshape(-1)[segs.edges], axis=2)  # corner ids back to vertex ids
     return segs

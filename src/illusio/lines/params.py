@@ -11,7 +11,8 @@ from .reference import REPORT_THRESHOLD
 
 __all__ = ["LINE_TYPES", "METHODS", "SILHOUETTE_SPACES", "LineParams", "CurvatureParams"]
 
-LINE_TYPES = ("apparent-ridges", "silhouettes", "suggestive", "ridges", "valleys", "boundaries", "k-zero", "h-zero", "isophotes")
+LINE_TYPES = ("apparent-ridges", "silhouettes", "suggestive", "ridges", "valleys", "boundaries", "k-zero", "h-zero", "isophotes",
+              "suggestive-highlights", "principal-highlights", "dwkr")
 METHODS = ("hybrid", "object-space")
 SILHOUETTE_SPACES = ("object", "image")
 
@@ -19,9 +20,11 @@ SILHOUETTE_SPACES = ("object", "image")
 DEFAULT_COLOURS = (("apparent-ridges", (0.0, 0.0, 0.0)), ("silhouettes", (0.0, 0.0, 0.0)),
                    ("suggestive", (0.05, 0.1, 0.45)), ("ridges", (0.55, 0.05, 0.05)), ("valleys", (0.05, 0.35, 0.1)),
                    ("boundaries", (0.0, 0.0, 0.0)), ("k-zero", (0.45, 0.2, 0.0)), ("h-zero", (0.3, 0.0, 0.4)),
-                   ("isophotes", (0.4, 0.4, 0.4)))
+                   ("isophotes", (0.4, 0.4, 0.4)), ("suggestive-highlights", (0.75, 0.45, 0.0)),
+                   ("principal-highlights", (0.85, 0.6, 0.1)), ("dwkr", (0.8, 0.1, 0.5)))
 #: pixels per line type (object-space lines)
-DEFAULT_WIDTHS = (("apparent-ridges", 1.5), ("silhouettes", 2.0), ("suggestive", 1.5), ("ridges", 1.5), ("valleys", 1.5), ("boundaries", 2.0), ("k-zero", 1.5), ("h-zero", 1.5), ("isophotes", 1.0))
+DEFAULT_WIDTHS = (("apparent-ridges", 1.5), ("silhouettes", 2.0), ("suggestive", 1.5), ("ridges", 1.5), ("valleys", 1.5), ("boundaries", 2.0), ("k-zero", 1.5), ("h-zero", 1.5), ("isophotes", 1.0),
+                  ("suggestive-highlights", 2.0), ("principal-highlights", 2.0), ("dwkr", 1.0))
 
 
 @dataclass(frozen=True)
@@ -47,7 +50,9 @@ class LineParams:
     or Judd's object-space method. tau: τ, q = 2^τ q1 (/ curvature scale when relative).
     lam: λ of the adaptive Laplacian. threshold: the ridge filter's response threshold (0.2 in the
     report). object_threshold: q1 / scale above which object-space apparent ridges are kept.
-    ridge_threshold: |k| / scale for ridges and valleys. suggestive_threshold: D_w κ_r / scale².
+    ridge_threshold: |k| / scale for ridges and valleys. suggestive_threshold: D_w κ_r / scale² (and
+    the level of the DwKr lines). highlight_threshold: the strength of suggestive highlights
+    (−D_w κ_r / scale²) and principal highlights ((k_max² − k_min²)·n·v / scale²) kept.
     silhouette_space: "object" (zero crossings of n·v) or "image" (depth discontinuities).
     depth_jump: an image silhouette where a neighbour is farther by more than this share of depth.
     min_ridge_pixels: hybrid ridge fragments of fewer pixels (8-connected; counted at 1024 px and
@@ -67,6 +72,8 @@ class LineParams:
     ridge_threshold: float = param(1.0, range=(0.0, 100.0), help="ridges and valleys: |k| / scale")
     suggestive_threshold: float = param(0.05, range=(0.0, 100.0), help="suggestive contours: D_w κ_r / scale²")
     isophote_level: float = param(0.5, range=(0.0, 1.0), help="isophotes: the n·l they follow (headlight)")
+    highlight_threshold: float = param(0.05, range=(0.0, 100.0),
+                                       help="suggestive highlights: −D_w κ_r / scale²; principal: (k_max² − k_min²) n·v / scale²")
     silhouette_space: str = param("object", choices=SILHOUETTE_SPACES)
     depth_jump: float = param(0.05, range=(0.0, 10.0), help="image silhouettes: relative depth jump")
     min_ridge_pixels: int = param(24, range=(0, 100000), step=1, unit="px", help="drop shorter ridge fragments")

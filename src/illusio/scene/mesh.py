@@ -82,9 +82,17 @@ class Mesh:
 
 def weld(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(unique positions (K, 3), index of each input vertex's position (N,)): vertices at the same
-    position taken as one."""
-    unique, inverse = np.unique(np.asarray(vertices), axis=0, return_inverse=True)
-    return unique, inverse.reshape(-1)
+    position — within 1e-9 of the mesh's extent — taken as one. Compared on that integer grid, not
+    as floats: a seam built from sin 0 and sin 2π (0 against −2.4e-16), or −0.0 against 0.0, is the
+    same point."""
+    v = np.asarray(vertices, np.float64)
+    finite = np.isfinite(v).all(axis=1)
+    extent = float(np.ptp(v[finite], axis=0).max()) if finite.any() else 0.0
+    key = np.zeros(v.shape, np.int64)
+    key[finite] = np.round(v[finite] / max(extent * 1e-9, 1e-300)).astype(np.int64)
+    key[~finite] = np.iinfo(np.int64).max - np.arange((~finite).sum())[:, None]   # never welded: refused later
+    _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    return v[first], inverse.reshape(-1)
 
 
 def validate_arrays(vertices: np.ndarray, faces: np.ndarray, name: str) -> None:
