@@ -42,7 +42,7 @@ def lines(
     isophote_level: float = typer.Option(_DEFAULT.isophote_level, "--isophote-level", help="isophotes: the n·l they follow, lit by a headlight"),
     silhouettes: str = typer.Option(_DEFAULT.silhouette_space, "--silhouettes", help="object (n·v = 0 zero crossings) or image (depth edges)"),
     grid: bool = typer.Option(False, "--grid/--no-grid", help="write the τ × λ grid of hybrid apparent ridges instead"),
-    compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny or an edge IMAGE: print scores, write OUT-compare.png"),
+    compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny (of the shaded mesh), photo (Canny of a path-traced photograph, scored with registration; needs mitsuba) or an edge IMAGE: print scores, write OUT-compare.png"),
     auto: bool = typer.Option(False, "--auto/--no-auto", help="choose τ, λ and --threshold that best match the edges of --compare (default: canny of the shaded mesh)"),
     debug: str = typer.Option(None, "--debug", help="write a debug view instead: q1, t1 or curvature"),
     line_width: float = typer.Option(1.0, "--line-width", help="line width in pixels of the output"),
@@ -61,16 +61,21 @@ def lines(
     from ..scene.camera import Pose, View
     from ..scene.scene import Node, Scene
 
-    inputs = [mesh] + ([compare] if compare and compare not in cmp.EDGE_METHODS else [])
+    targets = cmp.EDGE_METHODS + ("photo",)
+    inputs = [mesh] + ([compare] if compare and compare not in targets else [])
     out = check_output_path(output, [i for i in inputs if Path(i).exists()])
     if out.suffix.lower() not in (".png", ".svg"):
         raise InputError(f"{out.name}: the drawing must be a .png or an .svg")
     if debug is not None and debug not in DEBUG_VIEWS:
         raise InputError(f"--debug must be one of {', '.join(DEBUG_VIEWS)}{did_you_mean(debug, DEBUG_VIEWS)}")
-    if compare and compare not in cmp.EDGE_METHODS and not Path(compare).is_file():
+    if compare and compare not in targets and not Path(compare).is_file():
         # checked before anything is drawn: a mistyped method must not leave a drawing behind
-        raise InputError(f"--compare {compare}: not an edge method ({', '.join(cmp.EDGE_METHODS)}) nor an image file"
-                         f"{did_you_mean(compare, cmp.EDGE_METHODS)}")
+        raise InputError(f"--compare {compare}: not an edge method or photo ({', '.join(targets)}) nor an image file"
+                         f"{did_you_mean(compare, targets)}")
+    if compare == "photo":
+        from ..passes.mitsuba import load_mitsuba
+
+        load_mitsuba()                      # the install hint before anything is drawn
     from ..lines.style import LineStyle, parse_colour, ridge_strength, stylise
 
     if not 1 <= antialias <= 4:
@@ -96,9 +101,25 @@ def lines(
     renderer = default_context().kept(LineRenderer)
     renderer.prepare(m)
 
+    made: dict = {}
+
     def target_edges():
+        if "target" not in made:           # once: --auto and --compare share it
+            made["target"] = edges_of_target()
+        return made["target"]
+
+    def edges_of_target():
         if not compare or compare in cmp.EDGE_METHODS:
             return cmp.image_edges(cmp.phong_render(renderer.ctx, m, v, (w, h)), compare or "canny")
+        if compare == "photo":
+            from ..lines.photograph import photograph
+
+            photo = photograph(m, v, (w, h))
+            photo = np.clip(photo / max(float(np.percentile(photo, 99.5)), 1e-6), 0, 1)
+            shot = out.with_name(out.stem + "-photo.png")
+            write_image(shot, photo)
+            typer.echo(f"wrote {shot} (the path-traced photograph)")
+            return cmp.image_edges(photo, "canny")
         edges = read_image(compare, srgb=False)
         if edges.shape[:2] != (h, w):
             raise InputError(f"{compare}: edge image is {edges.shape[1]}×{edges.shape[0]}, the drawing {w}×{h}")
@@ -138,6 +159,10 @@ def lines(
         ours = cmp.line_mask(drawing.image)
         target = target_edges()
         typer.echo(f"against {compare}: {cmp.score(ours, target)}")
+        if compare == "photo":                # a photograph's edges sit off the lines by a few pixels
+            registered, (dx, dy) = cmp.registered_score(ours, target)
+            typer.echo(f"registered (shifted {dx:+d}, {dy:+d} px): {registered}")
+            ours = cmp.shift_mask(ours, dx, dy)
         side = out.with_name(out.stem + "-compare.png")
         write_image(side, cmp.overlay(ours, target))
         typer.echo(f"wrote {side} (red: ours only, blue: {compare} only, black: both)")

@@ -12,7 +12,8 @@ from scipy import ndimage
 
 from ..core.errors import InputError
 
-__all__ = ["Scores", "score", "line_mask", "image_edges", "overlay", "phong_render", "EDGE_METHODS"]
+__all__ = ["Scores", "score", "registered_score", "shift_mask", "line_mask", "image_edges", "overlay", "phong_render",
+           "EDGE_METHODS"]
 
 EDGE_METHODS = ("sobel", "laplace", "canny")
 
@@ -56,6 +57,51 @@ def score(predicted: np.ndarray, target: np.ndarray, tolerance: float = 2.0) -> 
     f1 = 0.0 if precision + recall == 0 else 2 * precision * recall / (precision + recall)
     chamfer = float((to_target[p].mean() + to_pred[t].mean()) / 2)
     return Scores(precision, recall, f1, chamfer, tolerance)
+
+
+def shift_mask(mask: np.ndarray, dx: int, dy: int) -> np.ndarray:
+    """``mask`` moved by (dx right, dy down) pixels, the uncovered border False."""
+    out = np.zeros_like(mask)
+    h, w = mask.shape
+    out[max(dy, 0):h + min(dy, 0), max(dx, 0):w + min(dx, 0)] = mask[max(-dy, 0):h - max(dy, 0), max(-dx, 0):w - max(dx, 0)]
+    return out
+
+
+def registered_score(predicted: np.ndarray, target: np.ndarray, tolerance: float = 2.0,
+                     max_shift: int = 4) -> tuple[Scores, tuple[int, int]]:
+    """The best :func:`score` of ``predicted`` moved by any whole-pixel shift up to ``max_shift`` in x
+    and y against ``target`` (a photograph never sits exactly where the drawing's camera was), and
+    that shift (dx right, dy down): the misregistration it found (of the shifts with the best F1, the
+    one with the smallest chamfer distance). Precision and recall at each shift
+    read the two distance transforms at shifted pixels (each computed once)."""
+    p = np.asarray(predicted, bool)
+    t = np.asarray(target, bool)
+    if p.shape != t.shape:
+        raise InputError(f"drawings to compare must have the same size, got {p.shape[::-1]} and {t.shape[::-1]}")
+    if not p.any() or not t.any():
+        return Scores(0.0, 0.0, 0.0, float("inf"), tolerance), (0, 0)
+    h, w = t.shape
+    to_target = ndimage.distance_transform_edt(~t)
+    to_pred = ndimage.distance_transform_edt(~p)
+    py, px = np.nonzero(p)
+    ty, tx = np.nonzero(t)
+    best = None
+    for dy in range(-max_shift, max_shift + 1):
+        for dx in range(-max_shift, max_shift + 1):
+            # predicted pixels moved by (dx, dy) that stay inside, and target pixels seen from them
+            inside_p = (px + dx >= 0) & (px + dx < w) & (py + dy >= 0) & (py + dy < h)
+            inside_t = (tx - dx >= 0) & (tx - dx < w) & (ty - dy >= 0) & (ty - dy < h)
+            if not inside_p.any() or not inside_t.any():
+                continue
+            near_p = to_target[py[inside_p] + dy, px[inside_p] + dx]
+            near_t = to_pred[ty[inside_t] - dy, tx[inside_t] - dx]
+            precision, recall = float((near_p <= tolerance).mean()), float((near_t <= tolerance).mean())
+            f1 = 0.0 if precision + recall == 0 else 2 * precision * recall / (precision + recall)
+            chamfer = float((near_p.mean() + near_t.mean()) / 2)
+            # ties of F1 (a shift within the tolerance scores alike) go to the nearer lines
+            if best is None or (f1, -chamfer) > (best[0].f1, -best[0].chamfer):
+                best = (Scores(precision, recall, f1, chamfer, tolerance), (dx, dy))
+    return best
 
 
 def phong_render(ctx, mesh, view, size) -> np.ndarray:
