@@ -97,10 +97,12 @@ def test_texture_stereogram_covers_the_whole_host_with_its_texture(ctx, rng, tmp
     assert (keep["stereogram"][host].max(axis=-1) > 0).all()
 
 
-def test_host_projection_pass_matches_reference_on_a_tilted_quad(ctx, rng):
+@pytest.mark.parametrize("layout", ["uv", "viewer"])
+def test_host_projection_pass_matches_reference_on_a_tilted_quad(ctx, rng, layout):
     """Steps (2) + (4) against sis.reference.host_projection: a random parallelogram host seen from a
     random view, random D and pattern; D within 1e-3 (bilinear weights in float32), the pattern's
-    nearest texel equal on nearly every pixel (ties at texel borders may round either way)."""
+    nearest texel equal on nearly every pixel (ties at texel borders may round either way). The
+    "viewer" layout reads D across a random screen rectangle instead of through the uvs."""
     from illusio.passes.gpu_scene import GpuScene
     from illusio.scene.mesh import Mesh
     from illusio.sis import reference
@@ -122,12 +124,16 @@ def test_host_projection_pass_matches_reference_on_a_tilted_quad(ctx, rng):
     gpu = GpuScene(ctx, scene)
     d_tex = ctx.upload(depth, filter="linear")
     p_tex = ctx.upload(pattern, filter="nearest")
-    d_out, p_out = HostProjectionPass(ctx)(gpu, list(enumerate(scene.nodes)), view, size, d_tex, p_tex, repeat)
+    box = None
+    if layout == "viewer":
+        x0, y0 = rng.uniform(5, 30), rng.uniform(5, 25)
+        box = (x0, y0, x0 + rng.uniform(30, 60), y0 + rng.uniform(20, 40))
+    d_out, p_out = HostProjectionPass(ctx)(gpu, list(enumerate(scene.nodes)), view, size, d_tex, p_tex, repeat, box)
     got_d, got_p = ctx.readback(d_out)[..., 0], ctx.readback(p_out, 3)
     ctx.release(d_out, p_out)
     d_tex.release(), p_tex.release(), gpu.release()
     want_d, want_p = reference.host_projection(corners[:3], uvs[:3], view.view_projection(size), size, depth,
-                                               pattern.astype(np.float32) / 255, repeat)
+                                               pattern.astype(np.float32) / 255, repeat, box)
     on_both = (got_d >= 0) & (want_d >= 0)
     assert on_both.sum() > 0.25 * got_d.size
     assert ((got_d >= 0) != (want_d >= 0)).mean() < 0.01  # edges may rasterise one pixel apart
@@ -159,3 +165,41 @@ def test_shadows_in_the_room_leave_the_host_unshadowed_unless_asked(ctx):
     assert (np.abs(kept[~host] - plain[~host]).max(axis=-1) > 0.01).mean() > 0.01      # the room has its shadows
     darker = (shadowed[host].sum(axis=-1) < 0.8 * plain[host].sum(axis=-1)) & (plain[host].sum(axis=-1) > 0.05)
     assert darker.mean() > 0.01                                                          # shadows on the wall
+
+
+def test_viewer_layout_keeps_the_hidden_scene_upright_on_a_turned_host(ctx):
+    """Issue 20 (the paper's Figure 27): a panel turned 45° about the vertical, seen head-on from 2 m,
+    hiding a sphere. Through the uvs the sphere is foreshortened on the screen (width / height ≈
+    cos 45°); laid out in the viewer's image of the host it stays round (within 5 %); the stereogram,
+    computed in screen space, decodes either way."""
+    from illusio.scene.builtin import shapes
+    from illusio.scene.scene import Material
+    from illusio.scene.transforms import compose, rotate
+    from illusio.sis.depth import hidden_scene
+
+    panel = Node("panel", shapes.plane((1.6, 0.9)), compose(rotate((0, 1, 0), 45), rotate((1, 0, 0), 90)),
+                 Material((0.8, 0.8, 0.8)), tags=("host",))
+    renderer = MultiSceneRenderer(ctx)
+    renderer.object_ids = True
+    renderer.prepare(MultiSceneSubject(Scene(name="panel", nodes=[panel]), hidden_scene(shape("sphere"))))
+    size = (480, 270)
+    view = View(Pose((0.0, 0.0, 2.0), (0.0, 0.0, 0.0)), Camera(45.0, 0.1, 20.0))
+    aspects = {}
+    for layout in ("uv", "viewer"):
+        params = MultiSceneParams(host="host", emission=0.9, host_layout=layout)
+        image = renderer.render(Frame(view, size, index=3), params)
+        depth = ctx.readback(renderer.maps()["depth"])[..., 0]
+        rows, cols = np.nonzero((depth >= 0) & (depth < 0.999))
+        aspects[layout] = (np.ptp(cols) + 1) / (np.ptp(rows) + 1)
+        on_host = depth >= 0
+        sis = params.scaled_stereogram(size[0])
+        sep = separation(np.where(on_host, depth, 1.0), sis.strip_width, sis.depth_factor)
+        starts = np.where(on_host.any(axis=1), on_host.argmax(axis=1), size[0]).astype(np.int32)
+        seen = renderer.host_mask(params)
+        gain = 1.0 / max(float(np.percentile(image[seen], 99)), 1e-6)
+        report = check(np.where(seen[..., None], np.clip(image * gain, 0, 1), 0), sep, int(sis.far_separation + 0.5),
+                       "left", row_start=starts)
+        assert report.matched > 0.9 and report.checked > 5000, layout
+    renderer.release()
+    assert aspects["uv"] < 0.8
+    assert abs(aspects["viewer"] - 1.0) < 0.05

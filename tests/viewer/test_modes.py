@@ -282,3 +282,18 @@ def test_lines_mode_draws_every_line_type(ctx):
         image = viewer.image()
         assert (image.min(axis=-1) < 0.6).sum() > 10 and np.abs(image - default).mean() > 1e-4, kind
     viewer.release()
+
+
+def test_sis_wall_host_layout_from_the_panel(ctx):
+    """The panel's host layout (MultiSceneParams.host_layout): "viewer" lays the hidden scene out in
+    the viewer's image of the wall, a different stereogram from the uv one, on the same host pixels."""
+    viewer = Viewer(ctx, "sis", variant="wall", size=SIZE)
+    viewer.step()
+    uv = viewer.image()
+    hosts = host_pixels(viewer)
+    viewer.mode.set_param("host_layout", "viewer")
+    viewer.step()
+    assert np.abs(viewer.image() - uv).mean() > 1e-3 and host_pixels(viewer) == hosts
+    with pytest.raises(Exception, match="not one of"):
+        viewer.mode.set_param("host_layout", "sideways")
+    viewer.release()

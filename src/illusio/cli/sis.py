@@ -176,7 +176,7 @@ def sis_scene(
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png); with --frames, the first frame"),
     hidden: str = typer.Option("torus-knot", "--hidden", help="what the stereogram hides: a built-in shape or a mesh file"),
     host: str = typer.Option(_MULTI.host, "--host", help="name or tag of the surface showing the stereogram"),
-    camera: str = typer.Option("tv", "--camera", help="camera of the scene"),
+    camera: str = typer.Option("tv", "--camera", help="a named camera of the scene or EYE:TARGET (x,y,z:x,y,z in metres)"),
     pattern: str = typer.Option(_MULTI.stereogram.pattern, "--pattern", help="snow (changes every frame), random-dot, ..., or an image"),
     algorithm: str = typer.Option(_MULTI.stereogram.algorithm, "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
     strip_width: float = typer.Option(_MULTI.stereogram.strip_width, "--strip-width", help="W_s for a 1920-pixel-wide frame (scaled with the size)"),
@@ -187,6 +187,8 @@ def sis_scene(
     shadows: bool = typer.Option(_MULTI.settings.shadows, "--shadows/--no-shadows", help="shadows in the main scene"),
     host_shadows: bool = typer.Option(_MULTI.host_shadows, "--host-shadows/--no-host-shadows",
                                       help="shadows fall on the host too (they break fusion; off: the host is lit unshadowed)"),
+    host_layout: str = typer.Option(_MULTI.host_layout, "--host-layout",
+                                    help="uv: the hidden scene painted through the host's uvs (foreshortened at an angle); viewer: laid out upright in the viewer's image of the host"),
     size: str = typer.Option(f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"),
     frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
     frame: int = typer.Option(0, "--frame", help="index of the first frame (its snow and spin; 24 frames a second)"),
@@ -199,7 +201,8 @@ def sis_scene(
     from ..sis.depth import hidden_scene
     from ..core.renderer import Frame
     from ..sis.multiscene import MultiSceneRenderer, MultiSceneSubject
-    from .common import resolve_mesh, resolve_scene
+    from ..scene.camera import Pose, View
+    from .common import parse_eye_target, resolve_mesh, resolve_scene
 
     out = check_output_path(output, scene_inputs(scene) + scene_inputs(hidden))
     if video:
@@ -212,12 +215,16 @@ def sis_scene(
         raise InputError(f"--frame must be ≥ 0, got {frame}")
     w, h = parse_size(size)
     main = resolve_scene(scene)
-    view = main.camera(camera if camera in main.cameras else None)
+    pair = parse_eye_target(camera)
+    view = main.camera(None if pair is not None or (camera == "tv" and "tv" not in main.cameras) else camera)
+    if pair is not None:
+        view = View(Pose(*pair), view.camera)
     hidden_mesh = resolve_mesh(hidden)
     params = MultiSceneParams(host=host, stereogram=StereogramParams(algorithm=algorithm, pattern=pattern, strip_width=strip_width,
                                                                      depth_factor=depth_factor, seed=seed),
                               emission=emission, interactive=interactive, spin=spin,
-                              settings=replace(_MULTI.settings, shadows=shadows), host_shadows=host_shadows)
+                              settings=replace(_MULTI.settings, shadows=shadows), host_shadows=host_shadows,
+                              host_layout=host_layout)
     renderer = default_context().kept(MultiSceneRenderer)     # warm between the tasks of a batch
     renderer.prepare(MultiSceneSubject(main, hidden_scene(hidden_mesh)))
     images = []

@@ -122,6 +122,7 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     write_image(out_dir / "sis/wall-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
     section.items.append(Item("sis/wall-depth.png", "the wall's screen-space depth", "white = near, black = off the wall",
                               figure=PAPER + "Figure 24 (bottom)"))
+    section.items.append(oblique_wall(ctx, multi, scene, out_dir, (w, h)))
     interactive = MultiSceneParams(host="rug", stereogram=StereogramParams(pattern="random-dot", strip_width=100, depth_factor=40),
                                    emission=0.0, interactive=True)
     multi.prepare(MultiSceneSubject(scene, hidden))
@@ -133,6 +134,37 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                               details=
                               "the hidden knot is seen from where the viewer stands relative to the rug"))
     return section
+
+
+#: a camera seeing the back wall at 45°: 3 m from the wall point (0.5, 1.35, −2.5)
+OBLIQUE_CAMERA = "2.62,1.35,-0.38:0.5,1.35,-2.5"
+
+
+def oblique_wall(ctx: Context, multi: MultiSceneRenderer, scene, out_dir: Path, size) -> Item:
+    """The back wall seen at 45° hiding a sphere, through its uvs (left) and laid out in the
+    viewer's image of the wall (right): the frames, and under them their screen-space depth."""
+    from ..scene.camera import Pose, View
+
+    eye, target = ([float(v) for v in part.split(",")] for part in OBLIQUE_CAMERA.split(":"))
+    view = View(Pose(tuple(eye), tuple(target)), scene.camera("main").camera)
+    multi.prepare(MultiSceneSubject(scene, hidden_scene(shape("sphere"))))
+    frames, depths = [], []
+    for layout in ("uv", "viewer"):
+        params = MultiSceneParams(host="back-wall", emission=0.0, host_layout=layout)
+        frames.append(np.clip(multi.render(Frame(view, size, index=1), params), 0, 1))
+        d = ctx.readback(multi.maps()["depth"])[..., 0]
+        depths.append(np.repeat(np.where(d >= 0, 1.0 - d, 0.3)[..., None], 3, axis=2))   # grey: off the wall
+    gap = np.full((size[1], 6, 3), 0.5, np.float32)
+    write_image(out_dir / "sis/oblique-wall.png", np.vstack([np.hstack([frames[0], gap, frames[1]]),
+                                                             np.full((6, 2 * size[0] + 6, 3), 0.5, np.float32),
+                                                             np.hstack([depths[0], gap, depths[1]]).astype(np.float32)]))
+    w, h = size
+    return Item("sis/oblique-wall.png", "a wall seen at 45°: the hidden sphere through the wall's uvs (left) and laid "
+                "out in the viewer's image of the wall (right)",
+                "under each frame its screen-space depth (white = near, grey = off the wall): through the uvs the sphere is squeezed to "
+                "cos 45° of its width; the viewer layout keeps it round (benchmarks/RESULTS.md: oblique hosts)",
+                figure=PAPER + "Figure 27", command=f"illusio sis-scene living-room --camera {OBLIQUE_CAMERA} --host back-wall "
+                f"--hidden sphere --emission 0 --host-layout viewer -o wall45.png --size {w}x{h}")
 
 
 def separation_plot(out_dir: Path, rel: str, strip_width: float = 100.0, depth_factor: float = 50.0) -> Item:

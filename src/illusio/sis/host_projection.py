@@ -20,14 +20,17 @@ class HostProjectionPass:
     R32F, −1 off the host; the pattern in screen space, RGBA8), both pooled. The nearest host surface
     is drawn over its whole extent, whatever stands in front of it (an occluder must not cut the
     stereogram's rows). ``hidden_depth`` is sampled bilinearly, the pattern by nearest texel, repeated
-    ``pattern_repeat`` times across the host's uv square."""
+    ``pattern_repeat`` times across the host's uv square. ``depth_box`` (x0, y0, x1, y1, pixels, row 0
+    at the top): read D across that rectangle of the screen instead of through the uvs (the
+    "viewer" layout; 1 = far outside it)."""
 
     def __init__(self, ctx: Context):
         self.ctx = ctx
         self.program = ctx.program("sis/shaders/host_projection.glsl")
 
     def __call__(self, gpu_scene: GpuScene, hosts, view: View, size: tuple[int, int], hidden_depth: moderngl.Texture,
-                 pattern: moderngl.Texture, pattern_repeat=(1.0, 1.0)) -> tuple[moderngl.Texture, moderngl.Texture]:
+                 pattern: moderngl.Texture, pattern_repeat=(1.0, 1.0),
+                 depth_box: tuple[float, float, float, float] | None = None) -> tuple[moderngl.Texture, moderngl.Texture]:
         ctx = self.ctx
         w, h = size
         hidden_depth.filter = (moderngl.LINEAR, moderngl.LINEAR)
@@ -48,6 +51,10 @@ class HostProjectionPass:
         pattern.use(1)
         for name, value in (("hidden_depth", 0), ("pattern", 1), ("pattern_repeat", tuple(float(v) for v in pattern_repeat))):
             set_uniform(prog, name, value)
+        set_uniform(prog, "viewer_layout", 0 if depth_box is None else 1)
+        if depth_box is not None:               # to GL window rows (origin at the bottom)
+            x0, y0, x1, y1 = (float(v) for v in depth_box)
+            set_uniform(prog, "depth_box", (x0, h - y1, x1, h - y0))
         for _, node in hosts:
             if node.mesh.uvs is None:
                 raise InputError(f"host {node.name!r} has no texture coordinates to carry a stereogram")

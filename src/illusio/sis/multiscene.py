@@ -154,8 +154,9 @@ class MultiSceneRenderer(Renderer):
         # (3) the pattern image: snow made for this frame, or the texture
         pattern, owned = self.stereograms.pattern_texture(sis, hidden_size, frame.index)
         # (2) + (4) both projected to screen space through the host
+        box = self.viewer_box(hosts, view, (w, h), hidden_size) if params.host_layout == "viewer" else None
         depth_screen, pattern_screen = self.host_projection(self.scene_renderer.gpu_scene, hosts, view, (w, h),
-                                                            hidden_depth, pattern, params.pattern_repeat)
+                                                            hidden_depth, pattern, params.pattern_repeat, box)
         ctx.release(hidden_depth)
         if owned:
             ctx.release(pattern)
@@ -186,6 +187,25 @@ class MultiSceneRenderer(Renderer):
             raise InputError("host_mask needs object ids: set renderer.object_ids = True before the frame")
         host_ids = np.array([i + 1 for i, _ in host_nodes(self.subject.main, params.host)], np.float32)
         return np.isin(np.rint(self.ctx.readback(ids)[..., 0]), host_ids)
+
+    @staticmethod
+    def viewer_box(hosts, view: View, size, hidden_size) -> tuple[float, float, float, float]:
+        """The "viewer" layout's rectangle (x0, y0, x1, y1 pixels, row 0 on top): the hidden depth
+        image's aspect, as large as fits in the hosts' bounding rectangle on the screen (clipped to
+        the screen), centred in it."""
+        w, h = size
+        points = [transform_points(node.transform, np.asarray(node.mesh.vertices, np.float64)) for _, node in hosts]
+        px, depth = view.project(np.concatenate(points), (w, h))
+        if (depth <= 0).any():
+            x0, y0, x1, y1 = 0.0, 0.0, float(w), float(h)        # partly behind the eye: the screen
+        else:
+            x0, y0 = np.clip(px.min(axis=0), 0, (w, h))
+            x1, y1 = np.clip(px.max(axis=0), 0, (w, h))
+        aspect = hidden_size[0] / hidden_size[1]
+        bw, bh = max(x1 - x0, 1e-6), max(y1 - y0, 1e-6)
+        fw, fh = (bh * aspect, bh) if bw / bh > aspect else (bw, bw / aspect)
+        cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+        return (float(cx - fw / 2), float(cy - fh / 2), float(cx + fw / 2), float(cy + fh / 2))
 
     @staticmethod
     def _host_columns(hosts, view: View, size) -> tuple[int, int]:

@@ -98,6 +98,10 @@ class StereogramParams:
         return depth_range(self.strip_width, self.depth_factor, self.screen)
 
 
+#: how the hidden depth image is laid on the host (MultiSceneParams.host_layout)
+HOST_LAYOUTS = ("uv", "viewer")
+
+
 @dataclass(frozen=True)
 class MultiSceneParams:
     """host: name or tag of the surface that shows the stereogram. stereogram: its parameters, with
@@ -110,7 +114,11 @@ class MultiSceneParams:
     scene turns (animated hidden scene). settings: lighting of the main scene (shadows off by
     default: hard shadows on a stereogram disturb it, section 6). reuse_static: while the main scene,
     the view and the settings stay the same from one frame to the next (a still camera on an animated
-    TV), only the host is shaded again; the image is the same either way."""
+    TV), only the host is shaded again; the image is the same either way. host_layout: "uv" paints
+    the hidden depth image on the host through its uvs (a host seen at an angle shows it
+    foreshortened and keystoned); "viewer" lays it out, its aspect kept, across the host's bounding
+    rectangle on the screen, so the viewer sees the hidden scene undistorted at any angle (issue 20,
+    the paper's Figure 27)."""
 
     host: str = param("tv-screen", panel=False, help="name or tag of the host surface")
     stereogram: StereogramParams = param(default_factory=lambda: StereogramParams(pattern="snow", strip_width=100, depth_factor=40))
@@ -122,6 +130,8 @@ class MultiSceneParams:
     spin: float = param(0.0, range=(-30.0, 30.0), unit="°/frame", help="the hidden scene turns")
     settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
     host_shadows: bool = param(False, help="shadows fall on the host too (they break the stereogram's fusion)")
+    host_layout: str = param("uv", choices=HOST_LAYOUTS,
+                             help="the hidden scene through the host's uvs, or laid out upright in the viewer's image of it")
     reuse_static: bool = param(True, help="a still camera shades only the host again")
 
     __post_init__ = check_ranges

@@ -263,13 +263,16 @@ def downsample(image: np.ndarray, factor: int) -> np.ndarray:
 
 
 def host_projection(corners: np.ndarray, uvs: np.ndarray, view_projection: np.ndarray, size: tuple[int, int],
-                    hidden_depth: np.ndarray, pattern: np.ndarray, pattern_repeat=(1.0, 1.0)) -> tuple[np.ndarray, np.ndarray]:
+                    hidden_depth: np.ndarray, pattern: np.ndarray, pattern_repeat=(1.0, 1.0),
+                    depth_box=None) -> tuple[np.ndarray, np.ndarray]:
     """Steps (2) and (4) of Figure 22 for a planar parallelogram host, by casting each pixel centre's
     ray onto its plane: (D in screen space, −1 off the host; the pattern in screen space, RGB, 0 off
     the host). ``corners``: (3, 3) world points p0, p1, p2 with the fourth at p1 + p2 − p0; ``uvs``:
     their (3, 2) texture coordinates (affine across the parallelogram). D is sampled bilinearly with
     texel centres at (i + ½)/W and clamped edges, the pattern at the nearest texel, repeated — the
-    GL conventions of the pass (row 0 of the arrays at the top, uv (0, 0) at the bottom left)."""
+    GL conventions of the pass (row 0 of the arrays at the top, uv (0, 0) at the bottom left).
+    ``depth_box`` (x0, y0, x1, y1 pixels, row 0 at the top): the "viewer" layout, D read across that
+    screen rectangle at each pixel centre (1 outside it) instead of through the uvs."""
     w, h = size
     inv = np.linalg.inv(np.asarray(view_projection, np.float64))
     xs = (np.arange(w) + 0.5) / w * 2 - 1
@@ -297,16 +300,23 @@ def host_projection(corners: np.ndarray, uvs: np.ndarray, view_projection: np.nd
     corners_uv = np.stack([uv0, uv1, uv2, uv1 + uv2 - uv0])
     lo, hi = corners_uv.min(axis=0), corners_uv.max(axis=0)
     st = (uv - lo) / np.maximum(hi - lo, 1e-6)
+    at = st
+    if depth_box is not None:                # pixel centres across the box, in GL rows (bottom up)
+        x0, y0, x1, y1 = (float(v) for v in depth_box)
+        gl_x, gl_y = np.meshgrid(np.arange(w) + 0.5, h - 0.5 - np.arange(h))
+        at = np.stack([(gl_x - x0) / max(x1 - x0, 1e-6), (gl_y - (h - y1)) / max(y1 - y0, 1e-6)], -1)
     # D, bilinear, clamped; array row r holds GL row H-1-r
     dh, dw = hidden_depth.shape
-    fx = np.clip(st[..., 0] * dw - 0.5, 0, dw - 1)
-    fy = np.clip(st[..., 1] * dh - 0.5, 0, dh - 1)
+    fx = np.clip(at[..., 0] * dw - 0.5, 0, dw - 1)
+    fy = np.clip(at[..., 1] * dh - 0.5, 0, dh - 1)
     x0, y0 = np.floor(fx).astype(int), np.floor(fy).astype(int)
     x1, y1 = np.minimum(x0 + 1, dw - 1), np.minimum(y0 + 1, dh - 1)
     tx, ty = fx - x0, fy - y0
     gl_rows = np.asarray(hidden_depth, np.float64)[::-1]
     depth = ((gl_rows[y0, x0] * (1 - tx) + gl_rows[y0, x1] * tx) * (1 - ty)
              + (gl_rows[y1, x0] * (1 - tx) + gl_rows[y1, x1] * tx) * ty)
+    if depth_box is not None:
+        depth = np.where(((at >= 0) & (at <= 1)).all(axis=-1), depth, 1.0)
     ph, pw = pattern.shape[:2]
     rep = st * np.asarray(pattern_repeat, np.float64)
     px = np.floor(rep[..., 0] * pw).astype(int) % pw
