@@ -221,3 +221,31 @@ def test_segments_pass_matches_reference(ctx, rng):
         assert either.sum() > 100
         assert (got == want)[either].mean() >= 0.97, width
 
+
+
+def test_fragment_filter_matches_its_scipy_reference(rng):
+    """The numba union-find filter against scipy's labelling, on random masks of several densities
+    and sizes of the smallest piece kept."""
+    from illusio.lines.drawing import drop_short_fragments, drop_short_fragments_reference
+
+    for density, smallest in ((0.02, 3), (0.1, 8), (0.3, 24), (0.5, 100)):
+        mask = rng.random((97, 131)) < density
+        np.testing.assert_array_equal(drop_short_fragments(mask, smallest), drop_short_fragments_reference(mask, smallest))
+    assert not drop_short_fragments(np.zeros((5, 5), bool), 2).any()
+
+
+def test_paper_and_ridges_is_what_the_compose_pass_writes(ctx, rng):
+    """The drawing's base written on the CPU from the filtered mask equals the compose pass's output
+    for the same mask (within one 8-bit step)."""
+    from illusio.lines.compose import ComposePass
+    from illusio.lines.drawing import paper_and_ridges
+
+    mask = rng.random((48, 64)) < 0.2
+    colour = tuple(rng.random(3))
+    q_t1 = ctx.acquire((64, 48), 4, "f4")
+    ridges = ctx.acquire_upload(mask.astype(np.uint8) * 255)
+    target = ctx.acquire((64, 48), 4, "f1")
+    ComposePass(ctx)(q_t1, ridges, target, None, True, False, colour)
+    gpu = ctx.readback_u8(target, 4)
+    ctx.release(q_t1, ridges, target)
+    assert np.abs(gpu.astype(int) - paper_and_ridges(mask, colour).astype(int)).max() <= 1

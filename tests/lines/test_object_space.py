@@ -206,3 +206,23 @@ def test_principal_highlights_where_the_surface_faces_the_eye():
     np.testing.assert_allclose(phase, expected, atol=0.06)
     # none on a concave part: the sheet seen from below (normals away) has no convex face towards it
     assert len(principal_highlights(sheet, curv, -50 * np.array([np.sin(tilt), 0.0, np.cos(tilt)]), 0.05, curv.scale())) == 0
+
+
+def test_zero_crossing_kernel_matches_its_numpy_reference(rng):
+    """The numba zero crossings (every object-space line type goes through them) give the NumPy
+    reference's segments exactly — points, edge keys, order — with and without a face filter and
+    strengths, on the mesh's own float32 / int32 arrays."""
+    from illusio.lines.object_space import _crossings, _crossings_reference
+
+    mesh = shape("torus-knot")
+    v = np.asarray(mesh.vertices)
+    values = v.astype(np.float64) @ rng.normal(size=3) + rng.normal() * 0.1
+    keep = rng.random(len(mesh.faces)) < 0.7
+    strength = rng.random(len(v))
+    for keep_face, st in ((None, None), (keep, strength)):
+        got = _crossings(v, mesh.faces, values, keep_face, st)
+        want = _crossings_reference(v.astype(np.float64), np.asarray(mesh.faces, np.int64), values, keep_face, st)
+        assert len(got) > 20
+        np.testing.assert_array_equal(got.points, want.points)
+        np.testing.assert_array_equal(got.edges, want.edges)
+        np.testing.assert_allclose(got.strength, want.strength, rtol=0, atol=1e-12)

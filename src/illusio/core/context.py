@@ -139,6 +139,15 @@ class Context:
         w, h = texture.size
         return np.frombuffer(raw, np.uint8).reshape(h, w, components)[::-1].copy()
 
+    def readback_red(self, texture: moderngl.Texture) -> np.ndarray:
+        """The first channel of a colour texture as float32 (H, W), row 0 at the top, read through a
+        framebuffer (one channel of a float texture: 1 ms at 1024², where reading all four is 6 and
+        a conversion to bytes 6)."""
+        fbo = self.framebuffer([texture])
+        raw = fbo.read(components=1, dtype="f4", alignment=1)
+        w, h = texture.size
+        return np.frombuffer(raw, np.float32).reshape(h, w)[::-1].copy()
+
     def framebuffer(self, colour: list[moderngl.Texture], depth: bool | moderngl.Texture = False) -> moderngl.Framebuffer:
         """A framebuffer over ``colour`` textures (cached by their GL names), with an optional depth
         attachment (``True``: a depth renderbuffer of the same size, kept with the framebuffer)."""

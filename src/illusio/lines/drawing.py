@@ -13,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import moderngl
+import numba
 import numpy as np
 
 from ..core.context import Context, default_context
@@ -73,8 +74,28 @@ def framing_view(mesh: Mesh, azimuth: float = 30.0, elevation: float = 15.0, fov
     return View(pose, hugging_camera(mesh, pose.position, fov_y))
 
 
-def drop_short_fragments(mask: np.ndarray, min_pixels: float) -> np.ndarray:
-    """``mask`` (H, W) bool without its 8-connected pieces of fewer than ``min_pixels`` pixels."""
+def paper_and_ridges(mask: np.ndarray, ridge_colour) -> np.ndarray:
+    """(H, W, 4) uint8: white paper, ``ridge_colour`` (linear RGB) where ``mask``, alpha 1 — what
+    the compose pass (shaders/compose.glsl) writes without image-space silhouettes."""
+    ink = np.round(np.clip(np.asarray(ridge_colour, np.float64), 0, 1) * 255).astype(np.uint8)
+    return _paper(np.ascontiguousarray(mask, np.bool_), ink)
+
+
+@numba.njit(cache=True)
+def _paper(mask, ink):
+    h, w = mask.shape
+    out = np.empty((h, w, 4), np.uint8)
+    for y in range(h):
+        for x in range(w):
+            for c in range(3):
+                out[y, x, c] = ink[c] if mask[y, x] else 255
+            out[y, x, 3] = 255
+    return out
+
+
+def drop_short_fragments_reference(mask: np.ndarray, min_pixels: float) -> np.ndarray:
+    """``mask`` (H, W) bool without its 8-connected pieces of fewer than ``min_pixels`` pixels, by
+    scipy's labelling: the plain statement :func:`drop_short_fragments` is tested against."""
     from scipy import ndimage
 
     labels, count = ndimage.label(mask, structure=np.ones((3, 3), bool))
@@ -84,6 +105,51 @@ def drop_short_fragments(mask: np.ndarray, min_pixels: float) -> np.ndarray:
     keep = sizes >= min_pixels
     keep[0] = False
     return keep[labels]
+
+
+def drop_short_fragments(mask: np.ndarray, min_pixels: float) -> np.ndarray:
+    """``mask`` (H, W) bool without its 8-connected pieces of fewer than ``min_pixels`` pixels: one
+    raster scan with union-find over the mask's pixels (numba; a ridge mask is a few % of the image,
+    and labelling the whole image with scipy then indexing by label cost 4× as much per frame)."""
+    mask = np.ascontiguousarray(mask, np.bool_)
+    return _drop_short(mask, float(min_pixels)) if mask.any() else mask
+
+
+@numba.njit(cache=True)
+def _root(parent, i):
+    while parent[i] != i:
+        parent[i] = parent[parent[i]]
+        i = parent[i]
+    return i
+
+
+@numba.njit(cache=True)
+def _drop_short(mask, min_pixels):
+    h, w = mask.shape
+    parent = np.arange(h * w, dtype=np.int32)
+    for y in range(h):
+        for x in range(w):
+            if not mask[y, x]:
+                continue
+            i = y * w + x
+            # the neighbours already scanned: left, and the three above
+            for dy, dx in ((0, -1), (-1, -1), (-1, 0), (-1, 1)):
+                yy, xx = y + dy, x + dx
+                if 0 <= yy and 0 <= xx < w and mask[yy, xx]:
+                    a, b = _root(parent, i), _root(parent, yy * w + xx)
+                    if a != b:
+                        parent[max(a, b)] = min(a, b)
+    size = np.zeros(h * w, np.int32)
+    for y in range(h):
+        for x in range(w):
+            if mask[y, x]:
+                size[_root(parent, y * w + x)] += 1
+    out = np.zeros_like(mask)
+    for y in range(h):
+        for x in range(w):
+            if mask[y, x] and size[_root(parent, y * w + x)] >= min_pixels:
+                out[y, x] = True
+    return out
 
 
 class LineRenderer(Renderer):
@@ -146,6 +212,7 @@ class LineRenderer(Renderer):
                                                      confidence=curvature.confidence, smoothing=curvature.smoothing)
             self._gpu_mesh = CurvatureMesh(self.ctx, self.mesh, curv)
             self._curvature_params = curvature
+            self._curvature_scale = curv.scale()      # a percentile over every vertex: once, not per frame
         return self._gpu_mesh
 
     def curvature(self, params: CurvatureParams = CurvatureParams()) -> Curvature:
@@ -175,25 +242,36 @@ class LineRenderer(Renderer):
         gm = self.gpu_mesh(params.curvature)
         curv = gm.curvature
         view = frame.view or self.default_view()
-        scale = curv.scale() if params.relative else 1.0
+        scale = self._curvature_scale if params.relative else 1.0
         depth = self.depth_texture((w, h))
         # pass 1: q, t1 and depth of the visible surface
         q_t1 = self.view_curvature(gm, view, (w, h), params.tau, scale, depth=depth)
         hybrid = "apparent-ridges" in params.lines and params.method == "hybrid"
         ridges = self.ridge_filter(q_t1, params.lam, params.threshold) if hybrid else None
+        # the object-space lines on the CPU while the passes above run (before anything is read back)
+        self.segments = self.object_space_segments(curv, view, params, scale)
         self.ridge_mask = None
         if ridges is not None and (params.min_ridge_pixels > 0 or read_ridges):
-            self.ridge_mask = ctx.readback_u8(ridges, 1)[..., 0] > 127  # R: the thresholded ridge flag
+            # R: the thresholded ridge flag
+            self.ridge_mask = ctx.readback_red(ridges) > 0.5
             if params.min_ridge_pixels > 0:
                 self.ridge_mask = drop_short_fragments(self.ridge_mask, params.min_ridge_pixels * max(w, h) / 1024)
                 ctx.release(ridges)
                 ridges = ctx.acquire_upload(self.ridge_mask.astype(np.uint8) * 255)
         # base image: paper, hybrid ridges, image-space silhouettes
         colour = ctx.acquire((w, h), 4, "f1")
-        self.compose(q_t1, ridges, colour, depth, hybrid, "silhouettes" in params.lines and params.silhouette_space == "image",
-                     params.colour("apparent-ridges"), params.colour("silhouettes"), params.depth_jump)
+        image_silhouettes = "silhouettes" in params.lines and params.silhouette_space == "image"
+        if self.ridge_mask is not None and params.min_ridge_pixels > 0 and not image_silhouettes:
+            # the filtered mask is on the CPU already: paper and ridges written from it, one upload
+            # instead of the compose pass (a full-screen pass costs more on llvmpipe than the upload)
+            ctx.upload_into(colour, paper_and_ridges(self.ridge_mask, params.colour("apparent-ridges")))
+            fbo = ctx.framebuffer([colour], depth=depth)
+            fbo.use()
+            fbo.viewport = (0, 0, w, h)
+        else:
+            self.compose(q_t1, ridges, colour, depth, hybrid, image_silhouettes,
+                         params.colour("apparent-ridges"), params.colour("silhouettes"), params.depth_jump)
         # object-space lines, hidden by the surface
-        self.segments = self.object_space_segments(curv, view, params, scale)
         for kind, segs in self.segments.items():
             self.draw_segments(segs, view, (w, h), params.colour(kind), params.width(kind))
         self.last_view = view

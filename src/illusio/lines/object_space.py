@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from ..scene.mesh import Mesh, weld
@@ -48,10 +49,58 @@ def zero_crossings(mesh: Mesh, values: np.ndarray, keep_face: np.ndarray | None 
     """Segments where the per-vertex ``values`` (N,) change sign inside a triangle (linear
     interpolation). Triangles whose three values cross zero twice give one segment; ``keep_face``
     (F,) bool filters triangles; ``strength`` (N,) is interpolated to the segment (mean of ends)."""
-    return _crossings(np.asarray(mesh.vertices, np.float64), np.asarray(mesh.faces, np.int64), values, keep_face, strength)
+    return _crossings(np.asarray(mesh.vertices), np.asarray(mesh.faces), values, keep_face, strength)
 
 
 def _crossings(v, f, values, keep_face, strength) -> Segments:
+    """:func:`_crossings_reference` as one numba loop over the faces (the same segments, in the same
+    order): the drawing's object-space silhouettes of a 200k-face mesh went from 20 ms to 2."""
+    val = np.ascontiguousarray(values, np.float64)
+    keep = np.ones(len(f), np.bool_) if keep_face is None else np.ascontiguousarray(keep_face, np.bool_)
+    st = np.zeros(len(val)) if strength is None else np.ascontiguousarray(strength, np.float64)
+    # the mesh's own arrays (float32 vertices, int32 faces: no copy a frame); the kernel widens each value
+    pts, edges, mean = _crossings_kernel(np.ascontiguousarray(v), np.ascontiguousarray(f), val, keep, st)
+    return Segments(pts, edges, mean) if len(pts) else Segments.empty()
+
+
+@numba.njit(cache=True)
+def _crossings_kernel(v, f, val, keep, strength):
+    n = 0
+    for k in range(len(f)):
+        if keep[k]:
+            a, b, c = val[f[k, 0]] > 0, val[f[k, 1]] > 0, val[f[k, 2]] > 0
+            n += int(a != b) + int(b != c) + int(c != a) == 2
+    pts = np.zeros((n, 2, 3))
+    edges = np.zeros((n, 2, 2), np.int64)
+    mean = np.zeros(n)
+    s = 0
+    for k in range(len(f)):
+        if not keep[k]:
+            continue
+        a, b, c = val[f[k, 0]] > 0, val[f[k, 1]] > 0, val[f[k, 2]] > 0
+        if int(a != b) + int(b != c) + int(c != a) != 2:
+            continue
+        slot = 0
+        total = 0.0
+        for e in range(3):
+            ia, ib = np.int64(f[k, e]), np.int64(f[k, (e + 1) % 3])
+            va, vb = val[ia], val[ib]
+            if (va > 0) == (vb > 0):
+                continue
+            t = va / (va - vb)
+            for d in range(3):
+                pa, pb = np.float64(v[ia, d]), np.float64(v[ib, d])
+                pts[s, slot, d] = pa + t * (pb - pa)
+            edges[s, slot, 0], edges[s, slot, 1] = min(ia, ib), max(ia, ib)
+            total += strength[ia] + t * (strength[ib] - strength[ia])
+            slot += 1
+        mean[s] = total / 2
+        s += 1
+    return pts, edges, mean
+
+
+def _crossings_reference(v, f, values, keep_face, strength) -> Segments:
+    """The plain NumPy statement of the zero crossings (what :func:`_crossings` is tested against)."""
     val = np.asarray(values, np.float64)
     fv = val[f]  # (F, 3)
     pairs = ((0, 1), (1, 2), (2, 0))
@@ -113,8 +162,19 @@ def _view_vectors(mesh: Mesh, eye) -> np.ndarray:
 
 def contours(mesh: Mesh, curvature: Curvature, eye) -> Segments:
     """Occluding contours: zeros of n·v (perspective view from ``eye``, object space)."""
-    ndotv = (curvature.normals * _view_vectors(mesh, eye)).sum(1)
+    ndotv = _n_dot_v(np.asarray(mesh.vertices), np.asarray(curvature.normals), np.asarray(eye, np.float64))
     return zero_crossings(mesh, ndotv, strength=np.ones(len(ndotv)))
+
+
+@numba.njit(cache=True)
+def _n_dot_v(vertices, normals, eye):
+    """n·v per vertex, v the unit vector to ``eye`` (what ``(normals * _view_vectors).sum(1)`` is)."""
+    out = np.empty(len(vertices))
+    for i in range(len(vertices)):
+        d0, d1, d2 = eye[0] - vertices[i, 0], eye[1] - vertices[i, 1], eye[2] - vertices[i, 2]
+        length = max(np.sqrt(d0 * d0 + d1 * d1 + d2 * d2), 1e-30)
+        out[i] = (normals[i, 0] * d0 + normals[i, 1] * d1 + normals[i, 2] * d2) / length
+    return out
 
 
 def radial_curvature(curvature: Curvature, view: np.ndarray):
