@@ -62,16 +62,21 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     checks = Table("Self-check: each algorithm's stereogram decoded back (window matching) against the separations "
                    "it was made from", ["algorithm", "within 1 px", "pixels checked", "mean error (px)"], [])
     section.tables.append(checks)
+    halves = {}
     for algorithm in ALGORITHMS:
         params = StereogramParams(**{**base.__dict__, "algorithm": algorithm, "guides": False})
         img = sis.render(Frame(size=(w, h)), params)
-        report = check(img, sep, int(params.far_separation + 0.5), "centre" if algorithm == "symmetric" else "left")
+        anchor = "centre" if algorithm == "symmetric" else "left"
+        report = check(img, sep, int(params.far_separation + 0.5), anchor)
+        halves[algorithm] = [check(img, sep, int(params.far_separation + 0.5), anchor, columns=columns).matched
+                             for columns in ((0, w // 2), (w // 2, w))]
         rel = f"sis/algorithm-{algorithm}.png"
         write_image(out_dir / rel, img)
         section.items.append(Item(rel, f"{algorithm} algorithm", "self-check in the table above", figure=PAPER + "Algorithm 1",
                                   command=f"illusio sis torus-knot -o {algorithm}.png --size {w}x{h} --algorithm {algorithm} "
                                           f"--strip-width {params.strip_width:g} --depth-factor {params.depth_factor:g}"))
         checks.rows.append([algorithm, f"{report.matched:.1%}", f"{report.checked:,}", f"{report.mean_error:.3f}"])
+    section.items.append(bias_plot(out_dir, "sis/left-right.png", halves, sep, base.strip_width, base.depth_factor))
     scene = builtin_scene("living-room")
     multi = MultiSceneRenderer(ctx)
     hidden = hidden_scene(shape("torus-knot"))
@@ -165,6 +170,33 @@ def oblique_wall(ctx: Context, multi: MultiSceneRenderer, scene, out_dir: Path, 
                 "cos 45° of its width; the viewer layout keeps it round (benchmarks/RESULTS.md: oblique hosts)",
                 figure=PAPER + "Figure 27", command=f"illusio sis-scene living-room --camera {OBLIQUE_CAMERA} --host back-wall "
                 f"--hidden sphere --emission 0 --host-layout viewer -o wall45.png --size {w}x{h}")
+
+
+def bias_plot(out_dir: Path, rel: str, halves: dict, sep: np.ndarray, strip_width: float, depth_factor: float) -> Item:
+    """The sequential family's left-to-right bias (issue 20): each algorithm's fraction decoded in the
+    left and the right half of the image, and where the hidden scene is seen (a fused pair at its
+    middle: left-anchored stereograms show the near part half a separation left of the depth map)."""
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(5.6, 3.2), dpi=100)
+    names = list(halves)
+    x = np.arange(len(names))
+    for k, (label, colour) in enumerate((("left half", "#4477aa"), ("right half", "#ee6677"))):
+        values = [halves[n][k] for n in names]
+        ax.bar(x + (k - 0.5) * 0.38, values, 0.36, label=label, color=colour)
+        for xi, v in zip(x + (k - 0.5) * 0.38, values):
+            ax.text(xi, v, f"{v:.4f}", ha="center", va="bottom", fontsize=7)
+    ax.set_xticks(x, names)
+    lowest = min(min(v) for v in halves.values())
+    ax.set_ylim(max(0.0, lowest - 3 * (1.0 - lowest) - 0.002), 1.0 + 0.4 * (1.0 - lowest) + 0.001)
+    ax.set_ylabel("decoded within 1 px")
+    ax.legend(loc="lower left", fontsize=8)
+    save_figure(fig, out_dir / rel)
+    near = sep < strip_width + depth_factor / 2
+    shift = float(sep[near].mean()) / 2 if near.any() else 0.0
+    return Item(rel, "left-to-right bias: decoded per half, per algorithm",
+                f"no accuracy bias between halves; the bias is where the scene is seen: sequential, fast and strip "
+                f"show the near part {shift:.0f} px left of the depth map (half a separation), symmetric centred "
+                f"(design notes: which to choose when; RESULTS: sis_quality)", figure=PAPER + "section 3.3")
 
 
 def separation_plot(out_dir: Path, rel: str, strip_width: float = 100.0, depth_factor: float = 50.0) -> Item:
