@@ -108,7 +108,9 @@ def test_version_list_and_did_you_mean(capsys):
     assert code == 0 and "scenes:" not in out.out and "  gear" in out.out
     for args, hint in ((["list", "scene"], "did you mean scenes?"),
                        (["render", "living-rom", "-o", "x.png"], "did you mean living-room?"),
-                       (["sis-scene", "living-room", "-o", "x.png", "--host", "tv-scren"], "its hosts: back-wall, tv-screen")):
+                       (["sis-scene", "living-room", "-o", "x.png", "--host", "tv-scren"], "its hosts: back-wall, tv-screen"),
+                       (["sis-scene", "living-room", "-o", "x.png", "--camera", "sofa"], "has no camera 'sofa' (cameras: main, tv)"),
+                       (["sis-scene", "living-room", "-o", "x.png", "--host-layout", "tilted"], "not one of uv, viewer")):
         code, out = call_cli(args, capsys)
         assert code == 2 and hint in out.err, out.err
 

@@ -203,3 +203,17 @@ def test_viewer_layout_keeps_the_hidden_scene_upright_on_a_turned_host(ctx):
     renderer.release()
     assert aspects["uv"] < 0.8
     assert abs(aspects["viewer"] - 1.0) < 0.05
+
+
+def test_sis_scene_takes_an_eye_target_camera(tmp_path, capsys):
+    """sis-scene --camera EYE:TARGET (the gallery's wall at 45°) draws from that eye: a different
+    frame from the named camera's."""
+    from illusio.core.images import read_image
+    from tests.conftest import call_cli
+
+    named, placed = tmp_path / "named.png", tmp_path / "placed.png"
+    common = ["--host", "back-wall", "--emission", "0", "--size", "160x90", "--host-layout", "viewer"]
+    assert call_cli(["sis-scene", "living-room", "--camera", "main", "-o", str(named)] + common, capsys)[0] == 0
+    assert call_cli(["sis-scene", "living-room", "--camera", "2.62,1.35,-0.38:0.5,1.35,-2.5", "-o", str(placed)] + common,
+                    capsys)[0] == 0
+    assert np.abs(read_image(named) - read_image(placed)).mean() > 0.02
