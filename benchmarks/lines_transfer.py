@@ -95,7 +95,7 @@ def run(ctx: Context, repeat: int, quick: bool = False):
 
 def photographs(ctx: Context, cases: dict, chosen: dict, size, quick: bool) -> dict[str, float]:
     from illusio.passes.mitsuba import mitsuba_available
-    from illusio.lines.photograph import photograph
+    from illusio.lines.photograph import exposed, photograph
 
     if not mitsuba_available():
         return {}
@@ -106,7 +106,7 @@ def photographs(ctx: Context, cases: dict, chosen: dict, size, quick: bool) -> d
         mesh, view, _ = cases[name]
         renderer.prepare(mesh)
         photo = photograph(mesh, view, size, samples=8 if quick else 32, misregistration=MISREGISTRATION)
-        edges = image_edges(photo / max(float(np.percentile(photo, 99.5)), 1e-6), "canny")
+        edges = image_edges(exposed(photo), "canny")
         on_photo = auto_parameters(renderer, view, size, edges).params
         for label, params in (("defaults", LineParams()), ("auto on the shaded mesh", chosen[name]),
                               ("auto on the photograph", on_photo)):

@@ -75,20 +75,6 @@ def oblique_scene(angle: float) -> Scene:
     return Scene(name=f"panel-{angle}", nodes=[panel])
 
 
-def decoded(renderer, image: np.ndarray, params: MultiSceneParams, size) -> tuple[float, int, np.ndarray]:
-    """(fraction of the seen host's checked pixels decoded within 1 px, pixels checked, screen D)
-    of a final frame: separations expected from the frame's own screen-space D."""
-    depth = renderer.ctx.readback(renderer.maps()["depth"])[..., 0]
-    seen, on_host = renderer.host_mask(params), depth >= 0
-    sis = params.scaled_stereogram(size[0])
-    sep = reference.separation(np.where(on_host, depth, 1.0), sis.strip_width, sis.depth_factor)
-    rows = np.where(on_host.any(axis=1), on_host.argmax(axis=1), size[0]).astype(np.int32)
-    gain = 1.0 / max(float(np.percentile(image[seen], 99)), 1e-6)   # a global exposure, not a relighting
-    report = check(np.where(seen[..., None], np.clip(image * gain, 0, 1), 0), sep, int(sis.far_separation + 0.5),
-                   "left", row_start=rows)
-    return report.matched, report.checked, np.where(on_host, depth, -1.0)
-
-
 def hidden_aspect(depth: np.ndarray) -> float:
     """Width / height on the screen of the hidden sphere (the host's pixels nearer than the far
     background), 1 when it is seen round."""
@@ -111,10 +97,10 @@ def oblique_hosts(ctx: Context, size) -> dict[str, float]:
             for layout in HOST_LAYOUTS:
                 params = MultiSceneParams(host="host", emission=0.9, host_layout=layout)
                 image = renderer.render(Frame(view, size, index=3), params)
-                matched, checked, depth = decoded(renderer, image, params, size)
+                report, depth = renderer.decode_frame(image, params)
                 key = f"oblique {angle} deg at {distance:g} m, {layout}"
-                out[f"{key}: decoded"] = round(matched, 4)
-                out[f"{key}: checked px"] = checked
+                out[f"{key}: decoded"] = round(report.matched, 4)
+                out[f"{key}: checked px"] = report.checked
                 out[f"{key}: hidden aspect"] = round(hidden_aspect(depth), 3)
     renderer.release()
     return out
@@ -133,8 +119,8 @@ def host_lighting(ctx: Context, size) -> dict[str, float]:
             params = MultiSceneParams(host=host, emission=emission, settings=RenderSettings(shadows=shadows),
                                       host_shadows=host_shadows)
             image = renderer.render(Frame(scene.camera(camera), size, index=3), params)
-            matched, checked, _ = decoded(renderer, image, params, size)
-            out[f"{host} {label} decoded"] = round(matched, 4)
-            out[f"{host} {label} checked px"] = checked
+            report, _ = renderer.decode_frame(image, params)
+            out[f"{host} {label} decoded"] = round(report.matched, 4)
+            out[f"{host} {label} checked px"] = report.checked
     renderer.release()
     return out

@@ -110,12 +110,13 @@ def lines(
 
     def edges_of_target():
         if not compare or compare in cmp.EDGE_METHODS:
-            return cmp.image_edges(cmp.phong_render(renderer.ctx, m, v, (w, h)), compare or "canny")
-        if compare == "photo":
-            from ..lines.photograph import photograph
+            from ..lines.tuning import edge_target
 
-            photo = photograph(m, v, (w, h))
-            photo = np.clip(photo / max(float(np.percentile(photo, 99.5)), 1e-6), 0, 1)
+            return edge_target(renderer, m, v, (w, h), compare or "canny")
+        if compare == "photo":
+            from ..lines.photograph import exposed, photograph
+
+            photo = exposed(photograph(m, v, (w, h)))
             shot = out.with_name(out.stem + "-photo.png")
             write_image(shot, photo)
             typer.echo(f"wrote {shot} (the path-traced photograph)")

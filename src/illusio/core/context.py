@@ -134,19 +134,20 @@ class Context:
     def readback_u8(self, texture: moderngl.Texture, components: int = 1) -> np.ndarray:
         """The first ``components`` channels as uint8 (H, W, C), row 0 at the top, converted by GL
         (values clamped to [0, 1] × 255): a quarter of a float readback's bytes, for masks."""
-        fbo = self.framebuffer([texture])
-        raw = fbo.read(components=components, dtype="f1", alignment=1)
-        w, h = texture.size
-        return np.frombuffer(raw, np.uint8).reshape(h, w, components)[::-1].copy()
+        return self._read_channels(texture, components, "f1")
 
     def readback_red(self, texture: moderngl.Texture) -> np.ndarray:
         """The first channel of a colour texture as float32 (H, W), row 0 at the top, read through a
         framebuffer (one channel of a float texture: 1 ms at 1024², where reading all four is 6 and
         a conversion to bytes 6)."""
-        fbo = self.framebuffer([texture])
-        raw = fbo.read(components=1, dtype="f4", alignment=1)
+        return self._read_channels(texture, 1, "f4")[..., 0]
+
+    def _read_channels(self, texture: moderngl.Texture, components: int, dtype: str) -> np.ndarray:
+        """The first ``components`` channels through a framebuffer, converted by GL to ``dtype``
+        ("f1" uint8, "f4" float32), (H, W, C) with row 0 at the top."""
+        raw = self.framebuffer([texture]).read(components=components, dtype=dtype, alignment=1)
         w, h = texture.size
-        return np.frombuffer(raw, np.float32).reshape(h, w)[::-1].copy()
+        return np.frombuffer(raw, np.uint8 if dtype == "f1" else np.float32).reshape(h, w, components)[::-1].copy()
 
     def framebuffer(self, colour: list[moderngl.Texture], depth: bool | moderngl.Texture = False) -> moderngl.Framebuffer:
         """A framebuffer over ``colour`` textures (cached by their GL names), with an optional depth

@@ -144,20 +144,19 @@ def photo_comparison(renderer, case, tile, out_dir: Path) -> Item:
     """The report's Figure 4.4 with a path-traced stand-in for the photograph, taken 3 px right and
     2 px up of the drawing's camera: drawing, photograph, its Canny edges, and the overlay at the
     shift the registered score found."""
-    from ..lines.photograph import photograph
+    from ..lines.photograph import exposed, photograph
 
     name, mesh, (az, el), _ = case
     v = framing_view(mesh, az, el)
     renderer.prepare(mesh)
     drawing = renderer.render(Frame(v, tile), LineParams())
-    photo = photograph(mesh, v, tile, samples=32, misregistration=(3, -2))
-    photo = np.clip(photo / max(float(np.percentile(photo, 99.5)), 1e-6), 0, 1)
+    photo = exposed(photograph(mesh, v, tile, samples=32, misregistration=(3, -2)))
     edges = cmp.image_edges(photo, "canny")
     ours = cmp.line_mask(drawing)
     plain = cmp.score(ours, edges)
     found, (dx, dy) = cmp.registered_score(ours, edges)
     gap = np.full((tile[1], 4, 3), 0.8, np.float32)
-    write_image(out_dir / "lines/photo.png", np.hstack([drawing, gap, photo.astype(np.float32), gap,
+    write_image(out_dir / "lines/photo.png", np.hstack([drawing, gap, photo, gap,
                                                       1.0 - np.repeat(edges[..., None], 3, axis=2).astype(np.float32), gap,
                                                       cmp.overlay(cmp.shift_mask(ours, dx, dy), edges)]))
     return Item("lines/photo.png", f"the {name}: drawing, a path-traced photograph, its Canny edges, the overlay",

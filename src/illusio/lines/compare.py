@@ -43,20 +43,9 @@ def line_mask(image: np.ndarray, level: float = 0.5) -> np.ndarray:
 
 
 def score(predicted: np.ndarray, target: np.ndarray, tolerance: float = 2.0) -> Scores:
-    """Compare two boolean line masks of the same size."""
-    p = np.asarray(predicted, bool)
-    t = np.asarray(target, bool)
-    if p.shape != t.shape:
-        raise InputError(f"drawings to compare must have the same size, got {p.shape[::-1]} and {t.shape[::-1]}")
-    if not p.any() or not t.any():
-        return Scores(0.0, 0.0, 0.0, float("inf"), tolerance)
-    to_target = ndimage.distance_transform_edt(~t)
-    to_pred = ndimage.distance_transform_edt(~p)
-    precision = float((to_target[p] <= tolerance).mean())
-    recall = float((to_pred[t] <= tolerance).mean())
-    f1 = 0.0 if precision + recall == 0 else 2 * precision * recall / (precision + recall)
-    chamfer = float((to_target[p].mean() + to_pred[t].mean()) / 2)
-    return Scores(precision, recall, f1, chamfer, tolerance)
+    """Compare two boolean line masks of the same size, as they lie (:func:`registered_score` with
+    no shift)."""
+    return registered_score(predicted, target, tolerance, max_shift=0)[0]
 
 
 def shift_mask(mask: np.ndarray, dx: int, dy: int) -> np.ndarray:

@@ -17,7 +17,7 @@ from ..passes.mitsuba import load_mitsuba, rgb, sensor
 from ..scene.camera import Pose, View
 from ..scene.mesh import Mesh
 
-__all__ = ["painted_albedo", "photograph", "shifted_view"]
+__all__ = ["painted_albedo", "photograph", "shifted_view", "exposed"]
 
 
 def painted_albedo(vertices: np.ndarray, seed: int = 0, waves: int = 6, contrast: float = 0.5) -> np.ndarray:
@@ -99,3 +99,9 @@ def photograph(mesh: Mesh, view: View, size: tuple[int, int], samples: int = 32,
                  "sky": {"type": "constant", "radiance": rgb((0.25, 0.25, 0.25))}}
         image = np.asarray(mi.render(mi.load_dict(scene)), np.float32)
     return np.ascontiguousarray(image[..., :3])
+
+
+def exposed(photo: np.ndarray, percentile: float = 99.5) -> np.ndarray:
+    """The photograph as one would print it: scaled so its ``percentile`` is white, clipped to [0, 1]
+    (what its edges are found on and what is shown)."""
+    return np.clip(photo / max(float(np.percentile(photo, percentile)), 1e-6), 0, 1).astype(np.float32)

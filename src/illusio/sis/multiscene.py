@@ -188,15 +188,33 @@ class MultiSceneRenderer(Renderer):
         host_ids = np.array([i + 1 for i, _ in host_nodes(self.subject.main, params.host)], np.float32)
         return np.isin(np.rint(self.ctx.readback(ids)[..., 0]), host_ids)
 
+    def decode_frame(self, image: np.ndarray, params: MultiSceneParams | None = None):
+        """Self-check of the last frame ``image`` (H, W, 3) as a viewer sees it: decoded where the host
+        is seen (needs ``object_ids = True``), after one global exposure gain (the host's 99th
+        percentile to 1, not a relighting), against the separations its screen-space depth asks for,
+        each row from the host's left edge. Returns (the sis.decode report, that depth: −1 off the host)."""
+        from .decode import check
+        from .reference import separation
+
+        params = self._params(params)
+        depth = self.ctx.readback(self._maps["depth"])[..., 0]
+        seen, on_host = self.host_mask(params), depth >= 0
+        sis = params.scaled_stereogram(image.shape[1])
+        sep = separation(np.where(on_host, depth, 1.0), sis.strip_width, sis.depth_factor)
+        rows = np.where(on_host.any(axis=1), on_host.argmax(axis=1), image.shape[1]).astype(np.int32)
+        gain = 1.0 / max(float(np.percentile(image[seen], 99)), 1e-6) if seen.any() else 1.0
+        report = check(np.where(seen[..., None], np.clip(image * gain, 0, 1), 0), sep, int(sis.far_separation + 0.5),
+                       "left", row_start=rows)
+        return report, np.where(on_host, depth, -1.0)
+
     @staticmethod
     def viewer_box(hosts, view: View, size, hidden_size) -> tuple[float, float, float, float]:
         """The "viewer" layout's rectangle (x0, y0, x1, y1 pixels, row 0 on top): the hidden depth
-        image's aspect, as large as fits in the hosts' bounding rectangle on the screen (clipped to
-        the screen), centred in it."""
+        image's aspect, as large as fits in the screen rectangle around the hosts' bounding boxes
+        (clipped to the screen), centred in it."""
         w, h = size
-        points = [transform_points(node.transform, np.asarray(node.mesh.vertices, np.float64)) for _, node in hosts]
-        px, depth = view.project(np.concatenate(points), (w, h))
-        if (depth <= 0).any():
+        px = _host_screen_corners(hosts, view, size)
+        if px is None:
             x0, y0, x1, y1 = 0.0, 0.0, float(w), float(h)        # partly behind the eye: the screen
         else:
             x0, y0 = np.clip(px.min(axis=0), 0, (w, h))
@@ -210,17 +228,23 @@ class MultiSceneRenderer(Renderer):
     @staticmethod
     def _host_columns(hosts, view: View, size) -> tuple[int, int]:
         """Leftmost and rightmost screen column the hosts' bounding boxes project to (clamped)."""
-        w, h = size
-        xs = []
-        for _, node in hosts:
-            lo, hi = node.mesh.bounds
-            corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-            px, depth = view.project(transform_points(node.transform, corners), (w, h))
-            if (depth <= 0).any():
-                return 0, w  # partly behind the eye: its screen extent is unbounded
-            xs.extend(px[:, 0].tolist())
-        xs = np.asarray(xs, np.float64)
-        return int(np.clip(np.floor(xs.min()), 0, w)), int(np.clip(np.ceil(xs.max()), 0, w))
+        w = size[0]
+        px = _host_screen_corners(hosts, view, size)
+        if px is None:
+            return 0, w  # partly behind the eye: its screen extent is unbounded
+        return int(np.clip(np.floor(px[:, 0].min()), 0, w)), int(np.clip(np.ceil(px[:, 0].max()), 0, w))
+
+
+def _host_screen_corners(hosts, view: View, size) -> np.ndarray | None:
+    """Pixel coordinates (x right, y down) of the corners of every host's bounding box, or None when
+    one is behind the eye (its screen extent is then unbounded)."""
+    points = []
+    for _, node in hosts:
+        lo, hi = node.mesh.bounds
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+        points.append(transform_points(node.transform, corners))
+    px, depth = view.project(np.concatenate(points), size)
+    return None if (depth <= 0).any() else px
 
 
 def multiscene(main: Scene, hidden: Scene, frame: Frame = Frame(), params: MultiSceneParams = MultiSceneParams(),
