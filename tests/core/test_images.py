@@ -124,6 +124,21 @@ def test_writes_are_atomic_and_failures_leave_the_old_file(tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["keep.png"]
 
 
+def test_a_killed_writers_temporary_is_removed_and_nothing_else(tmp_path):
+    """What a batch worker killed inside atomic_output leaves (its temporary) goes; the output, other
+    outputs' temporaries and look-alike names stay."""
+    from illusio.core.images import atomic_output, remove_partial_outputs
+
+    out = tmp_path / "gear-tau2.0.png"
+    write_image(out, np.zeros((2, 2, 3), np.float32))
+    left = [atomic_output(out).__enter__() for _ in range(2)]  # entered, never exited: killed mid-write
+    other = atomic_output(tmp_path / "gear-tau0.5.png").__enter__()
+    (tmp_path / ".gear-tau2.0.tmp-note.txt").write_text("another suffix")
+    assert all(p.exists() for p in left)
+    assert remove_partial_outputs(out) == 2
+    assert sorted(os.listdir(tmp_path)) == sorted([".gear-tau2.0.tmp-note.txt", other.name, out.name])
+
+
 def test_output_equal_to_input_is_refused(tmp_path):
     src = tmp_path / "in.png"
     write_image(src, np.zeros((2, 2, 3), np.float32))

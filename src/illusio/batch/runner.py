@@ -77,6 +77,10 @@ class _Books:
             self.advance(1)
 
     def lost(self, task: Task) -> None:
+        """``task``'s worker died: run it again, without the half-written file it may have left."""
+        from ..core.images import remove_partial_outputs
+
+        remove_partial_outputs(self.out / task.output)
         self.report.restarted += 1
         self.queue.append(task)
 

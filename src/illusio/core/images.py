@@ -10,6 +10,7 @@ Writes are atomic: the file is written under a temporary name in the same folder
 
 from __future__ import annotations
 
+import glob
 import os
 import tempfile
 from pathlib import Path
@@ -27,6 +28,7 @@ __all__ = [
     "srgb_to_linear",
     "linear_to_srgb",
     "atomic_output",
+    "remove_partial_outputs",
     "check_output_path",
     "as_image",
     "write_video",
@@ -235,6 +237,17 @@ class atomic_output:
         else:
             self.tmp.unlink(missing_ok=True)
         return False
+
+
+def remove_partial_outputs(path: str | os.PathLike) -> int:
+    """Remove the temporaries an :class:`atomic_output` for ``path`` left behind when its writer was
+    killed (a batch worker lost mid-write); returns how many. ``path`` itself is not touched."""
+    path = Path(path)
+    removed = 0
+    for tmp in path.parent.glob(f".{glob.escape(path.stem)}.tmp-*{glob.escape(path.suffix)}"):
+        tmp.unlink(missing_ok=True)
+        removed += 1
+    return removed
 
 
 def read_png_text(path: str | os.PathLike) -> dict[str, str]:
