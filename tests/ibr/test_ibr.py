@@ -12,7 +12,11 @@ from illusio.core.renderer import Frame
 from illusio.ibr import IbrParams, IbrRenderer, capture, load_references, orbit_views, save_references
 from illusio.ibr import reference
 from illusio.ibr.select import ReferenceArrays, SelectPass
+from illusio.passes import reference as passes_reference
+from illusio.passes.gbuffer import GBufferImages
+from illusio.passes.lights import emitters_from_lights
 from illusio.passes.scene_renderer import RenderSettings, SceneRenderer
+from illusio.passes.shading import MAX_EMITTERS, ShadingParams
 from illusio.scene import load_scene
 from tests.conftest import call_cli, tolerance
 
@@ -33,7 +37,8 @@ def psnr(a, b):
 def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_pass):
     """At a new view (and a random reconstructed depth near the true one), the GPU picks the same
     reference per pixel as reference.select, with the same corrected depth and attributes, in the
-    multi-pass mode (a draw per reference, the depth test choosing) and in the single pass."""
+    multi-pass mode (a draw per reference, the depth test choosing) and in the single pass; the
+    shaded resolve lights that choice as passes.reference.shading does."""
     scene, refs = room
     view = orbit_views(scene, 7)[int(rng.integers(1, 6))]
     truth = SceneRenderer(ctx)
@@ -46,11 +51,19 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_
     tex = ctx.upload(depth, filter="nearest")
     arrays = ReferenceArrays(ctx, refs.views)
     max_distance = 0.05 if use_3d else 3.0
-    gbuf = SelectPass(ctx)(tex, view, arrays, use_3d, bilinear, max_distance, single_pass=single_pass)
+    select = SelectPass(ctx)
+    gbuf = select(tex, view, arrays, use_3d, bilinear, max_distance, single_pass=single_pass)
     source = np.rint(ctx.readback(gbuf["object_id"])[..., 0]).astype(int)
     got_depth = ctx.readback(gbuf["depth"])[..., 0]
     got_albedo = ctx.readback(gbuf["colour"])
     gbuf.release()
+    emitters = emitters_from_lights(refs.lights, False, MAX_EMITTERS)
+    shading = ShadingParams(refs.ambient, refs.background, 1.3)
+    radiance, shaded_source = select.shaded(tex, view, arrays, emitters, shading, use_3d, bilinear, max_distance,
+                                            single_pass=single_pass)
+    got_radiance = ctx.readback(radiance)[..., :3]
+    np.testing.assert_array_equal(np.rint(ctx.readback(shaded_source)[..., 0]).astype(int), source)
+    ctx.release(radiance, shaded_source)
     tex.release()
     arrays.release()
     want = reference.select(depth, view, refs.views, use_3d, bilinear, max_distance)
@@ -63,6 +76,14 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_
     assert far.mean() < 1e-3, f"{far.sum()} of {far.size} depths differ"
     # half floats; a point whose four texels sit at the 1 % depth threshold may interpolate on one side only
     assert (np.abs(got_albedo[both] - want["albedo"][both]) > 2e-3).mean() < 1e-3
+    # lit in the resolve draw: what the deferred shading (passes.reference.shading) makes of the choice
+    chosen = GBufferImages(want["albedo"][..., :3], want["albedo"][..., 3], want["depth"], want["normal"][..., :3],
+                           want["normal"][..., 3], want["position"], want["source"], want["emission"])
+    lit = passes_reference.shading(chosen, emitters, view.pose.position, shading)
+    assert np.median(lit[both]) > 0.05 and len(emitters) > 0  # lit, not black
+    off = (np.abs(got_radiance - lit) > 1e-3 + 3e-3 * np.abs(lit)).any(-1)  # the G-buffer's half floats
+    assert off[both].mean() < 2e-3, f"{off[both].sum()} of {both.sum()} pixels lit differently"
+    np.testing.assert_allclose(got_radiance[want["source"] == 0], np.broadcast_to(refs.background, lit.shape)[want["source"] == 0], atol=1e-6)
 
 
 def test_references_reproduce_their_own_views_and_views_between_them(ctx, room):

@@ -89,7 +89,7 @@ def render_command(
     photographic: bool = typer.Option(not _DEFAULT.relight, "--photographic/--no-photographic", help="the references' recorded colour, not re-lit"),
     distance: str = typer.Option(_DEFAULT.distance, "--distance", help="2d (pixels on the new image) or 3d (metres)"),
     nearest_depth: bool = typer.Option(not _DEFAULT.bilinear_depth, "--nearest-depth/--no-nearest-depth", help="nearest reference depth instead of bilinear"),
-    selection: str = typer.Option(_DEFAULT.selection, "--selection", help="multi-pass (a draw per reference) or single-pass"),
+    selection: str = typer.Option(_DEFAULT.selection, "--selection", help="single-pass (one draw comparing every reference) or multi-pass (a draw per reference)"),
     light: str = typer.Option(None, "--light", help="move every light by DX,DY,DZ metres"),
     ground_truth: str = typer.Option(None, "--ground-truth", help="render this scene from the same camera instead"),
 ) -> None:

@@ -12,9 +12,11 @@ __all__ = ["IbrParams", "DISTANCES", "SELECTIONS"]
 #: how the point a reference sees is compared with the point to draw: "2d", in pixels on the new
 #: camera's image plane (the text's choice, for the depth buffer's precision); "3d", in metres
 DISTANCES = ("2d", "3d")
-#: how the second pass chooses: "multi-pass", a draw per reference with the depth test keeping the
-#: nearest (the text's any-number-of-views mode); "single-pass", one draw comparing every reference
-SELECTIONS = ("multi-pass", "single-pass")
+#: how the second pass chooses: "single-pass", one draw comparing every reference (the default: the
+#: same choice, 1.1–1.2× faster on llvmpipe, benchmarks/RESULTS.md); "multi-pass", a draw per
+#: reference with the depth test keeping the nearest (the text's any-number-of-views mode; texture
+#: arrays give the single pass any number too, up to 16)
+SELECTIONS = ("single-pass", "multi-pass")
 
 
 @dataclass(frozen=True)
@@ -36,7 +38,7 @@ class IbrParams:
     viewer's panel drags them live). settings: exposure."""
 
     distance: str = param("2d", choices=DISTANCES)
-    selection: str = param("multi-pass", choices=SELECTIONS)
+    selection: str = param("single-pass", choices=SELECTIONS)
     bilinear_depth: bool = param(True, label="bilinear depth")
     max_distance: float = param(3.0, range=(0.01, 1000.0), log=True, help="beyond it a pixel is a hole")
     mesh_step: int = param(2, range=(1, 16), step=1, unit="px", label="reconstruction mesh step")

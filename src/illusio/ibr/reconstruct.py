@@ -1,5 +1,5 @@
 """The first pass on the GPU: the reconstruction mesh drawn into the new view's linear depth
-(shaders/reconstruct.glsl), then its holes filled ring by ring (shaders/fill.glsl). References:
+(shaders/reconstruct.glsl), then its holes filled from the nearest ring around them (shaders/fill.glsl). References:
 passes.reference.gbuffer (ray casting the mesh) and :func:`illusio.ibr.renderer.fill_holes`."""
 
 from __future__ import annotations
@@ -50,12 +50,13 @@ class ReconstructPass:
         return self.fill(depth, fill_radius)
 
     def fill(self, depth: moderngl.Texture, radius: int) -> moderngl.Texture:
-        """``depth`` (pooled; released) with holes up to ``radius`` pixels filled: a new pooled texture."""
-        for _ in range(max(int(radius), 0)):
-            filled = self.ctx.draw_fullscreen(self.fill_program, depth.size, 1, textures={"depth": depth})
-            self.ctx.release(depth)
-            depth = filled
-        return depth
+        """``depth`` (pooled; released) with holes up to ``radius`` pixels filled, in one draw: a new
+        pooled texture."""
+        if radius <= 0:
+            return depth
+        filled = self.ctx.draw_fullscreen(self.fill_program, depth.size, 1, textures={"depth": depth}, radius=int(radius))
+        self.ctx.release(depth)
+        return filled
 
     def release(self) -> None:
         if self._buffers is not None:

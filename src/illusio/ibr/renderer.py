@@ -1,8 +1,9 @@
 """New views from reference views, frame after frame: the IbrRenderer (Renderer protocol) and the
 one-shot ``render_views``. First pass: the reconstruction mesh drawn into the new view's depth and
-its holes filled, on the GPU (only when the camera or the size changed); second pass: the per-pixel choice of the reference
-(SelectPass), whose output is a G-buffer; then the shared deferred shading lights it again with the
-set's lights (moved by IbrParams.light_offset)."""
+its holes filled, on the GPU (only when the camera or the size changed); second pass: the per-pixel
+choice of the reference (SelectPass), whose resolve draw lights the chosen attributes again with the
+set's lights (moved by IbrParams.light_offset) as the shared deferred shading would; ``gbuffer()``
+gives the chosen attributes themselves."""
 
 from __future__ import annotations
 
@@ -15,7 +16,8 @@ from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.renderer import Frame, Renderer
 from ..passes.lights import emitters_from_lights
-from ..passes.shading import MAX_EMITTERS, ShadingParams, ShadingPass
+from ..passes.gbuffer import GBuffer
+from ..passes.shading import MAX_EMITTERS, ShadingParams
 from .params import IbrParams
 from .reconstruct import ReconstructPass
 from .reconstruction import reconstruction_mesh
@@ -30,39 +32,41 @@ SOURCE_COLOURS = np.array([(0.9, 0.15, 0.1), (0.15, 0.75, 0.2), (0.15, 0.3, 0.95
 HOLE_COLOUR = np.array((1.0, 0.0, 1.0), np.float32)
 
 
-def fill_holes(depth: np.ndarray, radius: int) -> np.ndarray:
-    """``depth`` (0 = nothing) with its holes up to ``radius`` pixels wide filled by the farthest depth
-    around them, one pixel ring at a time. Holes come from mesh triangles cut at occlusion edges,
-    where the surface behind shows: the farthest neighbour finds it in the references."""
-    from scipy import ndimage
+def _fill_from_rings(source: np.ndarray, empty: np.ndarray, radius: int, key: int) -> np.ndarray:
+    """``source`` (H, W, C; row 0 at the top) with each ``empty`` pixel replaced by the texel of the
+    first square ring around it, nearest first, up to ``radius``, that holds anything (component
+    ``key`` > 0): the one with the largest ``key`` there, the first in ring order on a tie (rings.glsl's
+    order: rows from the bottom, as GL counts them). No ring holds anything: it stays."""
+    out = source.copy()
+    h, w = out.shape[:2]
+    for y, x in zip(*np.nonzero(empty)):
+        for r in range(1, int(radius) + 1):
+            ring = [(y - dy, x + dx) for dy in range(-r, r + 1) for dx in range(-r, r + 1)  # GL rows go up
+                    if max(abs(dx), abs(dy)) == r]
+            found = [source[q] for q in ring if 0 <= q[0] < h and 0 <= q[1] < w and source[q][key] > 0]
+            if found:
+                out[y, x] = max(found, key=lambda texel: texel[key])  # max keeps the first of equals
+                break
+    return out
 
-    z = np.asarray(depth, np.float32).copy()
-    for _ in range(max(int(radius), 0)):
-        empty = z <= 0
-        if not empty.any():
-            break
-        z = np.where(empty, ndimage.maximum_filter(z, size=3), z)
-    return z
+
+def fill_holes(depth: np.ndarray, radius: int) -> np.ndarray:
+    """``depth`` (0 = nothing) with its holes filled: a hole pixel takes the farthest depth of the
+    nearest ring around it holding depth, up to ``radius`` pixels away. Holes come from mesh
+    triangles cut at occlusion edges, where the surface behind shows: the farthest neighbour finds
+    it in the references."""
+    z = np.asarray(depth, np.float32)[..., None]
+    return _fill_from_rings(z, z[..., 0] <= 0, radius, 0)[..., 0]
 
 
 def fill_hits(hits: np.ndarray, reconstructed: np.ndarray, radius: int) -> np.ndarray:
     """``hits`` (H, W, 4: uv, reference depth, reference index + 1, 0 = none; row 0 at the top) with
     its disocclusions — pixels where ``reconstructed`` (H, W) has depth and no reference saw the
-    point — filled: such a pixel looks at the square rings around it, nearest first, up to
-    ``radius``, and takes from the first ring holding hits the one whose reference saw the farthest
-    point (the background goes on behind the occluder; the first in the GPU's order on a tie)."""
+    point — filled: such a pixel takes, from the nearest ring around it holding hits (up to
+    ``radius``), the hit whose reference saw the farthest point (the background goes on behind the
+    occluder)."""
     source = np.asarray(hits, np.float32)
-    out = source.copy()
-    h, w = out.shape[:2]
-    for y, x in zip(*np.nonzero((source[..., 3] == 0) & (np.asarray(reconstructed) > 0))):
-        for r in range(1, int(radius) + 1):
-            ring = [(y - dy, x + dx) for dy in range(-r, r + 1) for dx in range(-r, r + 1)  # GL rows go up
-                    if max(abs(dx), abs(dy)) == r]
-            found = [source[q] for q in ring if 0 <= q[0] < h and 0 <= q[1] < w and source[q][3] > 0]
-            if found:
-                out[y, x] = max(found, key=lambda hit: hit[2])  # max keeps the first of equals
-                break
-    return out
+    return _fill_from_rings(source, (source[..., 3] == 0) & (np.asarray(reconstructed) > 0), radius, 2)
 
 
 def source_view(source: np.ndarray) -> np.ndarray:
@@ -74,8 +78,8 @@ def source_view(source: np.ndarray) -> np.ndarray:
 
 class IbrRenderer(Renderer):
     """Subject: a :class:`ReferenceSet`. Params: :class:`IbrParams`. ``frame.view``: the new camera
-    (None: the first reference's). ``maps()``: "depth" (the reconstructed depth), "source" (reference
-    index + 1 per pixel, 0 = hole, R32F) and the new view's G-buffer."""
+    (None: the first reference's). ``maps()``: "depth" (the reconstructed depth) and "source" (reference
+    index + 1 per pixel, 0 = hole, R32F); :meth:`gbuffer`: the new view's G-buffer."""
 
     Params = IbrParams
     subject_name = "a ReferenceSet"
@@ -84,7 +88,6 @@ class IbrRenderer(Renderer):
         super().__init__(ctx)
         self.reconstruct = ReconstructPass(ctx)
         self.select = SelectPass(ctx)
-        self.shading = ShadingPass(ctx)
         self.refs: ReferenceSet | None = None
         self._arrays: ReferenceArrays | None = None
         self._mesh_key = None
@@ -125,27 +128,37 @@ class IbrRenderer(Renderer):
             self._depth = (*key, self.reconstruct(view, size, params.fill_radius))
         return self._depth[4]
 
+    def _selection(self, params: IbrParams) -> dict:
+        """SelectPass's arguments after the new view, its depth and the references."""
+        return dict(use_3d=params.distance == "3d", bilinear=params.bilinear_depth, max_distance=params.max_distance,
+                    photographic=not params.relight, single_pass=params.selection == "single-pass",
+                    fill=0 if params.show_sources else params.fill_disocclusions)
+
+    def gbuffer(self, frame: Frame, params: IbrParams | None = None) -> GBuffer:
+        """The new view's G-buffer (the chosen reference's albedo, normal, emission; the corrected
+        depth and position; the source index as object id): release it."""
+        params = self._params(params)
+        self._require_subject()
+        view = frame.view or self.refs.views[0].view
+        return self.select(self.reconstructed_depth(view, frame.size, params), view, self._arrays, **self._selection(params))
+
     def render_texture(self, frame: Frame, params: IbrParams | None = None) -> moderngl.Texture:
         params = self._params(params)
         self._require_subject()
         view = frame.view or self.refs.views[0].view
         depth = self.reconstructed_depth(view, frame.size, params)
-        gbuffer = self.select(depth, view, self._arrays, params.distance == "3d", params.bilinear_depth,
-                              params.max_distance, not params.relight, params.selection == "single-pass",
-                              0 if params.show_sources else params.fill_disocclusions)
         lights = [replace(light, position=tuple(np.asarray(light.position) + params.light_offset))
                   if hasattr(light, "position") else replace(light, centre=tuple(np.asarray(light.centre) + params.light_offset))
                   for light in self.refs.lights]
         emitters = emitters_from_lights(lights if params.relight else [], False, MAX_EMITTERS)
         ambient = self.refs.ambient if params.relight else (0.0, 0.0, 0.0)
         shading = ShadingParams(ambient, self.refs.background, params.settings.exposure)
-        out = self.shading(gbuffer, emitters, view.pose.position, shading)
-        self._keep_maps({"depth": depth, "source": gbuffer["object_id"],
-                         **{k: v for k, v in gbuffer.textures.items() if k != "object_id"}})
+        out, source = self.select.shaded(depth, view, self._arrays, emitters, shading, **self._selection(params))
+        self._keep_maps({"depth": depth, "source": source})
         if params.show_sources:
             self.ctx.release(out)
-            source = np.rint(self.ctx.readback(gbuffer["object_id"])[..., 0]).astype(np.int64)
-            out = self.ctx.acquire_upload(np.dstack([source_view(source), np.ones(source.shape, np.float32)]))
+            index = np.rint(self.ctx.readback(source)[..., 0]).astype(np.int64)
+            out = self.ctx.acquire_upload(np.dstack([source_view(index), np.ones(index.shape, np.float32)]))
         return out
 
 

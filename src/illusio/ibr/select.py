@@ -13,6 +13,8 @@ from ..core.context import Context
 from ..core.errors import InputError
 from ..core.gl import set_uniform
 from ..passes.gbuffer import LAYOUT, GBuffer
+from ..passes.lights import Emitters
+from ..passes.shading import MAX_EMITTERS, ShadingParams, bind_emitters
 from ..scene.camera import View
 
 __all__ = ["SelectPass", "ReferenceArrays", "projection_terms", "MAX_REFERENCES"]
@@ -37,22 +39,25 @@ class ReferenceArrays:
         self.size = views[0].size
         w, h = self.size
 
-        def array(name, components):
+        def array(name, components, filter=moderngl.LINEAR):
             data = np.stack([np.asarray(getattr(v, name), np.float32).reshape(h, w, -1)[::-1, :, :components]
                              for v in views])
             tex = ctx.gl.texture_array((w, h, len(views)), components, np.ascontiguousarray(data).tobytes(), dtype="f4")
-            tex.filter = (moderngl.NEAREST, moderngl.NEAREST)
+            tex.filter = (filter, filter)  # linear: the resolve's one-sample bilinear attributes
+            tex.repeat_x = tex.repeat_y = False  # as the reference's clamped texel indices
             return tex
 
         self.albedo, self.normal = array("albedo", 4), array("normal", 4)
-        self.emission, self.depth = array("emission", 3), array("depth", 1)
+        self.emission, self.depth = array("emission", 3), array("depth", 1, moderngl.NEAREST)
         self.has_colour = all(v.colour is not None for v in views)
         self.colour = array("colour", 3) if self.has_colour else self.emission
 
-    def bind(self, program, first_unit: int = 1) -> None:
+    def bind(self, program, first_unit: int = 1, photographic: bool = False) -> None:
+        """The arrays on units ``first_unit``…, the cameras' uniforms; ``photographic``: the recorded
+        colour in the emission's place."""
         for unit, (name, tex) in enumerate((("ref_albedo", self.albedo), ("ref_normal", self.normal),
-                                            ("ref_emission", self.emission), ("ref_depth", self.depth),
-                                            ("ref_colour", self.colour)), start=first_unit):
+                                            ("ref_emission", self.colour if photographic else self.emission),
+                                            ("ref_depth", self.depth)), start=first_unit):
             tex.use(unit)
             set_uniform(program, name, unit)
         count = len(self.views)
@@ -67,15 +72,14 @@ class ReferenceArrays:
 
 
 class SelectPass:
-    """``(reconstructed depth, new view, references, use_3d, bilinear, max_distance)`` → a G-buffer
-    of the new view (pooled textures: release it)."""
+    """``(reconstructed depth, new view, references, ...)`` → a G-buffer of the new view (pooled
+    textures: release it); :meth:`shaded`: the same choice lit at once (radiance, source)."""
 
     def __init__(self, ctx: Context):
         self.ctx = ctx
-        self.program = ctx.program("ibr/shaders/select.glsl")
-        self.single = ctx.program("ibr/shaders/select.glsl", SINGLE_PASS=1)
-        self.fill_program = ctx.program("ibr/shaders/fill_hits.glsl")
+        self.fill_program = ctx.program("ibr/shaders/fill.glsl", HITS=1)
         self.resolve = ctx.program("ibr/shaders/select.glsl", RESOLVE=1)
+        self.resolve_shaded = ctx.program("ibr/shaders/select.glsl", RESOLVE=1, SHADE=1, MAX_EMITTERS=MAX_EMITTERS)
 
     def __call__(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
                  use_3d: bool = False, bilinear: bool = True, max_distance: float = 3.0,
@@ -85,6 +89,34 @@ class SelectPass:
         reference instead of a draw each (the same choice, ties to the first reference). ``fill``:
         disocclusions (depth but no reference) up to this many pixels from a hit take the farthest
         hit of the nearest ring around them (:meth:`fill_hits`); 0 leaves them holes."""
+        hits = self.hits(reconstructed, view, references, use_3d, bilinear, max_distance, photographic, single_pass, fill)
+        w, h = hits.size
+        textures = {name: self.ctx.acquire((w, h), comps, dtype) for name, comps, dtype in LAYOUT}
+        self._resolve(self.resolve, hits, list(textures.values()), view, references, photographic)
+        return GBuffer(self.ctx, textures, (w, h))
+
+    def shaded(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
+               emitters: Emitters, shading: ShadingParams, use_3d: bool = False, bilinear: bool = True,
+               max_distance: float = 3.0, photographic: bool = False, single_pass: bool = False,
+               fill: int = 0) -> tuple[moderngl.Texture, moderngl.Texture]:
+        """The same choice as ``__call__``, lit in the resolve draw itself by ``emitters`` seen from
+        the new eye (what ShadingPass makes of the G-buffer, without writing and reading one):
+        (radiance RGBA32F linear × exposure, background in holes; source R32F: reference index + 1,
+        0 = hole), both pooled."""
+        hits = self.hits(reconstructed, view, references, use_3d, bilinear, max_distance, photographic, single_pass, fill)
+        radiance, source = self.ctx.acquire(hits.size, 4, "f4"), self.ctx.acquire(hits.size, 1, "f4")
+        prog = self.resolve_shaded
+        set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
+        set_uniform(prog, "background", tuple(shading.background))
+        bind_emitters(prog, emitters, shading, None, None, 0, unit=0)
+        self._resolve(prog, hits, [radiance, source], view, references, photographic)
+        return radiance, source
+
+    def hits(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
+             use_3d: bool, bilinear: bool, max_distance: float, photographic: bool, single_pass: bool,
+             fill: int) -> moderngl.Texture:
+        """The selection and the disocclusion fill: per pixel (uv in the chosen reference, its depth
+        there, reference index + 1; 0 = none), pooled RGBA32F."""
         if photographic and not references.has_colour:
             raise InputError("these references hold no recorded colour: relight them (IbrParams.relight)")
         ctx = self.ctx
@@ -94,7 +126,8 @@ class SelectPass:
         fbo.use()
         fbo.viewport = (0, 0, w, h)
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        prog = self.single if single_pass else self.program
+        prog = self.ctx.program("ibr/shaders/select.glsl", SINGLE_PASS=int(single_pass), DISTANCE_3D=int(use_3d),
+                                BILINEAR=int(bilinear))
         reconstructed.use(0)
         set_uniform(prog, "reconstructed", 0)
         references.bind(prog)
@@ -102,8 +135,6 @@ class SelectPass:
         set_uniform(prog, "new_view_projection", view.view_projection((w, h)))
         set_uniform(prog, "new_projection", projection_terms(view, (w, h)))
         set_uniform(prog, "new_eye", tuple(float(v) for v in view.pose.position))
-        set_uniform(prog, "use_3d", bool(use_3d))
-        set_uniform(prog, "bilinear", bool(bilinear))
         set_uniform(prog, "max_distance", float(max_distance))
         count = len(references.views)
         matrices = np.stack([v.view_projection(references.size).astype(np.float32).T for v in references.views])
@@ -120,24 +151,26 @@ class SelectPass:
                     ctx.fullscreen.draw(prog)
             finally:
                 ctx.gl.disable(moderngl.DEPTH_TEST)
-        hits = self.fill_hits(hits, reconstructed, fill)
-        textures = {name: ctx.acquire((w, h), comps, dtype) for name, comps, dtype in LAYOUT}
-        out = ctx.framebuffer(list(textures.values()))
+        return self.fill_hits(hits, reconstructed, fill)
+
+    def _resolve(self, prog, hits: moderngl.Texture, targets: list, view: View, references: ReferenceArrays,
+                 photographic: bool) -> None:
+        """The resolve draw of ``prog`` from ``hits`` (released) into ``targets``."""
+        out = self.ctx.framebuffer(targets)
         out.use()
-        out.viewport = (0, 0, w, h)
-        hits.use(0)
-        set_uniform(self.resolve, "hits", 0)
-        references.bind(self.resolve)
-        set_uniform(self.resolve, "new_view", view.view_matrix())
-        set_uniform(self.resolve, "photographic", bool(photographic))
-        ctx.fullscreen.draw(self.resolve)
-        ctx.release(hits)
-        return GBuffer(ctx, textures, (w, h))
+        out.viewport = (0, 0, *hits.size)
+        hits.use(MAX_REFERENCES)  # units 0.. belong to the emitters' shadow atlas and the references
+        set_uniform(prog, "hits", MAX_REFERENCES)
+        references.bind(prog, photographic=photographic)
+        set_uniform(prog, "new_view", view.view_matrix())  # (the G-buffer's depth)
+        set_uniform(prog, "photographic", bool(photographic))
+        self.ctx.fullscreen.draw(prog)
+        self.ctx.release(hits)
 
     def fill_hits(self, hits: moderngl.Texture, reconstructed: moderngl.Texture, radius: int) -> moderngl.Texture:
         """``hits`` (pooled RGBA32F: uv, reference depth, index + 1; released) with its holes where
-        ``reconstructed`` has depth filled from up to ``radius`` pixels away: a new pooled texture.
-        NumPy reference: renderer.fill_hits."""
+        ``reconstructed`` has depth filled from up to ``radius`` pixels away: a new pooled
+        texture. NumPy reference: renderer.fill_hits."""
         if radius <= 0:
             return hits
         filled = self.ctx.draw_fullscreen(self.fill_program, hits.size, textures={"hits": hits, "reconstructed": reconstructed},

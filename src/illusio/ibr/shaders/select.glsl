@@ -2,33 +2,46 @@
 // The second pass (section 4.2.3.2), in two steps. SELECT, one full-screen draw per reference view:
 // each pixel of the new view, at the reconstructed depth, is back-projected into the reference; the
 // reference's own depth there (bilinear over the four texels around it, the fix of Figure 4.4, or
-// the nearest) gives the point the reference saw; its distance to ours — in pixels on the new image
-// plane ("2d") or in metres ("3d") — goes to gl_FragDepth, so with the depth test LESS over all the
-// draws each pixel keeps the reference that sees its point best; the draw writes (uv, depth read,
-// reference index + 1). A reference whose stored normal faces away from the new eye saw the other
-// side of a thin surface: skipped. SINGLE_PASS=1: the text's one-pass variant, one draw looping over
-// the references and keeping the smallest distance itself (no depth test; the text packs depth
-// in the colour's alpha to fit three views in its texture units, texture arrays lift that limit).
-// RESOLVE (RESOLVE=1), once: the chosen reference's attributes at
-// that point into the G-buffer layout (albedo + k_s, corrected linear depth, normal + exponent, world
-// position, source index + 1, emission) — bilinear where the four texels around the point lie on one
-// surface (depths within 1 %), else the nearest texel. NumPy reference: ibr.reference.select.
+// the nearest; the four read in one gather) gives the point the reference saw; its distance to ours
+// — in pixels on the new image plane ("2d") or in metres ("3d") — goes to gl_FragDepth, so with the
+// depth test LESS over all the draws each pixel keeps the reference that sees its point best; the
+// draw writes (uv, depth read, reference index + 1). A reference whose stored normal faces away from
+// the new eye saw the other side of a thin surface: skipped. SINGLE_PASS=1: the text's one-pass
+// variant, one draw looping over the references and keeping the smallest distance itself (no depth
+// test; the text packs depth in the colour's alpha to fit three views in its texture units, texture
+// arrays lift that limit). DISTANCE_3D and BILINEAR are compiled in, not uniform switches (llvmpipe
+// runs both sides of a branch). RESOLVE=1, once, after the disocclusions are filled (fill.glsl, HITS=1):
+// the chosen reference's attributes at that point — bilinear where the four texels around it lie on
+// one surface (depths within 1 %), else the nearest texel — into the G-buffer layout (albedo + k_s,
+// corrected linear depth, normal + exponent, world position, source index + 1, emission), or with
+// SHADE=1 lit at once by emitters.glsl as the deferred shading would (radiance + source index): no
+// G-buffer written and read again. NumPy references: ibr.reference.select, passes.reference.shading.
 #include "common/fullscreen.glsl"
 #define MAX_REFERENCES 16
 
 #ifndef RESOLVE
 #define RESOLVE 0
 #endif
+#ifndef SHADE
+#define SHADE 0
+#endif
+#define MAX_EMITTERS 64
+#define SHADOW_MAPS 0
+#ifndef DISTANCE_3D
+#define DISTANCE_3D 0
+#endif
+#ifndef BILINEAR
+#define BILINEAR 1
+#endif
 #ifndef SINGLE_PASS
 #define SINGLE_PASS 0
 #endif
 
 #if defined(FRAGMENT_SHADER)
-uniform sampler2DArray ref_albedo;
+uniform sampler2DArray ref_albedo;     // linear filtering: one sample interpolates (the resolve)
 uniform sampler2DArray ref_normal;
-uniform sampler2DArray ref_emission;
-uniform sampler2DArray ref_depth;       // metres, 0 = nothing
-uniform sampler2DArray ref_colour;      // the recorded image (photographic output)
+uniform sampler2DArray ref_emission;   // the recorded colour instead, photographic output (bound so)
+uniform sampler2DArray ref_depth;       // metres, 0 = nothing; nearest
 uniform mat4 ref_inverse_view[MAX_REFERENCES];
 uniform vec4 ref_projection[MAX_REFERENCES];  // p00, p02, p11, p12
 uniform mat4 new_view;
@@ -42,9 +55,11 @@ vec3 unproject(vec2 pixel, vec2 size, float z, vec4 proj, mat4 inverse_view) {
 
 vec4 fetch(sampler2DArray s, ivec2 t, int k) { return texelFetch(s, ivec3(t, k), 0); }
 
-vec4 bilerp(sampler2DArray s, ivec2 t0, ivec2 t1, vec2 f, int k) {
-    return mix(mix(fetch(s, t0, k), fetch(s, ivec2(t1.x, t0.y), k), f.x),
-               mix(fetch(s, ivec2(t0.x, t1.y), k), fetch(s, t1, k), f.x), f.y);
+// reference k's depth at the four texels around GL texel coordinate t, in one gather: (t0), (t1.x,
+// t0.y), (t0.x, t1.y), (t1), t0 = floor(t) and t1 = t0 + 1 clamped to the image as GL_CLAMP_TO_EDGE
+vec4 depth_corners(vec2 t, ivec2 ref_size, int k, out ivec2 t0) {
+    t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
+    return textureGather(ref_depth, vec3((vec2(t0) + 1.0) / vec2(ref_size), float(k)), 0).wzxy;
 }
 
 #if !RESOLVE
@@ -56,8 +71,6 @@ uniform vec3 new_eye;
 uniform mat4 ref_view_projection[MAX_REFERENCES];
 uniform int layer;                      // the reference of this draw (multi-pass)
 uniform int count;                      // the references (single pass)
-uniform bool use_3d;
-uniform bool bilinear;
 uniform float max_distance;
 out vec4 hit;                           // uv in the reference, its depth there, reference index + 1
 
@@ -70,30 +83,26 @@ bool candidate(int k, vec3 point, vec2 pixel, vec2 size, out float distance, out
     if (any(lessThan(uv, vec2(0.0))) || any(greaterThanEqual(uv, vec2(1.0)))) return false;
     ivec2 ref_size = textureSize(ref_depth, 0).xy;
     vec2 t = uv * vec2(ref_size) - 0.5;                           // GL texel coordinates
+    ivec2 t0;
+    vec4 c = depth_corners(t, ref_size, k, t0);
+    vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
     ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
-    float d = fetch(ref_depth, nearest, k).r;
-    if (bilinear) {
-        ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
-        ivec2 t1 = min(t0 + 1, ref_size - 1);
-        vec4 c = vec4(fetch(ref_depth, t0, k).r, fetch(ref_depth, ivec2(t1.x, t0.y), k).r,
-                      fetch(ref_depth, ivec2(t0.x, t1.y), k).r, fetch(ref_depth, t1, k).r);
-        if (min(min(c.x, c.y), min(c.z, c.w)) > 0.0) {
-            vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
-            d = mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
-        }
-    }
+    float d = f.y < 0.5 ? (f.x < 0.5 ? c.x : c.y) : (f.x < 0.5 ? c.z : c.w);
+#if BILINEAR
+    if (min(min(c.x, c.y), min(c.z, c.w)) > 0.0) d = mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
+#endif
     if (d <= 0.0) return false;
     vec2 ref_pixel = vec2(uv.x * float(ref_size.x), (1.0 - uv.y) * float(ref_size.y));
     vec3 seen = unproject(ref_pixel, vec2(ref_size), d, ref_projection[k], ref_inverse_view[k]);
     if (dot(fetch(ref_normal, nearest, k).xyz, new_eye - seen) <= 0.0) return false;  // the other side
-    if (use_3d) {
-        distance = length(seen - point);
-    } else {
-        vec4 c = new_view_projection * vec4(seen, 1.0);
-        if (c.w <= 0.0) return false;
-        vec2 seen_pixel = vec2((c.x / c.w * 0.5 + 0.5) * size.x, (0.5 - c.y / c.w * 0.5) * size.y);
-        distance = length(seen_pixel - pixel);
-    }
+#if DISTANCE_3D
+    distance = length(seen - point);
+#else
+    vec4 s = new_view_projection * vec4(seen, 1.0);
+    if (s.w <= 0.0) return false;
+    vec2 seen_pixel = vec2((s.x / s.w * 0.5 + 0.5) * size.x, (0.5 - s.y / s.w * 0.5) * size.y);
+    distance = length(seen_pixel - pixel);
+#endif
     if (distance > max_distance) return false;
     found = vec4(uv, d, float(k + 1));
     return true;
@@ -128,43 +137,70 @@ void main() {
 #else
 uniform sampler2D hits;
 uniform bool photographic;             // the recorded colour as emission, no albedo
+#if SHADE
+#include "passes/shaders/emitters.glsl"
+uniform vec3 camera_position;
+uniform vec3 ambient;
+uniform vec3 background;
+uniform float exposure;
+layout(location = 0) out vec4 out_radiance;
+layout(location = 1) out float out_id;
+#else
 layout(location = 0) out vec4 out_colour;
 layout(location = 1) out float out_depth;
 layout(location = 2) out vec4 out_normal;
 layout(location = 3) out vec4 out_position;
 layout(location = 4) out float out_id;
 layout(location = 5) out vec4 out_emission;
+#endif
+
+// reference k's attributes at the hit h (uv, depth read): bilinear where the four texels around the
+// point lie on one surface (depths within 1 %), else the nearest texel — one linear-filtered sample
+// either way (at the nearest texel's centre the filter returns that texel: llvmpipe runs every
+// branch of a shader, so one sample is cheaper than fetching four and choosing); `seen`: the point
+void attributes(vec4 h, int k, out vec4 albedo, out vec4 normal, out vec3 emission, out vec3 seen) {
+    ivec2 ref_size = textureSize(ref_depth, 0).xy;
+    vec2 t = h.xy * vec2(ref_size) - 0.5;
+    ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
+    ivec2 t0;
+    vec4 c = depth_corners(t, ref_size, k, t0);
+    float lo = min(min(c.x, c.y), min(c.z, c.w)), hi = max(max(c.x, c.y), max(c.z, c.w));
+    bool on_one_surface = lo > 0.0 && hi <= lo * 1.01;
+    vec3 at = vec3(on_one_surface ? h.xy : (vec2(nearest) + 0.5) / vec2(ref_size), float(k));
+    vec2 ref_pixel = vec2(h.x * float(ref_size.x), (1.0 - h.y) * float(ref_size.y));
+    seen = unproject(ref_pixel, vec2(ref_size), h.z, ref_projection[k], ref_inverse_view[k]);
+    normal = texture(ref_normal, at);
+    albedo = texture(ref_albedo, at) * (photographic ? 0.0 : 1.0);
+    emission = texture(ref_emission, at).rgb;
+}
 
 void main() {
     vec4 h = texelFetch(hits, ivec2(gl_FragCoord.xy), 0);
     int k = int(h.w + 0.5) - 1;
-    if (k < 0) {  // a hole: nothing, as the G-buffer's background
-        out_colour = vec4(0.0); out_depth = 0.0; out_normal = vec4(0.0); out_position = vec4(0.0);
-        out_id = 0.0; out_emission = vec4(0.0);
+    out_id = max(h.w, 0.0);
+    vec4 albedo, normal;
+    vec3 emission, seen;
+#if SHADE
+    if (k < 0) {  // a hole: the background, as the deferred shading draws it
+        out_radiance = vec4(background, 1.0);
         return;
     }
-    ivec2 ref_size = textureSize(ref_depth, 0).xy;
-    vec2 t = h.xy * vec2(ref_size) - 0.5;
-    ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
-    ivec2 t0 = clamp(ivec2(floor(t)), ivec2(0), ref_size - 1);
-    ivec2 t1 = min(t0 + 1, ref_size - 1);
-    vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
-    vec4 c = vec4(fetch(ref_depth, t0, k).r, fetch(ref_depth, ivec2(t1.x, t0.y), k).r,
-                  fetch(ref_depth, ivec2(t0.x, t1.y), k).r, fetch(ref_depth, t1, k).r);
-    float lo = min(min(c.x, c.y), min(c.z, c.w)), hi = max(max(c.x, c.y), max(c.z, c.w));
-    bool on_one_surface = lo > 0.0 && hi <= lo * 1.01;
-    vec2 ref_pixel = vec2(h.x * float(ref_size.x), (1.0 - h.y) * float(ref_size.y));
-    vec3 seen = unproject(ref_pixel, vec2(ref_size), h.z, ref_projection[k], ref_inverse_view[k]);
-    out_colour = on_one_surface ? bilerp(ref_albedo, t0, t1, f, k) : fetch(ref_albedo, nearest, k);
-    out_normal = on_one_surface ? bilerp(ref_normal, t0, t1, f, k) : fetch(ref_normal, nearest, k);
-    out_emission = vec4((on_one_surface ? bilerp(ref_emission, t0, t1, f, k) : fetch(ref_emission, nearest, k)).rgb, 1.0);
-    if (photographic) {
-        out_emission = vec4((on_one_surface ? bilerp(ref_colour, t0, t1, f, k) : fetch(ref_colour, nearest, k)).rgb, 1.0);
-        out_colour = vec4(0.0);
+    attributes(h, k, albedo, normal, emission, seen);
+    vec3 total = direct_light(seen, normalize(normal.xyz), normalize(camera_position - seen), albedo.rgb, albedo.a, normal.a);
+    out_radiance = vec4((total + ambient * albedo.rgb + emission) * exposure, 1.0);
+#else
+    if (k < 0) {  // a hole: nothing, as the G-buffer's background
+        out_colour = vec4(0.0); out_depth = 0.0; out_normal = vec4(0.0); out_position = vec4(0.0);
+        out_emission = vec4(0.0);
+        return;
     }
+    attributes(h, k, albedo, normal, emission, seen);
+    out_colour = albedo;
+    out_normal = normal;
+    out_emission = vec4(emission, 1.0);
     out_depth = -(new_view * vec4(seen, 1.0)).z;
     out_position = vec4(seen, 1.0);
-    out_id = h.w;
+#endif
 }
 #endif
 #endif
