@@ -37,6 +37,16 @@ def test_kept_form_factors_give_the_plain_gather_after_each_change():
     sol.move_object("crate", move)
     check(True)
     assert 0 < gather.computed < gather.reused
+    for _ in range(5):                   # a drag: the arena fills with fresh blocks and is compacted
+        sol.move_object("crate", move if _ % 2 else np.linalg.inv(move))
+        check(True)
+        assert gather._used <= 2 * gather.pairs + 1024
+    other = CornerGather()               # another cache over the same links: its own blocks, exact
+    h = sol.hierarchy
+    assert np.allclose(other(h, sol.links, h.leaves(), sol.exitance()), corner_gather(h, sol.links, h.leaves(), sol.exitance()),
+                       rtol=1e-9, atol=1e-12)
+    assert other.reused == 0
+    check(False)                         # and the first, whose tags the other took, starts afresh
 
 
 def test_gathering_only_the_shown_leaves_keeps_their_corners_exact(rng):
@@ -60,4 +70,4 @@ def test_gathering_only_the_shown_leaves_keeps_their_corners_exact(rng):
     # and the leaves left out were left out: fewer pairs than the full gather
     every = CornerGather()
     every(h, sol.links, leaves, sol.exitance())
-    assert len(gather._pair_leaf) < len(every._pair_leaf)
+    assert gather.pairs < every.pairs

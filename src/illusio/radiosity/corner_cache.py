@@ -4,16 +4,20 @@ links (a virtual object moved, a lamp added) pays only for the pairs it changed.
 
 The gather at the corners of a leaf sums, over every link its element and its ancestors receive,
 F(corner → source)·V·B_source. F depends only on the corner and the source's polygon, so it is kept
-per link (receiver r, source j) for every leaf under r — one block of pairs per link, the blocks in
-the order of the links' keys r·2³² + j. On the next call a link's block is reused when the link
-(r, j) existed before, no leaf under r was split, merged, moved, or joined or left the leaves asked
-for (a display that gathers only what it shows), and j did not move; every other
-link's block is computed afresh. V and B are read at each call (they change with every solve). After
-any change the result equals the plain gather (tested).
+per link (receiver r, source j) for every leaf under r — one block of pairs per link, in an arena
+that blocks are appended to and stay in. Each link carries its block's number (``Links.tag``,
+kept through the removal of other links). On the next call a link keeps its block when no leaf
+under r was split, merged, moved, or joined or left the leaves asked for (a display that gathers
+only what it shows), and j did not move; a link made since (a shaft relinked, the pair refined
+again) takes the block its pair (r, j) had if that block lost its link; every other link's block is
+computed afresh, at the arena's end. When the arena holds twice the pairs in use, the blocks in use
+are copied together. V and B are read at each call (they change with every solve). After any
+change the result equals the plain gather (tested).
 
 Why numba: at 5.5k leaves a relit office has 1.6M (link, leaf) pairs; copying the kept blocks and
 summing them as NumPy index arrays cost 0.25 s a call, a loop over the blocks does it in a tenth of
-that (benchmarks/RESULTS.md, relight).
+that. Why the arena and the tags: sorting the links' keys to find their blocks and copying every
+kept block into a fresh array each call cost more than the gather (benchmarks/RESULTS.md, relight).
 """
 
 from __future__ import annotations
@@ -29,45 +33,39 @@ from .links import Links
 __all__ = ["CornerGather"]
 
 
-def _link_keys(links: Links) -> np.ndarray:
+def _link_keys(receiver: np.ndarray, source: np.ndarray) -> np.ndarray:
     """One exact int64 key per link: receiver·2³² + source (element indices < 2³¹)."""
-    return (links.receiver.astype(np.int64) << 32) | links.source.astype(np.int64)
+    return (receiver.astype(np.int64) << 32) | source.astype(np.int64)
 
 
 @numba.njit(parallel=True, cache=True)
-def _assemble(start, reuse, old_block, old_start, old_leaf, old_ff, first_under, leaf_under, fresh_start, pair_leaf,
-              pair_ff, fresh_pair, fresh_link):
-    """Fill each link's block of pairs: a reused link's from its old block, the others' leaves from
-    the leaf table (their pairs listed from fresh_start[k] in fresh_pair / fresh_link, for the form
-    factors)."""
-    for k in numba.prange(len(start) - 1):
-        a, n = start[k], start[k + 1] - start[k]
-        if reuse[k]:
-            o = old_start[old_block[k]]
-            for q in range(n):
-                pair_leaf[a + q] = old_leaf[o + q]
-                for c in range(4):
-                    pair_ff[a + q, c] = old_ff[o + q, c]
-        else:
-            f = fresh_start[k]
-            for q in range(n):
-                pair_leaf[a + q] = leaf_under[first_under[k] + q]
-                fresh_pair[f + q] = a + q
-                fresh_link[f + q] = k
-
-
-@numba.njit(parallel=True, cache=True)
-def _corner_form_factors(corners, centre, normal, triangle, leaf, source, out):
-    """display.corner_form_factors for the pairs (leaf, source), read by index."""
-    for p in numba.prange(len(leaf)):
-        e, j = leaf[p], source[p]
+def _fresh_blocks(offset, count, first_under, leaf_under, source, corners, centre, normal, triangle,
+                  arena_leaf, arena_ff):
+    """Fill block q (its pairs from offset[q]): the leaves under its receiver, from the leaf table,
+    and the form factors from each of their corners to its source (display.corner_form_factors)."""
+    for q in numba.prange(len(offset)):
+        j = source[q]
         m = 3 if triangle[j] else 4
-        for c in range(4):
-            # 1 % of the way to the centre, as the reference takes it
-            x0 = corners[e, c, 0] + 0.01 * (centre[e, 0] - corners[e, c, 0])
-            x1 = corners[e, c, 1] + 0.01 * (centre[e, 1] - corners[e, c, 1])
-            x2 = corners[e, c, 2] + 0.01 * (centre[e, 2] - corners[e, c, 2])
-            out[p, c] = contour_integral(x0, x1, x2, normal[e, 0], normal[e, 1], normal[e, 2], corners[j], m)
+        for p in range(count[q]):
+            e = leaf_under[first_under[q] + p]
+            arena_leaf[offset[q] + p] = e
+            for c in range(4):
+                # 1 % of the way to the centre, as the reference takes it
+                x0 = corners[e, c, 0] + 0.01 * (centre[e, 0] - corners[e, c, 0])
+                x1 = corners[e, c, 1] + 0.01 * (centre[e, 1] - corners[e, c, 1])
+                x2 = corners[e, c, 2] + 0.01 * (centre[e, 2] - corners[e, c, 2])
+                arena_ff[offset[q] + p, c] = contour_integral(x0, x1, x2, normal[e, 0], normal[e, 1], normal[e, 2],
+                                                              corners[j], m)
+
+
+@numba.njit(parallel=True, cache=True)
+def _copy_blocks(offset, count, new_offset, leaf, ff, new_leaf, new_ff):
+    """Block q's pairs from offset[q] in (leaf, ff) to new_offset[q] in (new_leaf, new_ff)."""
+    for q in numba.prange(len(offset)):
+        for p in range(count[q]):
+            new_leaf[new_offset[q] + p] = leaf[offset[q] + p]
+            for c in range(4):
+                new_ff[new_offset[q] + p, c] = ff[offset[q] + p, c]
 
 
 #: the gather's partial sums: a fixed number of slices of the links, summed in order, so the result
@@ -76,9 +74,10 @@ SLICES = 8
 
 
 @numba.njit(parallel=True, cache=True)
-def _gather(start, pair_leaf, pair_ff, visibility, source, radiosity, row, out):
-    """out[slice, row of leaf, corner] += F·V·B_source over the pairs of each slice of the links."""
-    links = len(start) - 1
+def _gather(offset, count, arena_leaf, arena_ff, visibility, source, radiosity, row, out):
+    """out[slice, row of leaf, corner] += F·V·B_source over the pairs of each slice of the links
+    (link k's pairs: count[k] from offset[k] in the arena)."""
+    links = len(offset)
     for t in numba.prange(out.shape[0]):
         for k in range(links * t // out.shape[0], links * (t + 1) // out.shape[0]):
             v = visibility[k]
@@ -86,39 +85,32 @@ def _gather(start, pair_leaf, pair_ff, visibility, source, radiosity, row, out):
                 continue
             j = source[k]
             b0, b1, b2 = radiosity[j, 0], radiosity[j, 1], radiosity[j, 2]
-            for p in range(start[k], start[k + 1]):
-                r = row[pair_leaf[p]]
+            for p in range(offset[k], offset[k] + count[k]):
+                r = row[arena_leaf[p]]
                 for c in range(4):
-                    w = pair_ff[p, c] * v
+                    w = arena_ff[p, c] * v
                     out[t, r, c, 0] += w * b0
                     out[t, r, c, 1] += w * b1
                     out[t, r, c, 2] += w * b2
 
 
 class CornerGather:
-    """Call as ``corner_gather(h, links, leaves, exitance)``; keeps the last call's form factors."""
+    """Call as ``corner_gather(h, links, leaves, exitance)``; keeps its form factors in ``links``'
+    tags and its arena between calls. ``computed`` and ``reused``: pairs of the last call; ``pairs``:
+    the pairs it gathered."""
 
     def __init__(self):
-        self._keys = np.zeros(0, np.int64)      # sorted link keys of the last call
-        self._start = np.zeros(1, np.int64)     # block of each key in the pair arrays
-        self._pair_leaf = np.zeros(0, np.int64)
-        self._pair_ff = np.zeros((0, 4))
-        self._pair_leaf_buffer, self._pair_ff_buffer = self._pair_leaf, self._pair_ff
-        self._spare = (np.zeros(0, np.int64), np.zeros((0, 4)))
+        self._offset = np.zeros(0, np.int64)    # per block: its first pair in the arena, its pairs,
+        self._count = np.zeros(0, np.int64)     # and its link's key
+        self._key = np.zeros(0, np.int64)
+        self._live = np.zeros(0, bool)          # the blocks the last call's links used
+        self._leaf = np.zeros(0, np.int64)      # the arena: leaf and F at its 4 corners per pair
+        self._ff = np.zeros((0, 4))
+        self._used = 0
         self._child = np.zeros(0, np.int64)
         self._corners = np.zeros((0, 4, 3))
         self._asked = np.zeros(0, bool)         # the leaves of the last call, as a mask
-        self.reused = self.computed = 0         # pairs in the last call
-
-    def _buffers(self, total: int) -> tuple[np.ndarray, np.ndarray]:
-        """Pair arrays for this call: the spare pair of buffers (the last call's but one), grown when
-        short. Reusing them spares the page faults of 50 MB of fresh memory a call (10 ms at 1.6M
-        pairs); the last call's buffers are still being read from."""
-        leaf, ff = self._spare
-        if len(leaf) < total:
-            leaf, ff = np.empty(int(total * 1.25) + 16, np.int64), np.empty((int(total * 1.25) + 16, 4))
-        self._spare_in_use = (leaf, ff)
-        return leaf[:total], ff[:total]
+        self.reused = self.computed = self.pairs = 0
 
     def _changed(self, h: Hierarchy, asked: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(dirty (n,): some leaf under the element was split, merged, moved, asked for or no longer
@@ -139,48 +131,79 @@ class CornerGather:
             frontier = frontier[frontier >= 0]
         return dirty, moved
 
+    def _blocks(self, links: Links) -> np.ndarray:
+        """Each link's block from the last call (-1: none): its tag, or for a link made since, the
+        block of the same pair that lost its link."""
+        if links.tag_owner is not self or len(links.tag) != len(links):
+            return np.full(len(links), -1, np.int64)
+        block = links.tag.copy()
+        new = np.flatnonzero(block < 0)
+        if len(new):
+            orphan = self._live.copy()
+            orphan[block[block >= 0]] = False
+            orphan = np.flatnonzero(orphan)
+            if len(orphan):
+                order = np.argsort(self._key[orphan])
+                keys = self._key[orphan][order]
+                wanted = _link_keys(links.receiver[new], links.source[new])
+                at = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
+                hit = keys[at] == wanted
+                block[new[hit]] = orphan[order[at[hit]]]
+        return block
+
+    def _grow(self, size: int) -> None:
+        if size > len(self._leaf):
+            capacity = int(size * 1.25) + 16
+            leaf, ff = np.empty(capacity, np.int64), np.empty((capacity, 4))
+            leaf[:self._used], ff[:self._used] = self._leaf[:self._used], self._ff[:self._used]
+            self._leaf, self._ff = leaf, ff
+
+    def _compact(self, block: np.ndarray) -> np.ndarray:
+        """Copy the blocks in use together, number them 0…; returns ``block`` renumbered."""
+        used, block = np.unique(block, return_inverse=True)
+        count = self._count[used]
+        offset = (np.cumsum(count) - count).astype(np.int64)
+        leaf, ff = np.empty(int(count.sum() * 1.25) + 16, np.int64), np.empty((int(count.sum() * 1.25) + 16, 4))
+        _copy_blocks(self._offset[used], count, offset, self._leaf, self._ff, leaf, ff)
+        self._leaf, self._ff, self._used = leaf, ff, int(count.sum())
+        self._offset, self._count, self._key = offset, count, self._key[used]
+        return block.astype(np.int64)
+
     def __call__(self, h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
         asked = np.zeros(len(h), bool)
         asked[leaves] = True
         dirty, moved = self._changed(h, asked)
-        keys = _link_keys(links)
-        order = np.argsort(keys, kind="stable")     # links keep their order between edits: nearly sorted runs
-        keys = keys[order]
-        r, s = links.receiver[order], links.source[order]
-        block = np.minimum(np.searchsorted(self._keys, keys), max(len(self._keys) - 1, 0))
-        found = (self._keys[block] == keys) if len(self._keys) else np.zeros(len(keys), bool)
-        reuse = found & ~dirty[r] & ~moved[s]
-        count = np.zeros(len(keys), np.int64)
-        count[reuse] = self._start[block[reuse] + 1] - self._start[block[reuse]]
+        r, s = links.receiver, links.source
+        block = self._blocks(links)
+        fresh = np.flatnonzero((block < 0) | dirty[r] | moved[s])
         element, leaf_under = leaves_under(h, leaves)
-        first_under = np.zeros(len(keys), np.int64)
-        first_under[~reuse] = np.searchsorted(element, r[~reuse])
-        count[~reuse] = np.searchsorted(element, r[~reuse], side="right") - first_under[~reuse]
-        start = np.r_[0, np.cumsum(count)]
-        total = int(start[-1])
-        fresh_start = np.r_[0, np.cumsum(np.where(reuse, 0, count))]
-        pair_leaf, pair_ff = self._buffers(total)
-        fresh_pair = np.empty(int(fresh_start[-1]), np.int64)
-        fresh_link = np.empty_like(fresh_pair)
-        _assemble(start, reuse, block, self._start, self._pair_leaf, self._pair_ff, first_under, leaf_under,
-                  fresh_start, pair_leaf, pair_ff, fresh_pair, fresh_link)
-        if len(fresh_pair):
-            ff = np.empty((len(fresh_pair), 4))
-            _corner_form_factors(np.ascontiguousarray(h.corners, np.float64), np.ascontiguousarray(h.centre, np.float64),
-                                 np.ascontiguousarray(h.normal, np.float64), np.ascontiguousarray(h.triangle, np.bool_),
-                                 pair_leaf[fresh_pair], s[fresh_link], ff)
-            pair_ff[fresh_pair] = ff
-        self.computed = len(fresh_pair)
-        self.reused = total - self.computed
-        self._spare = (self._pair_leaf_buffer, self._pair_ff_buffer)
-        self._pair_leaf_buffer, self._pair_ff_buffer = self._spare_in_use
-        self._keys, self._start, self._pair_leaf, self._pair_ff = keys, start, pair_leaf, pair_ff
+        first_under = np.searchsorted(element, r[fresh])
+        count = np.searchsorted(element, r[fresh], side="right") - first_under
+        offset = (self._used + np.cumsum(count) - count).astype(np.int64)
+        self._grow(self._used + int(count.sum()))
+        _fresh_blocks(offset, count, first_under, leaf_under, s[fresh], np.ascontiguousarray(h.corners, np.float64),
+                      np.ascontiguousarray(h.centre, np.float64), np.ascontiguousarray(h.normal, np.float64),
+                      np.ascontiguousarray(h.triangle, np.bool_), self._leaf, self._ff)
+        self._used += int(count.sum())
+        block[fresh] = len(self._offset) + np.arange(len(fresh))
+        self._offset = np.r_[self._offset, offset]
+        self._count = np.r_[self._count, count]
+        self._key = np.r_[self._key, _link_keys(r[fresh], s[fresh])]
+        self.pairs = int(self._count[block].sum())
+        self.computed = int(count.sum())
+        self.reused = self.pairs - self.computed
+        if self._used > 2 * self.pairs + 1024:
+            block = self._compact(block)
+        self._live = np.zeros(len(self._offset), bool)
+        self._live[block] = True
+        links.tag, links.tag_owner = block, self
         self._child, self._corners, self._asked = h.child.copy(), h.corners.copy(), asked
         # the gather itself, with this call's V and B
         row = np.full(len(h), -1, np.int64)
         row[leaves] = np.arange(len(leaves))
         parts = np.zeros((SLICES, len(leaves), 4, 3))
-        _gather(start, pair_leaf, pair_ff, np.ascontiguousarray(links.visibility[order], np.float64), s,
-                np.ascontiguousarray(h.radiosity, np.float64), row, parts)
+        _gather(self._offset[block], self._count[block], self._leaf, self._ff,
+                np.ascontiguousarray(links.visibility, np.float64), s, np.ascontiguousarray(h.radiosity, np.float64),
+                row, parts)
         irradiance = parts.sum(axis=0)
         return exitance[leaves][:, None] + h.reflectance[leaves][:, None] * irradiance

@@ -16,10 +16,20 @@ __all__ = ["Links"]
 
 @dataclass(eq=False)
 class Links:
+    """``tag``: an int64 per link that a cache keyed on links may set (corner_cache.CornerGather: the
+    link's block of form factors), carried through :meth:`remove` and :meth:`take`, -1 for links
+    added since; ``tag_owner`` says which cache set the tags (another reads them as -1)."""
+
     receiver: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     source: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
     form_factor: np.ndarray = field(default_factory=lambda: np.zeros(0))
     visibility: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    tag: np.ndarray | None = None
+    tag_owner: object = None
+
+    def __post_init__(self) -> None:
+        if self.tag is None or len(self.tag) != len(self.receiver):
+            self.tag = np.full(len(self.receiver), -1, np.int64)
 
     def __len__(self) -> int:
         return len(self.receiver)
@@ -33,10 +43,12 @@ class Links:
         self.source = np.r_[self.source, np.asarray(source, np.int64)]
         self.form_factor = np.r_[self.form_factor, form_factor]
         self.visibility = np.r_[self.visibility, visibility]
+        self.tag = np.r_[self.tag, np.full(len(self.receiver) - len(self.tag), -1, np.int64)]
 
     def take(self, keep: np.ndarray) -> "Links":
         """The links where ``keep`` (a mask or indices)."""
-        return Links(self.receiver[keep], self.source[keep], self.form_factor[keep], self.visibility[keep])
+        return Links(self.receiver[keep], self.source[keep], self.form_factor[keep], self.visibility[keep],
+                     self.tag[keep], self.tag_owner)
 
     def remove(self, drop: np.ndarray) -> "Links":
         """Remove the links where ``drop`` (a mask) and return them."""
@@ -44,6 +56,7 @@ class Links:
         keep = ~drop
         self.receiver, self.source = self.receiver[keep], self.source[keep]
         self.form_factor, self.visibility = self.form_factor[keep], self.visibility[keep]
+        self.tag = self.tag[keep]
         return gone
 
     def matrix(self, n: int) -> sp.csr_matrix:
