@@ -135,10 +135,9 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
         b[needed] = gather(h, links, leaves[needed], exitance)
     b = b.reshape(-1, 3)
     w = np.repeat(exposure_weights(h, links, leaves) if links is not None else np.ones(len(leaves)), 4)
-    total = np.zeros((vertex.max() + 1, 3))
-    count = np.zeros(vertex.max() + 1)
-    np.add.at(total, vertex[corner_of_tri], (w[:, None] * b)[corner_of_tri])
-    np.add.at(count, vertex[corner_of_tri], w[corner_of_tri])
+    at, weight, size = vertex[corner_of_tri], w[corner_of_tri], int(vertex.max()) + 1
+    total = np.stack([np.bincount(at, weight * b[corner_of_tri, c], size) for c in range(3)], axis=1)
+    count = np.bincount(at, weight, size)
     return (total / np.maximum(count, 1e-300)[:, None])[vertex].reshape(-1, 4, 3)
 
 

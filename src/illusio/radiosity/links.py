@@ -6,12 +6,29 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
 import scipy.sparse as sp
 
 from .visibility import link_type
 
 __all__ = ["Links"]
+
+
+@numba.njit(cache=True)
+def _rows(receiver, n):
+    """(indptr (n + 1,), order): the links sorted by receiver, stably, by counting."""
+    indptr = np.zeros(n + 1, np.int64)
+    for r in receiver:
+        indptr[r + 1] += 1
+    for i in range(n):
+        indptr[i + 1] += indptr[i]
+    fill = indptr[:-1].copy()
+    order = np.empty(len(receiver), np.int64)
+    for k in range(len(receiver)):
+        order[fill[receiver[k]]] = k
+        fill[receiver[k]] += 1
+    return indptr, order
 
 
 @dataclass(eq=False)
@@ -60,8 +77,12 @@ class Links:
         return gone
 
     def matrix(self, n: int) -> sp.csr_matrix:
-        """K with K[i, j] = Σ F_ij·V_ij over the links from j to i: the gather is H = K·B."""
-        return sp.csr_matrix((self.form_factor * self.visibility, (self.receiver, self.source)), shape=(n, n))
+        """K with K[i, j] = Σ F_ij·V_ij over the links from j to i: the gather is H = K·B. Built by a
+        counting sort on the receivers (the links of a row in link order, a pair's duplicates left as
+        entries the product sums): scipy's COO conversion sorted and summed them, 3× the time."""
+        indptr, order = _rows(self.receiver, n)
+        data = (self.form_factor * self.visibility)[order]
+        return sp.csr_matrix((data, self.source[order], indptr), shape=(n, n))
 
     def received_by(self, element: int) -> "Links":
         return self.take(self.receiver == element)

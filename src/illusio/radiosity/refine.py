@@ -49,25 +49,28 @@ def needs_refinement(transfer, visibility, threshold: float, criterion: str) -> 
 
 
 def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: float, min_area: float,
-           criterion: str = "bfv", radiosity=None, links: Links | None = None) -> Links:
+           criterion: str = "bfv", radiosity=None, links: Links | None = None,
+           form_factor: np.ndarray | None = None) -> Links:
     """Refine the candidate pairs into links (appended to ``links``, which is returned). ``radiosity``:
-    the B estimate of the criterion (default: the hierarchy's). Elements are created as needed."""
+    the B estimate of the criterion (default: the hierarchy's). ``form_factor``: the candidates' F
+    where already known (links taken out to be tested again, their ends unmoved): only V is cast for
+    them. Elements are created as needed."""
     links = Links() if links is None else links
     accepted = []
-    queue = [(np.asarray(receivers, np.int64), np.asarray(sources, np.int64))]
+    queue = [(np.asarray(receivers, np.int64), np.asarray(sources, np.int64), form_factor)]
     while queue:
-        recv, src = queue.pop()
+        recv, src, known = queue.pop()
         if len(recv) > CHUNK:       # bounded memory: a round holds k samples × 3 coordinates per pair
-            queue.append((recv[CHUNK:], src[CHUNK:]))
-            recv, src = recv[:CHUNK], src[:CHUNK]
+            queue.append((recv[CHUNK:], src[CHUNK:], None if known is None else known[CHUNK:]))
+            recv, src, known = recv[:CHUNK], src[:CHUNK], None if known is None else known[:CHUNK]
         useful = (h.polygon[recv] != h.polygon[src]) & (channel_max(h.reflectance)[recv] > 0)
-        recv, src = recv[useful], src[useful]
-        some, every = facing(h.corners[recv], h.normal[recv], h.centre[recv],
-                             h.corners[src], h.normal[src], h.centre[src])
-        recv, src, every = recv[some], src[some], every[some]
+        some, every = facing(h.corners[recv[useful]], h.normal[recv[useful]], h.centre[recv[useful]],
+                             h.corners[src[useful]], h.normal[src[useful]], h.centre[src[useful]])
+        kept = np.flatnonzero(useful)[some]
+        recv, src, every = recv[kept], src[kept], every[some]
         if not len(recv):
             continue
-        ff, vis = visibility(recv, src)
+        ff, vis = visibility(recv, src, None if known is None else known[kept])
         transfer = transfer_estimate(h, recv, src, ff, radiosity)
         split = needs_refinement(transfer, vis, threshold, criterion)
         straddle = ~every & (vis > 0)
@@ -89,7 +92,7 @@ def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: 
         new_recv = np.r_[np.repeat(recv[split_src], 4), (first_r[:, None] + quad).reshape(-1)]
         new_src = np.r_[(first_s[:, None] + quad).reshape(-1), np.repeat(src[split_recv], 4)]
         if len(new_recv):
-            queue.append((new_recv, new_src))
+            queue.append((new_recv, new_src, None))
     if accepted:
         links.extend(*(np.concatenate(part) for part in zip(*accepted)))
     return links

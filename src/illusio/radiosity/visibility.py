@@ -141,8 +141,10 @@ class Visibility:
             TriangleMesh(self.scene, tris.astype(np.float32))
         self.empty = len(tris) == 0
 
-    def __call__(self, receivers: np.ndarray, sources: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(F_ij, V_ij) for each (receiver, source) pair, (n,) float64 each."""
+    def __call__(self, receivers: np.ndarray, sources: np.ndarray,
+                 form_factor: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(F_ij, V_ij) for each (receiver, source) pair, (n,) float64 each; ``form_factor`` given (a
+        pair already estimated, whose ends have not moved): only V is computed (the same draws)."""
         n = len(receivers)
         if n == 0:
             return np.zeros(0), np.zeros(0)
@@ -152,7 +154,8 @@ class Visibility:
         b = h.sample_points(sources, jittered_grid(n, k, self.rng))
         q = min(k, self.form_factor_points)
         receiver_normal = h.normal[receivers]
-        form_factor = point_polygon(a[:, :q], receiver_normal, h.corners[sources], h.triangle[sources])
+        if form_factor is None:
+            form_factor = point_polygon(a[:, :q], receiver_normal, h.corners[sources], h.triangle[sources])
         if self.empty:
             return form_factor, np.ones(n)
         origins, directions, dists, up = _segments(a, b, receiver_normal, h.normal[sources], self.offset)
