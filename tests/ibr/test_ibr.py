@@ -100,6 +100,16 @@ def test_references_reproduce_their_own_views_and_views_between_them(ctx, room):
     assert psnr(image, truth.render(Frame(between, SIZE), settings)) > 27
     source = np.rint(ctx.readback(renderer.maps()["source"])[..., 0]).astype(int)
     assert (source == 0).mean() < 0.03 and len(np.unique(source[source > 0])) >= 2  # several views used
+    # the G-buffer of the same frame: the same choice, the truth's geometry where a view was chosen
+    g = renderer.gbuffer(Frame(between, SIZE))
+    np.testing.assert_array_equal(np.rint(ctx.readback(g["object_id"])[..., 0]).astype(int), source)
+    depth = ctx.readback(g["depth"])[..., 0]
+    g.release()
+    true_g = truth.gbuffer(Frame(between, SIZE))
+    true_depth = ctx.readback(true_g["depth"])[..., 0]
+    true_g.release()
+    both = (source > 0) & (true_depth > 0)
+    assert np.median(np.abs(depth[both] - true_depth[both]) / true_depth[both]) < 0.01
     debug = renderer.render(Frame(between, SIZE), IbrParams(show_sources=True))
     colours = {tuple(c) for c in np.unique((debug.reshape(-1, 3) * 100).round().astype(int), axis=0).tolist()}
     assert {(90, 15, 10), (15, 75, 20)} <= colours  # the first two references' colours (Figure 4.5)

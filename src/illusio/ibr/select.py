@@ -159,9 +159,9 @@ class SelectPass:
         out = self.ctx.framebuffer(targets)
         out.use()
         out.viewport = (0, 0, *hits.size)
-        hits.use(MAX_REFERENCES)  # units 0.. belong to the emitters' shadow atlas and the references
-        set_uniform(prog, "hits", MAX_REFERENCES)
-        references.bind(prog, photographic=photographic)
+        hits.use(0)                      # (no shadow atlas: the emitters take no unit)
+        set_uniform(prog, "hits", 0)
+        references.bind(prog, first_unit=1, photographic=photographic)
         set_uniform(prog, "new_view", view.view_matrix())  # (the G-buffer's depth)
         set_uniform(prog, "photographic", bool(photographic))
         self.ctx.fullscreen.draw(prog)
