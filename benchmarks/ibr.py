@@ -10,8 +10,6 @@ every frame) and still (only the selection and the lighting)."""
 
 from __future__ import annotations
 
-import statistics
-import time
 from dataclasses import replace
 
 import numpy as np
@@ -27,7 +25,7 @@ from illusio.passes.scene_renderer import RenderSettings, SceneRenderer
 from illusio.scene.builtin import builtin_scene, shapes, turntable
 from illusio.scene.camera import Pose, View
 
-from .runner import Timing, time_case
+from .runner import Timing, time_case, time_interleaved
 
 QUALITY_SIZE = (640, 480)
 SPEED_SIZE = (1024, 768)
@@ -144,18 +142,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
              "ibr/camera moving, references at twice the size": (
                  lambda: ibr_moving(twice, 2), note + " at twice the output's size, reconstruction each frame"),
              "ibr/camera still": (ibr_still, note + ", selection and lighting only")}
-    # the goal, measured interleaved (the machine's speed drifts between cases)
-    samples = {name: [] for name in cases}
-    for _ in range(2):
-        for fn, _ in cases.values():
-            fn()
-    for _ in range(repeat):
-        for name, (fn, _) in cases.items():
-            start = time.perf_counter()
-            fn()
-            samples[name].append((time.perf_counter() - start) * 1000)
-    timings += [Timing(name, repeat, statistics.median(samples[name]), min(samples[name]), max(samples[name]), notes)
-                for name, (_, notes) in cases.items()]
+    timings += time_interleaved(cases, repeat)          # the goal: the machine's speed drifts between cases
     single = time_case("ibr/camera still, single pass", ibr_still, repeat, notes=note + ", apart from the others")
     multi = time_case("ibr/camera still, multi-pass", lambda: ibr_still("multi-pass"), repeat,
                       notes=note + ", the text's draw per reference, apart from the others")

@@ -10,7 +10,6 @@ the hybrid pipeline ≥ 10 fps for the 100k-vertex dragon on a 2-core CPU machin
 from __future__ import annotations
 
 import os
-import time
 import warnings
 from pathlib import Path
 
@@ -24,7 +23,7 @@ from illusio.lines.drawing import LineRenderer, framing_view
 from illusio.lines.params import LineParams
 from illusio.scene.mesh import load_mesh
 
-from .runner import Timing, time_case
+from .runner import Timing, time_case, time_interleaved
 
 MODELS = Path(os.environ.get("ILLUSIO_MODELS", Path(__file__).resolve().parents[1].parent / "shared" / "data" / "models"))
 MESHES = {"bunny": "stanford-bunny.obj", "dragon": "dragon_vrip_res2.ply", "igea": "igea.ply"}
@@ -131,13 +130,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
                       notes=f"{n}, default drawing on the GPU, not read back (like the hybrid passes)")
         timings.append(d)
         # the goal, measured interleaved (the machine's speed drifts between cases)
-        paired = {"hybrid": [], "texture": []}
-        for _ in range(max(3, repeat)):
-            for key, run_once in (("hybrid", hybrid), ("texture", texture)):
-                start = time.perf_counter()
-                run_once()
-                paired[key].append(time.perf_counter() - start)
-        ratios[f"whole drawing / hybrid passes frame rate {name} (goal >= 0.8)"] = (
-            float(np.median(paired["hybrid"])) / float(np.median(paired["texture"])))
+        paired = time_interleaved({"hybrid": (hybrid, ""), "texture": (texture, "")}, max(3, repeat), warmup=0)
+        ratios[f"whole drawing / hybrid passes frame rate {name} (goal >= 0.8)"] = paired[0].median_ms / paired[1].median_ms
     renderer.release()
     return timings, ratios

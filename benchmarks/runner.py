@@ -37,6 +37,23 @@ def time_case(name: str, fn: Callable[[], object], repeat: int = 10, warmup: int
     return Timing(name, repeat, statistics.median(samples), min(samples), max(samples), notes)
 
 
+def time_interleaved(cases: dict[str, tuple[Callable[[], object], str]], repeat: int = 10,
+                     warmup: int = 2) -> list[Timing]:
+    """Time ``cases`` ({name: (fn, notes)}) one run of each in turn, ``repeat`` rounds: cases whose
+    ratio is a goal, on a machine whose speed drifts between cases run one after another."""
+    for _ in range(warmup):
+        for fn, _ in cases.values():
+            fn()
+    samples: dict[str, list[float]] = {name: [] for name in cases}
+    for _ in range(repeat):
+        for name, (fn, _) in cases.items():
+            t0 = time.perf_counter()
+            fn()
+            samples[name].append((time.perf_counter() - t0) * 1000)
+    return [Timing(name, repeat, statistics.median(samples[name]), min(samples[name]), max(samples[name]), notes)
+            for name, (_, notes) in cases.items()]
+
+
 def machine(ctx) -> dict:
     import os
 
