@@ -30,3 +30,46 @@ def test_in_place_edits_equal_masks_and_concatenation(rng):
     want = np.zeros((900, 3))
     np.add.at(want, plain[0], (plain[2] * plain[3])[:, None] * x[plain[1]])
     np.testing.assert_allclose(links.matrix(900) @ x, want, rtol=1e-12, atol=1e-12)
+    # the solver's operator: the same sums in the same order as the CSR product, so the same bits
+    np.testing.assert_array_equal(links.gather_operator(900) @ x, links.matrix(900) @ x)
+    np.testing.assert_array_equal(links.gather_operator(900) @ x[:, 0], links.matrix(900) @ x[:, 0])
+
+
+def test_pairs_with_a_new_object_equal_the_unique_pairs(rng):
+    """dynamic._pairs_with (built sorted) equals np.unique over both directions' pairs."""
+    from illusio.radiosity.dynamic import _pairs_with
+
+    for _ in range(50):
+        others = np.unique(rng.integers(0, 400, int(rng.integers(1, 60))))
+        roots = np.sort(rng.choice(others, int(rng.integers(1, len(others) + 1)), replace=False))
+        recv = np.r_[np.repeat(roots, len(others)), np.repeat(others, len(roots))]
+        src = np.r_[np.tile(others, len(roots)), np.tile(roots, len(others))]
+        want = np.unique(np.c_[recv, src], axis=0)
+        got = np.c_[_pairs_with(others, roots)]
+        np.testing.assert_array_equal(got, want)
+
+
+def test_facing_pairs_equal_the_numpy_facing_test(rng):
+    """formfactor.facing_pairs (numba, by index) equals formfactor.facing on gathered corners, on random
+    quads some of which share a plane or straddle one."""
+    from illusio.radiosity.formfactor import facing, facing_pairs
+
+    n = 300
+    centre = rng.uniform(-1, 1, (n, 3))
+    centre[: n // 3, 1] = 0.0                                    # a third on one plane (the floor)
+    normal = rng.normal(size=(n, 3))
+    normal[: n // 3] = (0, 1, 0)
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    u = np.cross(normal, rng.normal(size=(n, 3)))
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(normal, u)
+    size = rng.uniform(0.05, 0.8, (n, 1))
+    corners = centre[:, None] + size[:, None] * (np.array([-1, 1, 1, -1])[None, :, None] * u[:, None]
+                                                 + np.array([-1, -1, 1, 1])[None, :, None] * v[:, None])
+    recv, src = rng.integers(0, n, 4000), rng.integers(0, n, 4000)
+    want = facing(corners[recv], normal[recv], centre[recv], corners[src], normal[src], centre[src])
+    got = facing_pairs(corners, normal, centre, recv, src)
+    some, every = want
+    assert 0 < some.sum() < len(recv) and (some & ~every).any() and (some & every).any()
+    np.testing.assert_array_equal(got[0], want[0])
+    np.testing.assert_array_equal(got[1], want[1])

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .formfactor import facing
+from .formfactor import facing_pairs
 from .hierarchy import Hierarchy
 from .links import Links
 from .visibility import Visibility
@@ -64,8 +64,7 @@ def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: 
             queue.append((recv[CHUNK:], src[CHUNK:], None if known is None else known[CHUNK:]))
             recv, src, known = recv[:CHUNK], src[:CHUNK], None if known is None else known[:CHUNK]
         useful = (h.polygon[recv] != h.polygon[src]) & (channel_max(h.reflectance)[recv] > 0)
-        some, every = facing(h.corners[recv[useful]], h.normal[recv[useful]], h.centre[recv[useful]],
-                             h.corners[src[useful]], h.normal[src[useful]], h.centre[src[useful]])
+        some, every = facing_pairs(h.corners, h.normal, h.centre, recv[useful], src[useful])
         kept = np.flatnonzero(useful)[some]
         recv, src, every = recv[kept], src[kept], every[some]
         if not len(recv):

@@ -165,12 +165,14 @@ class Radiosity:
         the current B; refine those that fail. Returns how many were refined."""
         t = time.perf_counter()
         h, L = self.hierarchy, self.links
-        transfer = transfer_estimate(h, L.receiver, L.source, L.form_factor)
-        fail = needs_refinement(transfer, L.visibility, self.threshold, self.params.criterion)
-        fail &= (h.area[L.receiver] / 4 >= self.min_area) | (h.area[L.source] / 4 >= self.min_area)
-        if links is not None:
-            fail &= links
-        gone = L.remove(fail)
+        tested = np.arange(len(L)) if links is None else np.flatnonzero(links)   # (a drag tests a few)
+        r, s = L.receiver[tested], L.source[tested]
+        transfer = transfer_estimate(h, r, s, L.form_factor[tested])
+        fail = needs_refinement(transfer, L.visibility[tested], self.threshold, self.params.criterion)
+        fail &= (h.area[r] / 4 >= self.min_area) | (h.area[s] / 4 >= self.min_area)
+        mask = np.zeros(len(L), bool)
+        mask[tested[fail]] = True
+        gone = L.remove(mask)
         if len(gone):
             # the pairs re-enter refinement one level down, so an accepted pair is not re-accepted as is
             self._split_and_refine(gone.receiver, gone.source)
@@ -213,8 +215,9 @@ class Radiosity:
 
     # --- solving
     def matrix(self):
+        """The gather operator K (``K @ B``: :meth:`Links.gather_operator`), kept until the links change."""
         if self._matrix is None:
-            self._matrix = self.links.matrix(len(self.hierarchy))
+            self._matrix = self.links.gather_operator(len(self.hierarchy))
         return self._matrix
 
     def solve(self, tolerance: float = 1e-4, max_iterations: int = 200) -> SolveResult:

@@ -15,7 +15,6 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
-import scipy.sparse as sp
 
 from .hierarchy import Hierarchy
 
@@ -59,11 +58,11 @@ def _push_pull(order, parent, child, area, reflectance, irradiance, exitance):
     return b
 
 
-def solve(h: Hierarchy, matrix: sp.csr_matrix, exitance: np.ndarray, tolerance: float = 1e-4,
+def solve(h: Hierarchy, matrix, exitance: np.ndarray, tolerance: float = 1e-4,
           max_iterations: int = 200, start: np.ndarray | None = None) -> SolveResult:
     """Iterate gather + push-pull from ``start`` (default: the hierarchy's B) until the largest change
     of B is below ``tolerance`` × the largest reflected radiosity max(B − E); leaves B and H in the
-    hierarchy."""
+    hierarchy. ``matrix``: K with H = K @ B (a scipy matrix or :class:`links.LinkGather`)."""
     levels = h.by_level()
     b = (h.radiosity if start is None else start).copy()
     change, k = np.inf, 0
