@@ -115,9 +115,10 @@ def _relink_shafts(sol, boxes) -> int:
     _links_in_shafts(lo, hi, L.receiver, L.source, np.array([b[0] for b in boxes], np.float64),
                      np.array([b[1] for b in boxes], np.float64), hit)
     gone = L.remove(hit)
-    # their ends did not move: F stands, only V is cast again (and the pair split if it must be)
+    # their ends did not move: F stands, only V is cast again — the rays through the boxes (and the
+    # pair split if it must be)
     refine(h, sol.visibility, gone.receiver, gone.source, sol.threshold, sol.min_area,
-           sol.params.criterion, links=L, form_factor=gone.form_factor)
+           sol.params.criterion, links=L, form_factor=gone.form_factor, rays=gone.rays, boxes=boxes)
     return len(gone)
 
 

@@ -14,24 +14,26 @@ __all__ = ["Links", "LinkGather"]
 
 
 @numba.njit(cache=True)
-def _compact(drop, receiver, source, tag, form_factor, visibility):
-    """Move the entries where not ``drop`` to the front of the five arrays, in order, in place; return
+def _compact(drop, receiver, source, tag, rays, form_factor, visibility):
+    """Move the entries where not ``drop`` to the front of the six arrays, in order, in place; return
     the entries where ``drop`` (fresh arrays, in order). One pass and no fresh memory for the kept
     links: ten masked copies of 217k links, and the page faults of their new arrays, cost 5× as much."""
     gone = 0
     for d in drop:
         gone += d
     gone_r, gone_s, gone_t = np.empty(gone, np.int64), np.empty(gone, np.int64), np.empty(gone, np.int64)
-    gone_f, gone_v = np.empty(gone), np.empty(gone)
+    gone_x, gone_f, gone_v = np.empty(gone, np.int64), np.empty(gone), np.empty(gone)
     a = b = 0
     for k in range(len(drop)):
         if drop[k]:
-            gone_r[b], gone_s[b], gone_t[b], gone_f[b], gone_v[b] = receiver[k], source[k], tag[k], form_factor[k], visibility[k]
+            gone_r[b], gone_s[b], gone_t[b], gone_x[b] = receiver[k], source[k], tag[k], rays[k]
+            gone_f[b], gone_v[b] = form_factor[k], visibility[k]
             b += 1
         else:
-            receiver[a], source[a], tag[a], form_factor[a], visibility[a] = receiver[k], source[k], tag[k], form_factor[k], visibility[k]
+            receiver[a], source[a], tag[a], rays[a] = receiver[k], source[k], tag[k], rays[k]
+            form_factor[a], visibility[a] = form_factor[k], visibility[k]
             a += 1
-    return gone_r, gone_s, gone_t, gone_f, gone_v
+    return gone_r, gone_s, gone_t, gone_x, gone_f, gone_v
 
 
 @numba.njit(cache=True)
@@ -80,14 +82,15 @@ class LinkGather:
 
 
 class Links:
-    """The links as five arrays of one length, read as ``receiver``, ``source``, ``form_factor``,
-    ``visibility`` and ``tag`` (views of buffers with room to grow: an edit appends and removes in
+    """The links as six arrays of one length, read as ``receiver``, ``source``, ``form_factor``,
+    ``visibility``, ``tag`` and ``rays`` (views of buffers with room to grow: an edit appends and removes in
     place, without the fresh memory a copy per edit would fault in; read them again after an edit).
     ``tag``: an int64 per link that a cache keyed on links may set (corner_cache.CornerGather: the
     link's block of form factors), carried through :meth:`remove` and :meth:`take`, -1 for links
-    added since; ``tag_owner`` says which cache set the tags (another reads them as -1)."""
+    added since; ``tag_owner`` says which cache set the tags (another reads them as -1). ``rays``: what
+    the link's rays gave when it was last recast (:meth:`Visibility.recast`), NO_RAYS (-1) for none."""
 
-    def __init__(self, receiver=(), source=(), form_factor=(), visibility=(), tag=None, tag_owner=None):
+    def __init__(self, receiver=(), source=(), form_factor=(), visibility=(), tag=None, tag_owner=None, rays=None):
         self._n = len(receiver)
         self._receiver = np.array(receiver, np.int64).reshape(-1)
         self._source = np.array(source, np.int64).reshape(-1)
@@ -95,11 +98,13 @@ class Links:
         self._visibility = np.array(visibility, np.float64).reshape(-1)
         self._tag = np.full(self._n, -1, np.int64) if tag is None or len(tag) != self._n else np.array(tag, np.int64)
         self.tag_owner = tag_owner
+        self._rays = np.full(self._n, -1, np.int64) if rays is None or len(rays) != self._n else np.array(rays, np.int64)
 
     receiver = property(lambda self: self._receiver[:self._n])
     source = property(lambda self: self._source[:self._n])
     form_factor = property(lambda self: self._form_factor[:self._n])
     visibility = property(lambda self: self._visibility[:self._n])
+    rays = property(lambda self: self._rays[:self._n])
 
     @property
     def tag(self) -> np.ndarray:
@@ -116,11 +121,11 @@ class Links:
     def type(self) -> np.ndarray:
         return link_type(self.visibility)
 
-    def extend(self, receiver, source, form_factor, visibility) -> None:
+    def extend(self, receiver, source, form_factor, visibility, rays=None) -> None:
         k = len(receiver)
         if self._n + k > len(self._receiver):
             capacity = max(self._n + k, int(len(self._receiver) * 1.5) + 16)
-            for name in ("_receiver", "_source", "_form_factor", "_visibility", "_tag"):
+            for name in ("_receiver", "_source", "_form_factor", "_visibility", "_tag", "_rays"):
                 old = getattr(self, name)
                 grown = np.empty(capacity, old.dtype)
                 grown[:self._n] = old[:self._n]
@@ -129,19 +134,20 @@ class Links:
         self._receiver[self._n:end], self._source[self._n:end] = receiver, source
         self._form_factor[self._n:end], self._visibility[self._n:end] = form_factor, visibility
         self._tag[self._n:end] = -1
+        self._rays[self._n:end] = -1 if rays is None else rays
         self._n = end
 
     def take(self, keep: np.ndarray) -> "Links":
         """The links where ``keep`` (a mask or indices)."""
         return Links(self.receiver[keep], self.source[keep], self.form_factor[keep], self.visibility[keep],
-                     self.tag[keep], self.tag_owner)
+                     self.tag[keep], self.tag_owner, self.rays[keep])
 
     def remove(self, drop: np.ndarray) -> "Links":
         """Remove the links where ``drop`` (a mask) and return them (both in link order)."""
-        r, s, t, f, v = _compact(np.asarray(drop, np.bool_), self.receiver, self.source, self.tag, self.form_factor,
-                                 self.visibility)
+        r, s, t, x, f, v = _compact(np.asarray(drop, np.bool_), self.receiver, self.source, self.tag, self.rays,
+                                    self.form_factor, self.visibility)
         self._n -= len(r)
-        return Links(r, s, f, v, t, self.tag_owner)
+        return Links(r, s, f, v, t, self.tag_owner, x)
 
     def matrix(self, n: int) -> sp.csr_matrix:
         """K with K[i, j] = Σ F_ij·V_ij over the links from j to i: the gather is H = K·B. Built by a

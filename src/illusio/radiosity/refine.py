@@ -21,7 +21,7 @@ import numpy as np
 from .formfactor import facing_pairs
 from .hierarchy import Hierarchy
 from .links import Links
-from .visibility import Visibility
+from .visibility import NO_RAYS, Visibility
 
 __all__ = ["refine", "transfer_estimate", "needs_refinement", "CHUNK"]
 
@@ -50,26 +50,37 @@ def needs_refinement(transfer, visibility, threshold: float, criterion: str) -> 
 
 def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: float, min_area: float,
            criterion: str = "bfv", radiosity=None, links: Links | None = None,
-           form_factor: np.ndarray | None = None) -> Links:
+           form_factor: np.ndarray | None = None, rays: np.ndarray | None = None, boxes=()) -> Links:
     """Refine the candidate pairs into links (appended to ``links``, which is returned). ``radiosity``:
     the B estimate of the criterion (default: the hierarchy's). ``form_factor``: the candidates' F
-    where already known (links taken out to be tested again, their ends unmoved): only V is cast for
-    them. Elements are created as needed."""
+    where already known (links taken out to be tested again after something moved inside ``boxes``,
+    their ends unmoved): only V is cast for them, by :meth:`Visibility.recast` from what each kept
+    (``rays``, default none). Elements are created as needed."""
     links = Links() if links is None else links
     accepted = []
-    queue = [(np.asarray(receivers, np.int64), np.asarray(sources, np.int64), form_factor)]
+    receivers = np.asarray(receivers, np.int64)
+    if form_factor is not None and rays is None:
+        rays = np.full(len(receivers), NO_RAYS, np.int64)
+    queue = [(receivers, np.asarray(sources, np.int64), form_factor, rays)]
     while queue:
-        recv, src, known = queue.pop()
+        recv, src, known, kept_rays = queue.pop()
         if len(recv) > CHUNK:       # bounded memory: a round holds k samples × 3 coordinates per pair
-            queue.append((recv[CHUNK:], src[CHUNK:], None if known is None else known[CHUNK:]))
-            recv, src, known = recv[:CHUNK], src[:CHUNK], None if known is None else known[:CHUNK]
+            rest = [None if a is None else a[CHUNK:] for a in (known, kept_rays)]
+            queue.append((recv[CHUNK:], src[CHUNK:], *rest))
+            recv, src = recv[:CHUNK], src[:CHUNK]
+            known, kept_rays = [None if a is None else a[:CHUNK] for a in (known, kept_rays)]
         useful = (h.polygon[recv] != h.polygon[src]) & (channel_max(h.reflectance)[recv] > 0)
         some, every = facing_pairs(h.corners, h.normal, h.centre, recv[useful], src[useful])
         kept = np.flatnonzero(useful)[some]
         recv, src, every = recv[kept], src[kept], every[some]
         if not len(recv):
             continue
-        ff, vis = visibility(recv, src, None if known is None else known[kept])
+        if known is None:
+            ff, vis = visibility(recv, src)
+            cast = np.full(len(recv), NO_RAYS, np.int64)
+        else:
+            ff = known[kept]
+            vis, cast = visibility.recast(recv, src, kept_rays[kept], boxes)
         transfer = transfer_estimate(h, recv, src, ff, radiosity)
         split = needs_refinement(transfer, vis, threshold, criterion)
         straddle = ~every & (vis > 0)
@@ -84,14 +95,14 @@ def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: 
         split_src = split & can_s & ((area_s >= area_r) | ~can_r)
         split_recv = split & ~split_src & can_r
         accept = ~(split_src | split_recv)
-        accepted.append((recv[accept], src[accept], ff[accept], vis[accept]))
+        accepted.append((recv[accept], src[accept], ff[accept], vis[accept], cast[accept]))
         first_s = h.subdivide(src[split_src])
         first_r = h.subdivide(recv[split_recv])
         quad = np.arange(4)
         new_recv = np.r_[np.repeat(recv[split_src], 4), (first_r[:, None] + quad).reshape(-1)]
         new_src = np.r_[(first_s[:, None] + quad).reshape(-1), np.repeat(src[split_recv], 4)]
         if len(new_recv):
-            queue.append((new_recv, new_src, None))
+            queue.append((new_recv, new_src, None, None))
     if accepted:
         links.extend(*(np.concatenate(part) for part in zip(*accepted)))
     return links

@@ -12,6 +12,14 @@ ray does not hit its own ends); the rays are cast with Embree (embreex).
   an element under a board or behind a door in contact with it is not part of the surface anyone
   sees, and counting it would darken the whole element. Its type (VISIBLE, PARTIAL, INVISIBLE): all counted rays clear,
   some, none.
+
+A link cast again because something moved near it (:meth:`Visibility.recast`: its ends did not move)
+takes its sample points from its pair (a hash of receiver, source and seed) instead of the shared
+stream, so the next recast of that link draws the same rays; it keeps what each ray gave (two 16-bit
+masks, ``Links.rays``) and casts again only the rays that meet the boxes of what moved — a ray that
+meets neither box gives what it gave before (what moved was inside them; nothing else changed:
+every change of geometry recasts the links whose shafts it meets). Drettakis & Sillion's interactive
+update keeps its shafts' contents for the same reason.
 """
 
 from __future__ import annotations
@@ -23,7 +31,7 @@ from ..core.errors import InputError
 from .formfactor import point_polygon
 from .hierarchy import Hierarchy
 
-__all__ = ["Visibility", "VISIBLE", "PARTIAL", "INVISIBLE", "link_type"]
+__all__ = ["Visibility", "VISIBLE", "PARTIAL", "INVISIBLE", "link_type", "pair_grids", "KEPT_SAMPLES", "NO_RAYS"]
 
 #: link types of Loscos 4.3.1
 VISIBLE, PARTIAL, INVISIBLE = 0, 1, 2
@@ -86,26 +94,142 @@ def _segments(a, b, receiver_normal, source_normal, offset):
     return origins, directions, dists, up
 
 
+#: the most samples a link keeps its rays' outcomes for: clear bits 0–15, exposed bits 16–31, the
+#: scene's epoch (its ray offsets) from bit 32; NO_RAYS: none kept
+KEPT_SAMPLES = 16
+NO_RAYS = -1
+
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+
+
+@numba.njit(cache=True, inline="always")
+def _mix(z):
+    """splitmix64's finaliser: a uint64 to a well-spread uint64."""
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return z ^ (z >> np.uint64(31))
+
+
 @numba.njit(cache=True)
-def _exposed_clear_fraction(hit, probe_prim, probe_distance, probe_normal, up, contact, k):
-    """V per pair: among its k samples whose probe met nothing within ``contact`` nor the back of a
-    face (exposed), the fraction whose ray was clear (hit < 0); 0 when none is exposed."""
-    n = len(hit) // k
-    out = np.zeros(n)
-    for p in range(n):
-        exposed = clear = 0
-        for s in range(k):
-            i = p * k + s
-            if probe_prim[i] >= 0:
-                back = probe_normal[i, 0] * up[i, 0] + probe_normal[i, 1] * up[i, 1] + probe_normal[i, 2] * up[i, 2] > 0
-                if probe_distance[i] < contact or back:
-                    continue
-            exposed += 1
-            if hit[i] < 0:
-                clear += 1
-        if exposed > 0:
-            out[p] = clear / exposed
+def _pair_grids(receivers, sources, samples, seed, out_receiver, out_source):
+    side = int(np.ceil(np.sqrt(samples)))
+    cells = side * side
+    perm = np.empty(cells, np.int64)
+    for p in range(len(receivers)):
+        state = _mix(np.uint64(seed) * _GOLDEN + _mix(np.uint64(receivers[p]) + np.uint64(1)))
+        state = _mix(state ^ _mix(np.uint64(sources[p]) + np.uint64(0x632BE59BD9B4E019)))
+        for which in range(2):
+            out = out_receiver if which == 0 else out_source
+            for c in range(cells):
+                perm[c] = c
+            for c in range(cells - 1, 0, -1):           # Fisher–Yates
+                state += _GOLDEN
+                q = int(_mix(state) % np.uint64(c + 1))
+                perm[c], perm[q] = perm[q], perm[c]
+            for t in range(samples):
+                state += _GOLDEN
+                u = float(_mix(state) >> np.uint64(11)) * 2.0 ** -53
+                state += _GOLDEN
+                v = float(_mix(state) >> np.uint64(11)) * 2.0 ** -53
+                out[p, t, 0] = (perm[t] % side + u) / side
+                out[p, t, 1] = (perm[t] // side + v) / side
+
+
+def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """(receiver, source) parameters (n, samples, 2) in [0, 1)² for each pair: jittered grids as
+    :func:`jittered_grid` (one point per cell of a ⌈√samples⌉² grid, the cells in a random order,
+    another order on the source), drawn from a hash of (receiver, source, seed): a pair gets the
+    same points at every call."""
+    n = len(receivers)
+    out_receiver, out_source = np.empty((n, samples, 2)), np.empty((n, samples, 2))
+    if n:
+        _pair_grids(np.asarray(receivers, np.int64), np.asarray(sources, np.int64), int(samples), int(seed),
+                    out_receiver, out_source)
+    return out_receiver, out_source
+
+
+@numba.njit(cache=True)
+def _exposed(probe_prim, probe_distance, probe_normal, up, contact):
+    """Per sample: its probe met nothing within ``contact`` nor the back of a face."""
+    out = np.ones(len(probe_prim), np.bool_)
+    for i in range(len(probe_prim)):
+        if probe_prim[i] >= 0:
+            back = probe_normal[i, 0] * up[i, 0] + probe_normal[i, 1] * up[i, 1] + probe_normal[i, 2] * up[i, 2] > 0
+            if probe_distance[i] < contact or back:
+                out[i] = False
     return out
+
+
+@numba.njit(cache=True, inline="always")
+def _slab(o0, o1, o2, d0, d1, d2, far, lo, hi):
+    """Does the ray o + t·d, 0 ≤ t ≤ far, meet the box [lo, hi] (3,)?"""
+    near, stop = 0.0, far
+    for c in range(3):
+        o = o0 if c == 0 else (o1 if c == 1 else o2)
+        d = d0 if c == 0 else (d1 if c == 1 else d2)
+        if abs(d) < 1e-30:
+            if o < lo[c] or o > hi[c]:
+                return False
+            continue
+        t0, t1 = (lo[c] - o) / d, (hi[c] - o) / d
+        if t0 > t1:
+            t0, t1 = t1, t0
+        near, stop = max(near, t0), min(stop, t1)
+        if near > stop:
+            return False
+    return True
+
+
+@numba.njit(cache=True)
+def _rays_to_cast(rays, samples, epoch, origins, directions, dists, up, box_lo, box_hi, clear, exposed):
+    """(ray, probe) masks of the samples to cast: every sample of a pair that kept nothing (or kept
+    it under other ray offsets); else the rays and probes that meet a box. Fills ``clear`` and
+    ``exposed`` from what the pairs kept."""
+    n = len(rays)
+    cast_ray = np.zeros(n * samples, np.bool_)
+    cast_probe = np.zeros(n * samples, np.bool_)
+    for p in range(n):
+        kept = rays[p] >= 0 and (rays[p] >> 32) == epoch
+        for t in range(samples):
+            i = p * samples + t
+            if not kept:
+                cast_ray[i] = cast_probe[i] = True
+                continue
+            clear[i] = (rays[p] >> t) & 1
+            exposed[i] = (rays[p] >> (16 + t)) & 1
+            o0, o1, o2 = float(origins[i, 0]), float(origins[i, 1]), float(origins[i, 2])
+            for b in range(box_lo.shape[0]):
+                if not cast_ray[i]:
+                    cast_ray[i] = _slab(o0, o1, o2, float(directions[i, 0]), float(directions[i, 1]),
+                                        float(directions[i, 2]), float(dists[i]), box_lo[b], box_hi[b])
+                if not cast_probe[i]:
+                    cast_probe[i] = _slab(o0, o1, o2, float(up[i, 0]), float(up[i, 1]), float(up[i, 2]), 1e300,
+                                          box_lo[b], box_hi[b])
+    return cast_ray, cast_probe
+
+
+@numba.njit(cache=True)
+def _fraction_and_masks(clear, exposed, samples, epoch, keep):
+    """V per pair (its exposed samples' clear fraction, 0 when none is exposed) and the masks to keep."""
+    n = len(clear) // samples
+    visibility = np.zeros(n)
+    rays = np.full(n, -1, np.int64)
+    for p in range(n):
+        seen = hits = 0
+        mask = np.int64(0)
+        for t in range(samples):
+            i = p * samples + t
+            if exposed[i]:
+                seen += 1
+                if clear[i]:
+                    hits += 1
+            if keep:
+                mask |= (np.int64(clear[i]) << t) | (np.int64(exposed[i]) << (16 + t))
+        if seen > 0:
+            visibility[p] = hits / seen
+        if keep:
+            rays[p] = mask | (np.int64(epoch) << 32)
+    return visibility, rays
 
 
 class Visibility:
@@ -115,8 +239,10 @@ class Visibility:
         self.hierarchy = hierarchy
         self.samples = int(samples)
         self.form_factor_points = int(form_factor_points)
+        self.seed = int(seed)
         self.rng = np.random.default_rng(seed)
         self.rays = 0
+        self.epoch, self._lifts = 0, None
         self.rebuild()
 
     def rebuild(self, exclude: np.ndarray | None = None) -> None:
@@ -136,15 +262,15 @@ class Visibility:
         extent = np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max() if len(h.roots) else 1.0
         self.offset = 1e-5 * max(float(extent), 1e-6)
         self.contact = 2e-3 * max(float(extent), 1e-6)
+        if self._lifts != (self.offset, self.contact):     # the rays a link kept were cast otherwise
+            self._lifts, self.epoch = (self.offset, self.contact), self.epoch + 1
         self.scene = rtcore_scene.EmbreeScene()
         if len(tris):
             TriangleMesh(self.scene, tris.astype(np.float32))
         self.empty = len(tris) == 0
 
-    def __call__(self, receivers: np.ndarray, sources: np.ndarray,
-                 form_factor: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """(F_ij, V_ij) for each (receiver, source) pair, (n,) float64 each; ``form_factor`` given (a
-        pair already estimated, whose ends have not moved): only V is computed (the same draws)."""
+    def __call__(self, receivers: np.ndarray, sources: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(F_ij, V_ij) for each (receiver, source) pair, (n,) float64 each."""
         n = len(receivers)
         if n == 0:
             return np.zeros(0), np.zeros(0)
@@ -154,8 +280,7 @@ class Visibility:
         b = h.sample_points(sources, jittered_grid(n, k, self.rng))
         q = min(k, self.form_factor_points)
         receiver_normal = h.normal[receivers]
-        if form_factor is None:
-            form_factor = point_polygon(a[:, :q], receiver_normal, h.corners[sources], h.triangle[sources])
+        form_factor = point_polygon(a[:, :q], receiver_normal, h.corners[sources], h.triangle[sources])
         if self.empty:
             return form_factor, np.ones(n)
         origins, directions, dists, up = _segments(a, b, receiver_normal, h.normal[sources], self.offset)
@@ -166,6 +291,41 @@ class Visibility:
         # stands on the wall, the points are inside the door)
         probe = self.scene.run(origins, up, output=1)
         self.rays += 2 * n * k
-        visibility = _exposed_clear_fraction(np.asarray(hit), np.asarray(probe["primID"]), np.asarray(probe["tfar"]),
-                                             np.asarray(probe["Ng"]), up, self.contact, k)
+        exposed = _exposed(np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact)
+        visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False)
         return form_factor, visibility
+
+    def recast(self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray,
+               boxes: list) -> tuple[np.ndarray, np.ndarray]:
+        """(V_ij, rays) for pairs whose ends did not move, cast again after something moved inside
+        ``boxes`` ([(lo, hi)], world metres, covering where it was and where it is): their points from
+        :func:`pair_grids`; ``rays`` (n,) int64, what each pair kept at its last recast (NO_RAYS: none):
+        only the samples whose ray or probe meets a box are cast again. Returns V and what to keep."""
+        n, k = len(receivers), self.samples
+        rays = np.asarray(rays, np.int64)
+        if n == 0:
+            return np.zeros(0), np.zeros(0, np.int64)
+        h = self.hierarchy
+        uv_receiver, uv_source = pair_grids(receivers, sources, k, self.seed)
+        a, b = h.sample_points(receivers, uv_receiver), h.sample_points(sources, uv_source)
+        origins, directions, dists, up = _segments(a, b, h.normal[receivers], h.normal[sources], self.offset)
+        keep = k <= KEPT_SAMPLES
+        clear, exposed = np.ones(n * k, np.bool_), np.ones(n * k, np.bool_)
+        box_lo = np.array([lo for lo, _ in boxes], np.float64).reshape(-1, 3) - self.offset
+        box_hi = np.array([hi for _, hi in boxes], np.float64).reshape(-1, 3) + self.offset
+        cast_ray, cast_probe = _rays_to_cast(rays if keep else np.full(n, NO_RAYS, np.int64), k, self.epoch,
+                                             origins, directions, dists, up, box_lo, box_hi, clear, exposed)
+        if not self.empty:
+            cast = np.flatnonzero(cast_ray)
+            if len(cast):
+                hit = self.scene.run(origins[cast], directions[cast], dists=dists[cast], query="OCCLUDED")
+                clear[cast] = np.asarray(hit) < 0
+            cast = np.flatnonzero(cast_probe)
+            if len(cast):
+                probe = self.scene.run(origins[cast], up[cast], output=1)
+                exposed[cast] = _exposed(np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]),
+                                         up[cast], self.contact)
+            self.rays += int(cast_ray.sum() + cast_probe.sum())
+        else:
+            clear[:], exposed[:] = True, True
+        return _fraction_and_masks(clear, exposed, k, self.epoch, keep)

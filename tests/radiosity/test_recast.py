@@ -1,0 +1,89 @@
+"""A link cast again after something moved (Visibility.recast): per-pair sample points, the rays'
+outcomes kept, and only the rays through the moved object's boxes cast again — exactly what a full
+recast of the same rays gives."""
+
+import numpy as np
+
+from illusio.radiosity import HierarchyParams, Polygons, Radiosity, scene_polygons
+from illusio.radiosity.polygons import quads_from_triangles
+from illusio.radiosity.visibility import KEPT_SAMPLES, NO_RAYS, pair_grids
+from illusio.scene import load_scene
+from illusio.scene.builtin import shapes
+
+
+def test_pair_grids_are_per_pair_stratified_and_repeatable(rng):
+    receivers, sources = rng.integers(0, 10_000, 500), rng.integers(0, 10_000, 500)
+    uv_r, uv_s = pair_grids(receivers, sources, 16, seed=3)
+    assert uv_r.shape == (500, 16, 2) and (uv_r >= 0).all() and (uv_r < 1).all() and (uv_s < 1).all()
+    for uv in (uv_r, uv_s):                      # one point per cell of the 4×4 grid
+        cell = (np.floor(uv[..., 1] * 4) * 4 + np.floor(uv[..., 0] * 4)).astype(int)
+        assert (np.sort(cell, axis=1) == np.arange(16)).all()
+    # the source's cells in another order than the receiver's, and pairs drawn apart
+    same_order = (np.floor(uv_r * 4) == np.floor(uv_s * 4)).all(axis=(1, 2))
+    assert same_order.mean() < 0.01
+    assert not np.allclose(uv_r[0], uv_r[1])
+    # a pair gets the same points whatever else is in the batch, and another seed others
+    again_r, again_s = pair_grids(receivers[::-1][:100], sources[::-1][:100], 16, seed=3)
+    np.testing.assert_array_equal(again_r, uv_r[::-1][:100])
+    np.testing.assert_array_equal(again_s, uv_s[::-1][:100])
+    other, _ = pair_grids(receivers, sources, 16, seed=4)
+    assert not np.allclose(other, uv_r)
+    # a grid that is not square (10 of 16 cells) still takes each cell once
+    ten, _ = pair_grids(receivers, sources, 10, seed=3)
+    cell = (np.floor(ten[..., 1] * 4) * 4 + np.floor(ten[..., 0] * 4)).astype(int)
+    assert all(len(set(row)) == 10 for row in cell)
+
+
+def _crate_in_cornell():
+    sol = Radiosity(scene_polygons(load_scene("cornell-box")), HierarchyParams(epsilon=2e-4)).build()
+    box = shapes.box((0.12, 0.12, 0.12))
+    corners, triangle = quads_from_triangles(np.asarray(box.vertices) + [0.3, 0.06, 0.3], box.faces)
+    n = len(corners)
+    sol.add_object(Polygons(corners, triangle, np.full((n, 3), 0.5), np.zeros((n, 3)), np.zeros(n, int), ["crate"]), "crate")
+    return sol
+
+
+def test_recast_with_kept_rays_equals_a_full_recast():
+    """A crate dragged over the Cornell box's floor: after each move, every link that kept its rays
+    has exactly the masks and V that casting all its rays now gives (nothing it kept is stale), and
+    the crate stays inside the box (a move that grows the scene's extent changes the rays' offsets:
+    the links then keep nothing)."""
+    sol = _crate_in_cornell()
+    vis = sol.visibility
+    assert vis.samples <= KEPT_SAMPLES
+    move = np.eye(4)
+    move[0, 3] = 0.03
+    kept_links = []
+    for step in range(6):
+        sol.move_object("crate", move if step < 4 else np.linalg.inv(move))
+        L = sol.links
+        have = np.flatnonzero(L.rays >= 0)
+        kept_links.append(len(have))
+        start = vis.rays
+        visibility, rays = vis.recast(L.receiver[have], L.source[have], np.full(len(have), NO_RAYS), [])
+        np.testing.assert_array_equal(rays, L.rays[have])
+        np.testing.assert_array_equal(visibility, L.visibility[have])
+        assert vis.rays - start == 2 * vis.samples * len(have)
+    assert min(kept_links) > 0 and max(kept_links) > 50
+
+
+def test_recast_casts_only_the_rays_through_the_boxes():
+    """Links recast with what they kept and a box that meets none of their rays cast nothing and
+    keep their V; with a box around the whole scene, every ray again."""
+    sol = _crate_in_cornell()
+    vis = sol.visibility
+    move = np.eye(4)
+    move[0, 3] = 0.03
+    sol.move_object("crate", move)
+    L = sol.links
+    have = np.flatnonzero(L.rays >= 0)
+    far = [(np.full(3, 50.0), np.full(3, 51.0))]
+    start = vis.rays
+    visibility, rays = vis.recast(L.receiver[have], L.source[have], L.rays[have], far)
+    assert vis.rays == start
+    np.testing.assert_array_equal(visibility, L.visibility[have])
+    np.testing.assert_array_equal(rays, L.rays[have])
+    everywhere = [(np.full(3, -50.0), np.full(3, 50.0))]
+    visibility, _ = vis.recast(L.receiver[have], L.source[have], L.rays[have], everywhere)
+    assert vis.rays - start == 2 * vis.samples * len(have)
+    np.testing.assert_array_equal(visibility, L.visibility[have])
