@@ -98,15 +98,49 @@ def _gather(offset, count, arena_leaf, arena_ff, visibility, source, radiosity, 
                     out[t, r, c, 2] += w * b2
 
 
+@numba.njit(cache=True)
+def _orphans(block, live):
+    """The blocks the last call used (``live``) that no link holds now (``block``, -1: none)."""
+    orphan = live.copy()
+    for b in block:
+        if b >= 0:
+            orphan[b] = False
+    return np.flatnonzero(orphan)
+
+
+@numba.njit(cache=True)
+def _stale(block, dirty, moved, receiver, source):
+    """The links whose block must be computed afresh: none yet, a leaf under the receiver changed, or
+    the source moved."""
+    out = np.empty(len(block), np.int64)
+    n = 0
+    for k in range(len(block)):
+        if block[k] < 0 or dirty[receiver[k]] or moved[source[k]]:
+            out[n] = k
+            n += 1
+    return out[:n]
+
+
+@numba.njit(cache=True)
+def _live_blocks(block, count, blocks):
+    """(mask of the blocks in use, the pairs they hold)."""
+    live = np.zeros(blocks, np.bool_)
+    pairs = 0
+    for b in block:
+        live[b] = True
+        pairs += count[b]
+    return live, pairs
+
+
 class CornerGather:
     """Call as ``corner_gather(h, links, leaves, exitance)``; keeps its form factors in ``links``'
     tags and its arena between calls. ``computed`` and ``reused``: pairs of the last call; ``pairs``:
     the pairs it gathered."""
 
     def __init__(self):
-        self._offset = np.zeros(0, np.int64)    # per block: its first pair in the arena, its pairs,
-        self._count = np.zeros(0, np.int64)     # and its link's key
-        self._key = np.zeros(0, np.int64)
+        # per block: its first pair in the arena, its pairs, and its link's key (views of buffers
+        # with room to grow: a drag appends a few thousand blocks to ~200k a call)
+        self._set_blocks(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64))
         self._live = np.zeros(0, bool)          # the blocks the last call's links used
         self._leaf = np.zeros(0, np.int32)      # the arena: leaf and F at its 4 corners per pair
         self._ff = np.zeros((0, 4), FF_DTYPE)
@@ -143,9 +177,7 @@ class CornerGather:
         block = links.tag.copy()
         new = np.flatnonzero(block < 0)
         if len(new):
-            orphan = self._live.copy()
-            orphan[block[block >= 0]] = False
-            orphan = np.flatnonzero(orphan)
+            orphan = _orphans(block, self._live)
             if len(orphan):
                 order = np.argsort(self._key[orphan])
                 keys = self._key[orphan][order]
@@ -171,8 +203,23 @@ class CornerGather:
         leaf, ff = np.empty(size, np.int32), np.empty((size, 4), FF_DTYPE)
         _copy_blocks(self._offset[used], count, offset, self._leaf, self._ff, leaf, ff)
         self._leaf, self._ff, self._used = leaf, ff, int(count.sum())
-        self._offset, self._count, self._key = offset, count, self._key[used]
+        self._set_blocks(offset, count, self._key[used])
         return block.astype(np.int64)
+
+    def _set_blocks(self, offset: np.ndarray, count: np.ndarray, key: np.ndarray) -> None:
+        self._buffers = [offset, count, key]
+        self._offset, self._count, self._key = offset, count, key
+
+    def _append_blocks(self, offset: np.ndarray, count: np.ndarray, key: np.ndarray) -> None:
+        n, k = len(self._offset), len(offset)
+        if n + k > len(self._buffers[0]):
+            grown = [np.empty(int((n + k) * 1.5) + 16, np.int64) for _ in range(3)]
+            for new, old in zip(grown, self._buffers):
+                new[:n] = old[:n]
+            self._buffers = grown
+        for buffer, values in zip(self._buffers, (offset, count, key)):
+            buffer[n:n + k] = values
+        self._offset, self._count, self._key = (buffer[:n + k] for buffer in self._buffers)
 
     def __call__(self, h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
         asked = np.zeros(len(h), bool)
@@ -180,7 +227,7 @@ class CornerGather:
         dirty, moved = self._changed(h, asked)
         r, s = links.receiver, links.source
         block = self._blocks(links)
-        fresh = np.flatnonzero((block < 0) | dirty[r] | moved[s])
+        fresh = _stale(block, dirty, moved, r, s)
         element, leaf_under = leaves_under(h, leaves)
         first_under = np.searchsorted(element, r[fresh])
         count = np.searchsorted(element, r[fresh], side="right") - first_under
@@ -191,16 +238,14 @@ class CornerGather:
                       np.ascontiguousarray(h.triangle, np.bool_), self._leaf, self._ff)
         self._used += int(count.sum())
         block[fresh] = len(self._offset) + np.arange(len(fresh))
-        self._offset = np.r_[self._offset, offset]
-        self._count = np.r_[self._count, count]
-        self._key = np.r_[self._key, _link_keys(r[fresh], s[fresh])]
-        self.pairs = int(self._count[block].sum())
+        self._append_blocks(offset, count, _link_keys(r[fresh], s[fresh]))
+        self._live, pairs = _live_blocks(block, self._count, len(self._offset))
+        self.pairs = int(pairs)
         self.computed = int(count.sum())
         self.reused = self.pairs - self.computed
         if self._used > 2 * self.pairs + 1024:
             block = self._compact(block)
-        self._live = np.zeros(len(self._offset), bool)
-        self._live[block] = True
+            self._live = np.ones(len(self._offset), bool)
         links.tag, links.tag_owner = block, self
         self._child, self._corners, self._asked = h.child.copy(), h.corners.copy(), asked
         # the gather itself, with this call's V and B

@@ -371,7 +371,8 @@ class RelightSession:
             return image.astype(np.float32)
         self._inherit_display_factor()
         h = sol.hierarchy
-        now = self._corner_radiosity()
+        shown = self._shown()
+        now = self._corner_radiosity(shown)
         leaves = h.leaves()
         d = self.corner_d[leaves].reshape(-1, 3)
         virtual = np.isin(sol.polygons.group[h.polygon[leaves]], list(self.virtual_groups))
@@ -379,6 +380,10 @@ class RelightSession:
         # a virtual object is not in the photograph: its own radiance B/π, marked by a negative sign
         radiance = np.where(np.repeat(virtual, 4)[:, None], -now.radiance, ratio).astype(np.float32)
         now.radiance = radiance
+        # only the shown leaves are drawn: a leaf no pixel saw at preparation wins no pixel now (the
+        # camera is fixed; what moves is virtual, and shown), so the image is the same
+        drawn = shown[now.face_element]
+        now = dataclasses.replace(now, faces=now.faces[drawn], face_element=now.face_element[drawn])
         self.display.load(now)
         colour, element = self.display(self.real.view, self.real.size)
         out = self.ctx.readback_image(colour, 3, clip=False)
@@ -443,7 +448,7 @@ class RelightSession:
             shown |= np.isin(self.solution.polygons.group[h.polygon], list(self.virtual_groups))
         return shown
 
-    def _corner_radiosity(self):
+    def _corner_radiosity(self, shown: np.ndarray | None = None):
         """The leaf mesh with B at the corners under ``self.scales``. With the links kept, B is linear in
         the lamps' exitances, so the corners' B are gathered once per lamp (and once with every lamp
         off, for the other emitters) and an edit is their weighted sum; after a change of geometry (a
@@ -457,12 +462,13 @@ class RelightSession:
             self._geometry_key = key
             if not np.array_equal(sol.lamp_scales(self.scales), sol.lamp_scale):
                 sol.set_lamps(self.scales)     # (the edit solved under the session's lamps already)
-            return leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather, shown=self._shown())
+            return leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather,
+                             shown=self._shown() if shown is None else shown)
         if getattr(self, "_basis_key", None) != key:
             t = time.perf_counter()
             off = {n: 0.0 for n in self.lamp_names}
             sol.set_lamps(off)
-            shown = self._shown()
+            shown = self._shown() if shown is None else shown
             base = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather, shown=shown)
             basis = []
             for name in self.lamp_names:
