@@ -201,3 +201,25 @@ def test_display_pass_loads_into_its_own_context(ctx):
     renderer.release()
     ctx.make_current()                  # leave the suite's context current before the other one goes
     other.gl.release()
+
+
+def test_corner_ids_group_equal_rows_as_lexsort_does(rng, monkeypatch):
+    """display.corner_ids: rows get one id each distinct value (the same partition as lexsort's run
+    numbering), through the hash path and, when hashes collide, the lexsort fallback."""
+    import illusio.radiosity.display as display
+
+    key = rng.integers(-3, 3, (4000, 4))
+    key[:, 0] = rng.integers(0, 5, 4000)
+    order = np.lexsort(key.T[::-1])
+    starts = np.r_[True, np.any(key[order[1:]] != key[order[:-1]], axis=1)]
+    want = np.empty(len(key), np.int64)
+    want[order] = np.cumsum(starts) - 1
+
+    def same_partition(ids):
+        pairs = np.unique(np.c_[ids, want], axis=0)
+        return len(pairs) == len(np.unique(ids)) == len(np.unique(want))
+
+    assert 50 < len(np.unique(want)) < 4000
+    assert same_partition(display.corner_ids(key))
+    monkeypatch.setattr(display, "_row_hashes", lambda k: np.zeros(len(k), np.uint64))   # all collide
+    assert same_partition(display.corner_ids(key))

@@ -17,6 +17,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import moderngl
+import numba
 import numpy as np
 
 from ..core.context import Context
@@ -25,7 +26,7 @@ from ..scene.camera import View
 from .formfactor import point_polygon
 from .hierarchy import Hierarchy
 from .links import Links
-from .visibility import INVISIBLE, PARTIAL, VISIBLE
+from .visibility import INVISIBLE, PARTIAL, VISIBLE, _mix
 
 __all__ = ["LeafMesh", "leaf_mesh", "DisplayPass", "LINK_COLOURS"]
 
@@ -101,6 +102,49 @@ def exposure_weights(h: Hierarchy, links: Links, leaves: np.ndarray) -> np.ndarr
     return np.where(seen[leaves] > 0.01 * total[leaves], 1.0, 1e-6)
 
 
+@numba.njit(cache=True)
+def _row_hashes(key):
+    out = np.empty(len(key), np.uint64)
+    for i in range(len(key)):
+        z = np.uint64(0x9E3779B97F4A7C15)
+        for c in range(key.shape[1]):
+            z = _mix(z ^ np.uint64(key[i, c]))
+        out[i] = z
+    return out
+
+
+@numba.njit(cache=True)
+def _ids_along(key, hashes, order, vertex):
+    """Number the rows in ``order`` (sorted by hash): a new id where the hash changes; False if two
+    different rows share a hash (then nothing can be trusted)."""
+    current = -1
+    for t in range(len(order)):
+        i = order[t]
+        if t > 0 and hashes[i] == hashes[order[t - 1]]:
+            for c in range(key.shape[1]):
+                if key[i, c] != key[order[t - 1], c]:
+                    return False
+        else:
+            current += 1
+        vertex[i] = current
+    return True
+
+
+def corner_ids(key: np.ndarray) -> np.ndarray:
+    """One id per distinct row of ``key`` (m, k) int64, 0… in some order: the rows sorted by a 64-bit
+    hash (one argsort instead of lexsort's k), checked row by row; np.lexsort where two rows differ
+    but hash alike. (np.unique(axis=0) sorts the rows as opaque records, 10× slower.)"""
+    key = np.ascontiguousarray(key, np.int64)
+    vertex = np.empty(len(key), np.int64)
+    hashes = _row_hashes(key)
+    if _ids_along(key, hashes, np.argsort(hashes), vertex):
+        return vertex
+    order = np.lexsort(key.T[::-1])
+    starts = np.r_[True, np.any(key[order[1:]] != key[order[:-1]], axis=1)]
+    vertex[order] = np.cumsum(starts) - 1
+    return vertex
+
+
 def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = None,
                      exitance: np.ndarray | None = None, gather=None, shown: np.ndarray | None = None) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3): gathered at the corners (with ``links`` and
@@ -115,11 +159,7 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
     q = np.round(corners / (1e-7 * extent)).astype(np.int64)
     key = np.c_[np.repeat(h.polygon[leaves], 4), q.reshape(-1, 3)]
     corner_of_tri = np.tile([True, True, True, False], len(leaves)) | ~np.repeat(h.triangle[leaves], 4)
-    # one id per distinct key row (np.unique(axis=0) sorts the rows as opaque records, 10× slower)
-    order = np.lexsort(key.T[::-1])
-    starts = np.r_[True, np.any(key[order[1:]] != key[order[:-1]], axis=1)]
-    vertex = np.empty(len(key), np.int64)
-    vertex[order] = np.cumsum(starts) - 1
+    vertex = corner_ids(key)
     if links is not None and gather is None:
         from .corner_cache import CornerGather     # the fast gather (it imports this module's helpers)
         gather = CornerGather()

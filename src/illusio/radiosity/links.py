@@ -16,15 +16,19 @@ __all__ = ["Links", "LinkGather"]
 @numba.njit(cache=True)
 def _compact(drop, receiver, source, tag, rays, form_factor, visibility):
     """Move the entries where not ``drop`` to the front of the six arrays, in order, in place; return
-    the entries where ``drop`` (fresh arrays, in order). One pass and no fresh memory for the kept
-    links: ten masked copies of 217k links, and the page faults of their new arrays, cost 5× as much."""
+    the entries where ``drop`` (fresh arrays, in order). One pass from the first removed entry and no
+    fresh memory for the kept links: ten masked copies of 217k links, and the page faults of their new
+    arrays, cost 5× as much (a drag removes the object's links, the newest, at the end)."""
     gone = 0
-    for d in drop:
-        gone += d
+    first = len(drop)
+    for k in range(len(drop)):
+        if drop[k]:
+            gone += 1
+            first = min(first, k)
     gone_r, gone_s, gone_t = np.empty(gone, np.int64), np.empty(gone, np.int64), np.empty(gone, np.int64)
     gone_x, gone_f, gone_v = np.empty(gone, np.int64), np.empty(gone), np.empty(gone)
-    a = b = 0
-    for k in range(len(drop)):
+    a, b = first, 0                # the links before the first removed one stay where they are
+    for k in range(first, len(drop)):
         if drop[k]:
             gone_r[b], gone_s[b], gone_t[b], gone_x[b] = receiver[k], source[k], tag[k], rays[k]
             gone_f[b], gone_v[b] = form_factor[k], visibility[k]
