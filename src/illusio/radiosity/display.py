@@ -224,18 +224,19 @@ class DisplayPass:
             self._vaos[edges] = gl.vertex_array(program, [layout], ibo)
 
     def __call__(self, view: View, size: tuple[int, int], exposure: float = 1.0, edges: bool = False,
-                 edge_colour=(0.0, 0.0, 0.0)):
+                 edge_colour=(0.0, 0.0, 0.0), elements: bool = True):
+        """(colour, element) targets; ``elements=False``: no element target (None), a cheaper draw."""
         ctx = self.ctx
         w, h = size
         colour = ctx.acquire((w, h), 4, "f4")
-        element = ctx.acquire((w, h), 1, "f4")
-        fbo = ctx.framebuffer([colour, element], depth=True)
+        element = ctx.acquire((w, h), 1, "f4") if elements else None
+        fbo = ctx.framebuffer([colour, element] if elements else [colour], depth=True)
         fbo.use()
         fbo.viewport = (0, 0, w, h)
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        element_target = ctx.framebuffer([element])
-        element_target.clear(-1.0, -1.0, -1.0, -1.0)
-        fbo.use()
+        if elements:
+            ctx.framebuffer([element]).clear(-1.0, -1.0, -1.0, -1.0)
+            fbo.use()
         program = self.programs[bool(edges)]
         set_uniform(program, "view_matrix", view.view_matrix())
         set_uniform(program, "projection_matrix", view.projection_matrix(w / h))

@@ -385,11 +385,12 @@ class RelightSession:
         drawn = shown[now.face_element]
         now = dataclasses.replace(now, faces=now.faces[drawn], face_element=now.face_element[drawn])
         self.display.load(now)
-        colour, element = self.display(self.real.view, self.real.size)
+        colour, _ = self.display(self.real.view, self.real.size, elements=False)
         out = self.ctx.readback_image(colour, 3, clip=False)
-        self.ctx.release(colour, element)
+        self.ctx.release(colour)
         own = out[..., :1] < 0
-        image = np.where(own, -out, estimate.displayed(out, 1.0, self.texture)) * self.params.exposure
+        # eq. (4.3) with the ratio B/D already at the corners: the displayed ratio times the texture
+        image = np.where(own, -out, out.astype(np.float64) * self.texture) * self.params.exposure
         self.times["edit"] = time.perf_counter() - start
         return image.astype(np.float32)
 
