@@ -41,6 +41,13 @@ def test_kept_form_factors_give_the_plain_gather_after_each_change():
         sol.move_object("crate", move if _ % 2 else np.linalg.inv(move))
         check(True)
         assert gather._used <= 2 * gather.pairs + 1024
+    # links with V = 0 got a place but no form factors; one that starts carrying light gets them
+    assert gather.deferred > 0 or (sol.links.visibility == 0).any()
+    dark = np.flatnonzero(sol.links.visibility == 0)[:50]
+    assert len(dark)
+    sol.links.visibility[dark] = 0.5
+    check(True)
+    assert gather.computed > 0
     other = CornerGather()               # another cache over the same links: its own blocks, exact
     h = sol.hierarchy
     assert np.allclose(other(h, sol.links, h.leaves(), sol.exitance()), corner_gather(h, sol.links, h.leaves(), sol.exitance()),

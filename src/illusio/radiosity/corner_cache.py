@@ -10,7 +10,8 @@ kept through the removal of other links). On the next call a link keeps its bloc
 under r was split, merged, moved, or joined or left the leaves asked for (a display that gathers
 only what it shows), and j did not move; a link made since (a shaft relinked, the pair refined
 again) takes the block its pair (r, j) had if that block lost its link; every other link's block is
-computed afresh, at the arena's end. When the arena holds twice the pairs in use, the blocks in use
+computed afresh, at the arena's end — or only given its place while its link has V = 0 (never summed):
+computed when the link carries light. When the arena holds twice the pairs in use, the blocks in use
 are copied together. V and B are read at each call (they change with every solve). After any
 change the result equals the plain gather (tested).
 
@@ -39,16 +40,19 @@ def _link_keys(receiver: np.ndarray, source: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(parallel=True, cache=True)
-def _fresh_blocks(offset, count, first_under, leaf_under, source, corners, centre, normal, triangle,
+def _fresh_blocks(offset, count, first_under, leaf_under, source, ready, corners, centre, normal, triangle,
                   arena_leaf, arena_ff):
     """Fill block q (its pairs from offset[q]): the leaves under its receiver, from the leaf table,
-    and the form factors from each of their corners to its source (display.corner_form_factors)."""
+    and the form factors from each of their corners to its source (display.corner_form_factors);
+    only its leaves where not ``ready[q]``."""
     for q in numba.prange(len(offset)):
         j = source[q]
         m = 3 if triangle[j] else 4
         for p in range(count[q]):
             e = leaf_under[first_under[q] + p]
             arena_leaf[offset[q] + p] = e
+            if not ready[q]:
+                continue
             for c in range(4):
                 # 1 % of the way to the centre, as the reference takes it
                 x0 = corners[e, c, 0] + 0.01 * (centre[e, 0] - corners[e, c, 0])
@@ -109,13 +113,13 @@ def _orphans(block, live):
 
 
 @numba.njit(cache=True)
-def _stale(block, dirty, moved, receiver, source):
-    """The links whose block must be computed afresh: none yet, a leaf under the receiver changed, or
-    the source moved."""
+def _stale(block, dirty, moved, receiver, source, visibility, ready):
+    """The links whose block must be computed afresh: none yet, a leaf under the receiver changed, the
+    source moved, or the link now carries light and its block was left uncomputed."""
     out = np.empty(len(block), np.int64)
     n = 0
     for k in range(len(block)):
-        if block[k] < 0 or dirty[receiver[k]] or moved[source[k]]:
+        if block[k] < 0 or dirty[receiver[k]] or moved[source[k]] or (visibility[k] > 0 and not ready[block[k]]):
             out[n] = k
             n += 1
     return out[:n]
@@ -134,13 +138,13 @@ def _live_blocks(block, count, blocks):
 
 class CornerGather:
     """Call as ``corner_gather(h, links, leaves, exitance)``; keeps its form factors in ``links``'
-    tags and its arena between calls. ``computed`` and ``reused``: pairs of the last call; ``pairs``:
-    the pairs it gathered."""
+    tags and its arena between calls. ``computed``, ``reused`` and ``deferred`` (left uncomputed: their
+    link has V = 0): pairs of the last call; ``pairs``: the pairs it gathered."""
 
     def __init__(self):
         # per block: its first pair in the arena, its pairs, and its link's key (views of buffers
         # with room to grow: a drag appends a few thousand blocks to ~200k a call)
-        self._set_blocks(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64))
+        self._set_blocks(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, bool))
         self._live = np.zeros(0, bool)          # the blocks the last call's links used
         self._leaf = np.zeros(0, np.int32)      # the arena: leaf and F at its 4 corners per pair
         self._ff = np.zeros((0, 4), FF_DTYPE)
@@ -148,7 +152,7 @@ class CornerGather:
         self._child = np.zeros(0, np.int64)
         self._corners = np.zeros((0, 4, 3))
         self._asked = np.zeros(0, bool)         # the leaves of the last call, as a mask
-        self.reused = self.computed = self.pairs = 0
+        self.reused = self.computed = self.deferred = self.pairs = 0
 
     def _changed(self, h: Hierarchy, asked: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(dirty (n,): some leaf under the element was split, merged, moved, asked for or no longer
@@ -203,23 +207,23 @@ class CornerGather:
         leaf, ff = np.empty(size, np.int32), np.empty((size, 4), FF_DTYPE)
         _copy_blocks(self._offset[used], count, offset, self._leaf, self._ff, leaf, ff)
         self._leaf, self._ff, self._used = leaf, ff, int(count.sum())
-        self._set_blocks(offset, count, self._key[used])
+        self._set_blocks(offset, count, self._key[used], self._ready[used])
         return block.astype(np.int64)
 
-    def _set_blocks(self, offset: np.ndarray, count: np.ndarray, key: np.ndarray) -> None:
-        self._buffers = [offset, count, key]
-        self._offset, self._count, self._key = offset, count, key
+    def _set_blocks(self, offset: np.ndarray, count: np.ndarray, key: np.ndarray, ready: np.ndarray) -> None:
+        self._buffers = [offset, count, key, ready]
+        self._offset, self._count, self._key, self._ready = offset, count, key, ready
 
-    def _append_blocks(self, offset: np.ndarray, count: np.ndarray, key: np.ndarray) -> None:
+    def _append_blocks(self, offset: np.ndarray, count: np.ndarray, key: np.ndarray, ready: np.ndarray) -> None:
         n, k = len(self._offset), len(offset)
         if n + k > len(self._buffers[0]):
-            grown = [np.empty(int((n + k) * 1.5) + 16, np.int64) for _ in range(3)]
+            grown = [np.empty(int((n + k) * 1.5) + 16, old.dtype) for old in self._buffers]
             for new, old in zip(grown, self._buffers):
                 new[:n] = old[:n]
             self._buffers = grown
-        for buffer, values in zip(self._buffers, (offset, count, key)):
+        for buffer, values in zip(self._buffers, (offset, count, key, ready)):
             buffer[n:n + k] = values
-        self._offset, self._count, self._key = (buffer[:n + k] for buffer in self._buffers)
+        self._offset, self._count, self._key, self._ready = (buffer[:n + k] for buffer in self._buffers)
 
     def __call__(self, h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
         asked = np.zeros(len(h), bool)
@@ -227,22 +231,27 @@ class CornerGather:
         dirty, moved = self._changed(h, asked)
         r, s = links.receiver, links.source
         block = self._blocks(links)
-        fresh = _stale(block, dirty, moved, r, s)
+        visibility = np.ascontiguousarray(links.visibility, np.float64)
+        fresh = _stale(block, dirty, moved, r, s, visibility, self._ready)
+        # a link that carries no light (V = 0: the crate's face on the floor) is never summed: its
+        # block gets its place but no form factors until it does (a third of a drag's fresh pairs)
+        ready = visibility[fresh] > 0
         element, leaf_under = leaves_under(h, leaves)
         first_under = np.searchsorted(element, r[fresh])
         count = np.searchsorted(element, r[fresh], side="right") - first_under
         offset = (self._used + np.cumsum(count) - count).astype(np.int64)
         self._grow(self._used + int(count.sum()))
-        _fresh_blocks(offset, count, first_under, leaf_under, s[fresh], np.ascontiguousarray(h.corners, np.float64),
+        _fresh_blocks(offset, count, first_under, leaf_under, s[fresh], ready, np.ascontiguousarray(h.corners, np.float64),
                       np.ascontiguousarray(h.centre, np.float64), np.ascontiguousarray(h.normal, np.float64),
                       np.ascontiguousarray(h.triangle, np.bool_), self._leaf, self._ff)
         self._used += int(count.sum())
         block[fresh] = len(self._offset) + np.arange(len(fresh))
-        self._append_blocks(offset, count, _link_keys(r[fresh], s[fresh]))
+        self._append_blocks(offset, count, _link_keys(r[fresh], s[fresh]), ready)
         self._live, pairs = _live_blocks(block, self._count, len(self._offset))
         self.pairs = int(pairs)
-        self.computed = int(count.sum())
-        self.reused = self.pairs - self.computed
+        self.computed = int(count[ready].sum())
+        self.deferred = int(count.sum()) - self.computed
+        self.reused = self.pairs - self.computed - self.deferred
         if self._used > 2 * self.pairs + 1024:
             block = self._compact(block)
             self._live = np.ones(len(self._offset), bool)
@@ -252,8 +261,7 @@ class CornerGather:
         row = np.full(len(h), -1, np.int64)
         row[leaves] = np.arange(len(leaves))
         parts = np.zeros((SLICES, len(leaves), 4, 3))
-        _gather(self._offset[block], self._count[block], self._leaf, self._ff,
-                np.ascontiguousarray(links.visibility, np.float64), s, np.ascontiguousarray(h.radiosity, np.float64),
-                row, parts)
+        _gather(self._offset[block], self._count[block], self._leaf, self._ff, visibility, s,
+                np.ascontiguousarray(h.radiosity, np.float64), row, parts)
         irradiance = parts.sum(axis=0)
         return exitance[leaves][:, None] + h.reflectance[leaves][:, None] * irradiance
