@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..passes.mitsuba import load_mitsuba as _mitsuba, mitsuba_available, rgb as _rgb, sensor as _sensor
+from ..passes.mitsuba import load_mitsuba as _mitsuba, load_scene, mitsuba_available, rgb as _rgb, sensor as _sensor
 from ..scene.camera import View
 from ..scene.scene import AreaLight, PointLight, Scene
 from .references import ReferenceSet, ReferenceView
@@ -75,9 +75,9 @@ def capture_mitsuba(scene: Scene, views: list[View], size: tuple[int, int], samp
             doc = dict(base, sensor=sensor)
             doc["integrator"] = {"type": "aov", "aovs": "dd:depth,nn:sh_normal,al:albedo",
                                  "img": {"type": "path", "max_depth": 6}}
-            image = np.array(mi.render(mi.load_dict(doc), seed=int(seed)), np.float32)
+            image = np.array(mi.render(load_scene(mi, doc), seed=int(seed)), np.float32)
             colour, distance, normal, albedo = image[..., :3], image[..., 3], image[..., 4:7], image[..., 7:10]
-            emission = np.array(mi.render(mi.load_dict(dict(glowing, sensor=sensor, integrator={
+            emission = np.array(mi.render(load_scene(mi, dict(glowing, sensor=sensor, integrator={
                 "type": "path", "max_depth": 1})), seed=int(seed)), np.float32)[..., :3]
             # Mitsuba's depth AOV is the distance along the ray from the near plane (its perspective
             # sensor starts rays there); ours is the depth along the view axis from the eye

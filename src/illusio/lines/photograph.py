@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..passes.mitsuba import load_mitsuba, rgb, sensor
+from ..passes.mitsuba import load_mitsuba, load_scene, rgb, sensor
 from ..scene.camera import Pose, View
 from ..scene.mesh import Mesh
 
@@ -97,7 +97,7 @@ def photograph(mesh: Mesh, view: View, size: tuple[int, int], samples: int = 32,
                  "lamp": {"type": "rectangle", "to_world": mi.ScalarTransform4f(lamp.tolist()),
                           "emitter": {"type": "area", "radiance": rgb((6.0, 6.0, 6.0))}},
                  "sky": {"type": "constant", "radiance": rgb((0.25, 0.25, 0.25))}}
-        image = np.asarray(mi.render(mi.load_dict(scene)), np.float32)
+        image = np.asarray(mi.render(load_scene(mi, scene)), np.float32)
     return np.ascontiguousarray(image[..., :3])
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..passes.mitsuba import load_mitsuba, rgb, sensor
+from ..passes.mitsuba import load_mitsuba, load_scene, rgb, sensor
 from ..scene.camera import View
 from .polygons import Polygons
 
@@ -50,7 +50,7 @@ def render_mitsuba(polygons: Polygons, view: View, size: tuple[int, int], sample
         doc = _scene_dict(polygons, Path(tmp))
         doc["sensor"] = sensor(mi, view, size, samples, seed)
         doc["integrator"] = {"type": "path", "max_depth": int(max_depth)}
-        image = np.array(mi.render(mi.load_dict(doc), seed=int(seed)), np.float32)
+        image = np.array(mi.render(load_scene(mi, doc), seed=int(seed)), np.float32)
     return np.clip(image[..., :3], 0, None)
 
 
