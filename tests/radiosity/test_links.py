@@ -29,7 +29,7 @@ def test_in_place_edits_equal_masks_and_concatenation(rng):
         for name, column in zip(names, plain):
             np.testing.assert_array_equal(getattr(links, name), column)
     assert len(links) == len(plain[0])
-    # the matrix by counting sort: K·x as the plain sum over the links
+    # the matrix: K·x as the plain sum over the links
     x = rng.random((900, 3))
     want = np.zeros((900, 3))
     np.add.at(want, plain[0], (plain[2] * plain[3])[:, None] * x[plain[1]])

@@ -1,6 +1,7 @@
 """Links: light flowing from a source element j to a receiver element i at some level of the two
 hierarchies, with the form factor F_ij, the visibility V_ij and its type (VISIBLE, PARTIAL,
-INVISIBLE). Stored as flat arrays; the gather of every link at once is one sparse product."""
+INVISIBLE). Stored as flat arrays; the gather of every link at once is one pass over them
+(:class:`LinkGather`), or one sparse product (:meth:`Links.matrix`)."""
 
 from __future__ import annotations
 
@@ -38,22 +39,6 @@ def _compact(drop, receiver, source, tag, rays, form_factor, visibility):
             form_factor[a], visibility[a] = form_factor[k], visibility[k]
             a += 1
     return gone_r, gone_s, gone_t, gone_x, gone_f, gone_v
-
-
-@numba.njit(cache=True)
-def _rows(receiver, n):
-    """(indptr (n + 1,), order): the links sorted by receiver, stably, by counting."""
-    indptr = np.zeros(n + 1, np.int64)
-    for r in receiver:
-        indptr[r + 1] += 1
-    for i in range(n):
-        indptr[i + 1] += indptr[i]
-    fill = indptr[:-1].copy()
-    order = np.empty(len(receiver), np.int64)
-    for k in range(len(receiver)):
-        order[fill[receiver[k]]] = k
-        fill[receiver[k]] += 1
-    return indptr, order
 
 
 @numba.njit(cache=True)
@@ -154,12 +139,12 @@ class Links:
         return Links(r, s, f, v, t, self.tag_owner, x)
 
     def matrix(self, n: int) -> sp.csr_matrix:
-        """K with K[i, j] = Σ F_ij·V_ij over the links from j to i: the gather is H = K·B. Built by a
-        counting sort on the receivers (the links of a row in link order, a pair's duplicates left as
-        entries the product sums): scipy's COO conversion sorted and summed them, 3× the time."""
-        indptr, order = _rows(self.receiver, n)
-        data = (self.form_factor * self.visibility)[order]
-        return sp.csr_matrix((data, self.source[order], indptr), shape=(n, n))
+        """K with K[i, j] = Σ F_ij·V_ij over the links from j to i: the gather is H = K·B, stated as a
+        sparse matrix (the solver uses :meth:`gather_operator`, which builds nothing). Each row holds
+        its links in link order, a pair's duplicates as entries the product sums."""
+        order = np.argsort(self.receiver, kind="stable")
+        indptr = np.r_[0, np.cumsum(np.bincount(self.receiver, minlength=n))]
+        return sp.csr_matrix(((self.form_factor * self.visibility)[order], self.source[order], indptr), shape=(n, n))
 
     def gather_operator(self, n: int) -> LinkGather:
         """The gather H = K·B as an operator (``@``), equal to :meth:`matrix` with nothing built."""
