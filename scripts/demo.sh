@@ -3,6 +3,6 @@
 # gallery into demo-out/ (open demo-out/index.html).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh viewer
+bash scripts/setup.sh viewer,photo
 .venv/bin/illusio info
 .venv/bin/illusio demo --out demo-out "$@"

@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # Set up illusio on a fresh Debian/Ubuntu machine: system GL libraries (installed when running as
 # root, otherwise the one apt-get line is printed), a virtual environment in .venv, the package.
-# Usage: scripts/setup.sh [pip extra: test (also installs xvfb, xauth and chromium), viewer]
+# Usage: scripts/setup.sh [pip extras, comma-separated: viewer, photo (also installs libatomic1, which
+# Mitsuba's JIT loads), test (viewer + photo + cluster; also installs xvfb, xauth and chromium)]
+# Versions are those of constraints.txt (a fresh install that passed the suite); ILLUSIO_CONSTRAINTS=none
+# installs the newest instead (how constraints.txt is refreshed: README, "Versions").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 extra="${1:-}"
+has_extra() { case ",$extra," in *",$1,"*) return 0 ;; *) return 1 ;; esac; }
 
 need=()
 ldconfig_bin=$(command -v ldconfig || echo /sbin/ldconfig)  # /sbin is not on every user's PATH
@@ -13,7 +17,10 @@ have_lib 'libEGL.so.1' || need+=(libegl1)
 have_lib 'libGL.so.1' || need+=(libgl1)
 ls /usr/lib/*/dri/swrast_dri.so /usr/lib/*/dri/*_dri.so >/dev/null 2>&1 || need+=(libgl1-mesa-dri)
 python3 -c 'import venv, ensurepip' >/dev/null 2>&1 || need+=(python3-venv)
-if [ "$extra" = test ]; then
+if has_extra photo || has_extra test; then
+  have_lib 'libatomic.so.1' || need+=(libatomic1)  # drjit (Mitsuba) links it; a bare root lacks it
+fi
+if has_extra test; then
   # the viewer's window tests run under a virtual X server; the gallery is checked in Chromium
   command -v Xvfb >/dev/null || need+=(xvfb)
   command -v xauth >/dev/null || need+=(xauth)
@@ -33,9 +40,7 @@ fi
 
 python3 -c 'import sys; sys.exit(sys.version_info < (3, 10))' || { echo "setup: Python 3.10 or newer is needed" >&2; exit 1; }
 [ -x .venv/bin/python ] || python3 -m venv .venv
-.venv/bin/python -m pip install -q --upgrade pip >/dev/null
-if [ -n "$extra" ]; then
-  .venv/bin/python -m pip install -q -e ".[$extra]"
-else
-  .venv/bin/python -m pip install -q -e .
-fi
+constraints=()
+[ "${ILLUSIO_CONSTRAINTS:-}" = none ] || constraints=(-c constraints.txt)
+.venv/bin/python -m pip install -q "${constraints[@]}" --upgrade pip >/dev/null
+.venv/bin/python -m pip install -q "${constraints[@]}" -e ".${extra:+[$extra]}"

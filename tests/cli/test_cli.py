@@ -68,10 +68,17 @@ def test_info_reports_renderer_and_versions():
 
 
 def test_demo_writes_gallery_with_existing_images(tmp_path):
+    import re
+
+    from illusio.gallery import SHOWCASES
+
     r = illusio("demo", "--out", tmp_path / "g", "--size", "160x100")
     assert r.returncode == 0, r.stderr
+    # each section says when it starts and, when done, what it made and in how long
+    for k, (name, _) in enumerate(SHOWCASES, 1):
+        assert f"demo: [{k}/{len(SHOWCASES)}] {name} ..." in r.stdout
+        assert re.search(rf"^demo: \[{k}/{len(SHOWCASES)}\] {name}: \d+ images in [\d.]+ s", r.stdout, re.M), r.stdout
     page = (tmp_path / "g" / "index.html").read_text()
-    import re
 
     images = re.findall(r"<img src='([^']+)'", page)
     assert len(images) >= 4 + 8

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from .common import parse_size, progress
+from .common import parse_size
 
 
 def demo(
@@ -15,10 +15,10 @@ def demo(
     size: str = typer.Option("960x600", "--size", help="WIDTHxHEIGHT of the scene images"),
     only: str = typer.Option(None, "--only", help="comma-separated showcase names (default: all)"),
 ) -> None:
-    """Render the built-in showcases and write OUT/index.html."""
+    """Render the built-in showcases and write OUT/index.html, a line for each as it starts and ends."""
     from ..core.context import Context
     from ..core.errors import InputError
-    from ..gallery import SHOWCASES, write_gallery
+    from ..gallery import SHOWCASES, path_traced, write_gallery
 
     w, h = parse_size(size)
     chosen = SHOWCASES
@@ -31,10 +31,17 @@ def demo(
     ctx = Context()
     sections = []
     t0 = time.perf_counter()
-    with progress(len(chosen), "showcases") as advance:
-        for _, showcase in chosen:
+    try:
+        for k, (name, showcase) in enumerate(chosen, 1):
+            typer.echo(f"demo: [{k}/{len(chosen)}] {name} ...")
+            t = time.perf_counter()
+            made = path_traced.renders_made()
             sections.append(showcase(ctx, out, (w, h)))
-            advance()
+            traced = path_traced.renders_made() - made
+            typer.echo(f"demo: [{k}/{len(chosen)}] {name}: {len(sections[-1].items)} images in "
+                       f"{time.perf_counter() - t:.1f} s" + (f" ({traced} path-traced)" if traced else ""))
+    finally:
+        path_traced.clear()
     renderer = ctx.info()["renderer"]
     page = write_gallery(out, "illusio — demo gallery", sections,
                          footer=f"Rendered on {renderer} in {time.perf_counter() - t0:.1f} s by `illusio demo`.")

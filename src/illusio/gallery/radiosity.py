@@ -12,22 +12,24 @@ import numpy as np
 from ..core.context import Context
 from ..core.images import write_image
 from ..core.renderer import Frame
+from ..passes.denoise import denoiser_available
 from ..passes.mitsuba import mitsuba_available
 from ..radiosity import RadiosityParams, RadiosityRenderer
 from ..scene.builtin import builtin_scene
 from .html import Item, Section, Table
+from .path_traced import DEMO_SAMPLES, path_traced
 
 __all__ = ["radiosity_showcase"]
 
 
-def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: int = 64) -> Section:
+def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: int = DEMO_SAMPLES) -> Section:
     section = Section("Hierarchical radiosity (Hanrahan et al. 1991; Loscos 1999, ch. 4)",
                       "Quadtrees over the scene's polygons, links with form factors and ray-cast visibility, BFV "
                       "refinement, gather and push-pull; left the solution (radiosity gathered at the element "
                       "corners, Gouraud), middle the element mesh, right Mitsuba 3 path tracing the same polygons.")
     renderer = RadiosityRenderer(ctx)
     table = Table(f"Each solution: its size and build time on {ctx.info()['renderer']}, and against Mitsuba at {spp} paths "
-                  "a pixel (its own noise included)", ["scene", "elements", "links", "build + solve", "mean relative error",
+                  "a pixel" + (", denoised" if denoiser_available() else " (its own noise included)"), ["scene", "elements", "links", "build + solve", "mean relative error",
                                                       "PSNR"], [])
     section.tables.append(table)
     for name, shape in (("cornell-box", (size[1] // 2, size[1] // 2)), ("office", (size[0] // 2, size[1] // 2))):
@@ -44,9 +46,9 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
         row = [name, f"{solution.stats.elements:,}", f"{solution.stats.links:,}", f"{build:.1f} s", "—", "—"]
         table.rows.append(row)
         if mitsuba_available():
-            from ..radiosity.mitsuba import render_mitsuba, score
+            from ..radiosity.mitsuba import score
 
-            reference = render_mitsuba(renderer.polygons, view, shape, spp)
+            reference = path_traced(renderer.polygons, view, shape, spp)
             s = score(image, reference, ~emitter)
             panels.append(np.clip(reference, 0, 1))
             row[4:] = [f"{100 * s.mean_relative_error:.1f} %", f"{s.psnr:.1f} dB"]

@@ -11,8 +11,10 @@ import numpy as np
 
 from ..core.context import Context
 from ..core.images import write_image
+from ..passes.denoise import denoiser_available
 from ..passes.mitsuba import mitsuba_available
 from .html import Item, Section, Table
+from .path_traced import DEMO_SAMPLES, path_traced
 
 __all__ = ["relight_showcase"]
 
@@ -22,7 +24,7 @@ EDITS = {"back lamps off": {"lamp-0": 0.0, "lamp-1": 0.0},
          "right off, left doubled": {"lamp-1": 0.0, "lamp-3": 0.0, "lamp-0": 2.0, "lamp-2": 2.0}}
 
 
-def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: int = 64) -> Section:
+def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: int = DEMO_SAMPLES) -> Section:
     section = Section("Relighting a photograph (Loscos 1999, ch. 4)",
                       "The office photographed (Mitsuba, four ceiling lamps), its model's reflectances and lamp powers "
                       "estimated from the photograph, then the lamps changed as in Figure 4.17: the truth (Mitsuba), the "
@@ -30,11 +32,17 @@ def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: in
     if not mitsuba_available():
         section.text += " Mitsuba is not installed (pip install 'illusio[photo]'): nothing to show."
         return section
-    from ..radiosity.mitsuba import render_mitsuba, score
-    from ..relight import METHODS, RelightParams, RelightSession, builtin_real_scene
+    from ..radiosity.mitsuba import score
+    from ..radiosity.polygons import scene_polygons
+    from ..relight import METHODS, RealScene, RelightParams, RelightSession
+    from ..scene.builtin import builtin_scene
 
+    # the photograph is radiosity's path-traced reference of the office (same polygons, camera,
+    # size and seed): made once a run (gallery.path_traced)
     small = (max(64, size[0] // 2), max(48, size[1] // 2))
-    real = builtin_real_scene("office", small, spp)
+    office = builtin_scene("office")
+    polygons, view = scene_polygons(office), office.camera("main")
+    real = RealScene(polygons, view, np.array(path_traced(polygons, view, small, spp)))
     p = real.polygons
     lamp = np.isin(p.group, p.lamps)
     sessions = {method: RelightSession(real, RelightParams(method=method), ctx) for method in METHODS}
@@ -50,11 +58,12 @@ def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: in
                               "undone (no change of visibility under them, Figure 4.8a)",
                               figure="Loscos 1999, Figures 4.8b and 4.12",
                               command=f"illusio relight office --method loscos --show mesh --size {small[0]}x{small[1]} -o mesh.png"))
-    table = Table(f"Mean relative error against Mitsuba's render of each edit ({spp} paths a pixel, noise included) "
+    noise = "denoised" if denoiser_available() else "noise included"
+    table = Table(f"Mean relative error against Mitsuba's render of each edit ({spp} paths a pixel, {noise}) "
                   "and the time of the edit", ["edit"] + list(METHODS), [])
     for name, edit in EDITS.items():
         factor = np.array([edit.get(n, 1.0) for n in p.names])[p.group]
-        truth = render_mitsuba(dataclasses.replace(p, exitance=p.exitance * factor[:, None]), real.view, small, spp, seed=5)
+        truth = path_traced(dataclasses.replace(p, exitance=p.exitance * factor[:, None]), real.view, small, spp, seed=5)
         panels, notes = [real.photograph, truth], []
         for method, session in sessions.items():
             image = session.image(edit)

@@ -42,15 +42,24 @@ def _scene_dict(polygons: Polygons, folder: Path) -> dict:
 
 
 def render_mitsuba(polygons: Polygons, view: View, size: tuple[int, int], samples: int = 256,
-                   seed: int = 0, max_depth: int = -1) -> np.ndarray:
+                   seed: int = 0, max_depth: int = -1, denoise: bool = False) -> np.ndarray:
     """Radiance (H, W, 3) float32 of ``polygons`` seen from ``view``: Mitsuba's path tracer with
-    ``samples`` paths a pixel (box filter), unbounded path length (Russian roulette) by default."""
+    ``samples`` paths a pixel (box filter), unbounded path length (Russian roulette) by default.
+    ``denoise``: through Open Image Denoise (``passes.denoise``), guided by the first hit's albedo
+    and normal that the same paths give (Mitsuba's aov integrator)."""
     mi = load_mitsuba()
+    integrator = {"type": "path", "max_depth": int(max_depth)}
+    if denoise:
+        integrator = {"type": "aov", "aovs": "albedo:albedo,normal:sh_normal", "integrator": integrator}
     with tempfile.TemporaryDirectory(prefix="illusio-radiosity-") as tmp:
         doc = _scene_dict(polygons, Path(tmp))
         doc["sensor"] = sensor(mi, view, size, samples, seed)
-        doc["integrator"] = {"type": "path", "max_depth": int(max_depth)}
+        doc["integrator"] = integrator
         image = np.array(mi.render(load_scene(mi, doc), seed=int(seed)), np.float32)
+    if denoise:  # channels: the path tracer's RGB, then albedo, then normal
+        from ..passes.denoise import denoise as oidn
+
+        return oidn(np.clip(image[..., :3], 0, None), image[..., 3:6], image[..., 6:9])
     return np.clip(image[..., :3], 0, None)
 
 
