@@ -40,11 +40,12 @@ done
 suite=${FRESH_ROOT_SUITE:-bookworm}
 host_mirror() {  # the first Debian archive the host's apt uses (deb822 or one-line sources)
   cat /etc/apt/sources.list.d/*.sources /etc/apt/sources.list 2>/dev/null |
-    awk '/^URIs:/ && $2 !~ /security/ {print $2; exit} /^deb / && $0 !~ /security/ {for (i = 2; i <= NF; i++) if ($i ~ /^[a-z]+:\/\//) {print $i; exit}}'
+    awk '/^URIs:/ && $2 !~ /security/ {print $2; exit} /^deb / && $0 !~ /security/ {for (i = 2; i <= NF; i++) if ($i ~ /^[a-z]+:\/\//) {print $i; exit}}' || true
 }
 mirror=${FRESH_ROOT_MIRROR:-$(host_mirror)}
 mirror=${mirror:-http://deb.debian.org/debian}
 root=$(mktemp -d "${FRESH_ROOT_PARENT:-/var/tmp}/illusio-fresh-root.XXXXXX")
+chmod 755 "$root"  # mktemp makes it 0700: apt inside drops to its _apt user, who must reach its lists
 
 mounts_under_root() { awk -v r="$root" '$5 == r || index($5, r "/") == 1 {print $5}' /proc/self/mountinfo | sort -r; }
 cleanup() {

@@ -75,3 +75,17 @@ def test_readme_command_runs_as_written(argv, tmp_path, monkeypatch, capsys):
     for k, word in enumerate(words[:-1]):
         if word in ("-o", "--output", "--out"):
             assert (tmp_path / words[k + 1]).exists()
+
+
+def test_readme_names_the_system_packages_setup_installs():
+    """README's apt-get lines are setup.sh's list: every package setup may install is named there,
+    and README names none that setup does not install (python3-venv is in README's prerequisites)."""
+    import re
+
+    setup = set(re.findall(r"need\+=\(([\w.+-]+)\)", (ROOT / "scripts" / "setup.sh").read_text()))
+    text = (ROOT / "README.md").read_text()
+    section = text[text.index("## Two commands"):text.index("## The five systems")]
+    readme = {w for line in re.findall(r"apt-get install -y --no-install-recommends ([^`]+)`", section) for w in line.split()}
+    assert setup >= {"libegl1", "libgl1", "libgl1-mesa-dri", "libatomic1", "xvfb", "xauth", "chromium"}
+    assert readme == setup - {"python3-venv"}, (readme, setup)
+    assert "python3-venv" in section

