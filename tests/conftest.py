@@ -54,6 +54,9 @@ def rng(request) -> np.random.Generator:
     return np.random.default_rng([SESSION_SEED, name_hash])
 
 
+_SESSION_CONTEXT: list = []
+
+
 @pytest.fixture(scope="session")
 def ctx():
     from illusio.core import Context, GLUnavailable
@@ -62,7 +65,23 @@ def ctx():
         context = Context()
     except GLUnavailable as exc:  # tests need GL: say why loudly instead of skipping silently
         pytest.exit(f"no OpenGL 4.3 context: {exc}", returncode=3)
+    _SESSION_CONTEXT.append(context)
     yield context
+
+
+@pytest.fixture(autouse=True)
+def gl_error_flag_is_clean():
+    """After every test, the GL error flag of each context still open (the session's, the one-shot
+    default, the CLI's) is clean, as moderngl's own suite checks around each test: a pass that
+    raises GL_INVALID_OPERATION and draws nothing would otherwise be seen only by what it draws."""
+    yield
+    import illusio.core.context as core_context
+
+    live = {id(c): c for c in [c for c in _SESSION_CONTEXT if c.gl is not None] + core_context.live_contexts()}
+    raised = [f"{err} on {'the session context' if c in _SESSION_CONTEXT else 'a context'}"
+              for c in live.values() if (err := c.gl_error())]  # read once each: reading clears it
+    if raised:
+        pytest.fail("GL error flag set after the test: " + "; ".join(raised), pytrace=False)
 
 
 @pytest.fixture(scope="session")

@@ -21,3 +21,24 @@ def test_a_second_context_does_not_receive_the_first_ones_work(ctx, rng):
     np.testing.assert_array_equal(ctx.readback(tex), before)  # still usable after the other is gone
     tex.release()
     mine.release()
+
+
+def test_releasing_the_bound_framebuffer_leaves_no_gl_error(ctx):
+    """moderngl binds the framebuffer it had bound back after making a new one: when that one was
+    released while bound, the bind of its deleted name raises GL_INVALID_OPERATION (what every dof
+    planes frame did). Context.release_framebuffer parks the binding on framebuffer 0 first."""
+    assert ctx.gl_error() is None
+    texture = ctx.acquire((8, 8), 4, "f1")
+    fbo = ctx.gl.framebuffer(color_attachments=[texture])
+    fbo.use()
+    ctx.release_framebuffer(fbo)
+    other = ctx.acquire((8, 8), 4, "f1")
+    ctx.framebuffer([other]).use()
+    assert ctx.gl_error() is None
+    ctx.release(texture, other)
+
+
+def test_gl_error_reads_and_clears_the_flag(ctx):
+    ctx.gl.enable_direct(0x1234)                 # not an enum glEnable takes
+    assert ctx.gl_error() == "GL_INVALID_ENUM"
+    assert ctx.gl_error() is None                # read once: cleared

@@ -19,7 +19,7 @@ from .gl import set_uniform
 from .programs import ProgramCache
 from .textures import TexturePool, TextureSpec, readback, upload, write_texture
 
-__all__ = ["Context", "REQUIRED_GL", "default_context", "release_current"]
+__all__ = ["Context", "REQUIRED_GL", "default_context", "live_contexts", "release_current"]
 
 REQUIRED_GL = 430
 _CURRENT: list["Context | None"] = [None]  # the Context whose GL context was made current last (one GL thread)
@@ -52,6 +52,7 @@ class Context:
         self.textures = TexturePool(gl)
         self.fullscreen = FullscreenTriangle(gl)
         self._framebuffers: dict[tuple, moderngl.Framebuffer] = {}
+        self._default_framebuffer: moderngl.Framebuffer | None = None  # 0: where a released one leaves the binding
         self._kept: dict[type, Any] = {}
         _CURRENT[0] = self  # creating a context makes it current
 
@@ -158,7 +159,7 @@ class Context:
         stale = fbo is not None and (any(a is not t for a, t in zip(fbo.color_attachments, colour))
                                      or (isinstance(depth, moderngl.Texture) and fbo.depth_attachment is not depth))
         if stale:
-            fbo.release()  # a GL name was reused by a new texture: the cached one is stale
+            self.release_framebuffer(fbo)  # a GL name was reused by a new texture: the cached one is stale
             fbo = None
         if fbo is None:
             size = colour[0].size if colour else depth.size
@@ -166,6 +167,17 @@ class Context:
             fbo = self.gl.framebuffer(color_attachments=colour, depth_attachment=depth_attachment)
             self._framebuffers[key] = fbo
         return fbo
+
+    def release_framebuffer(self, fbo: moderngl.Framebuffer) -> None:
+        """Release ``fbo``, first binding framebuffer 0 if it is the bound one: moderngl keeps the
+        bound framebuffer and binds it back after making the next one, and binding a deleted name
+        raises GL_INVALID_OPERATION (seen: every dof planes frame raised it until this)."""
+        self.make_current()
+        if self.gl.fbo is fbo:
+            if self._default_framebuffer is None:
+                self._default_framebuffer = self.gl.detect_framebuffer(0)
+            self._default_framebuffer.use()
+        fbo.release()
 
     def draw_fullscreen(self, program: moderngl.Program, size: tuple[int, int], components: int = 4,
                         dtype: str = "f4", textures: dict[str, moderngl.Texture] | None = None,
@@ -196,6 +208,13 @@ class Context:
             "max_texture_size": str(i.get("GL_MAX_TEXTURE_SIZE", "?")),
         }
 
+    def gl_error(self) -> str | None:
+        """The GL error flag raised since it was last read (``"GL_INVALID_OPERATION"``, ...), or None
+        when clean; reading clears it. Tests read it after each test (tests/conftest.py)."""
+        self.make_current()
+        error = self.gl.error
+        return None if error == "GL_NO_ERROR" else error
+
     def finish(self) -> None:
         """Block until the GPU has done all queued work (for timing)."""
         self.make_current()
@@ -207,7 +226,7 @@ class Context:
             renderer.release()
         self._kept.clear()
         for fbo in self._framebuffers.values():
-            fbo.release()
+            self.release_framebuffer(fbo)
         self._framebuffers.clear()
         self.textures.clear()
         self.gl.release()
@@ -218,6 +237,15 @@ class Context:
 
 
 _DEFAULT: list["Context | None"] = [None]
+
+
+def live_contexts() -> list[Context]:
+    """The contexts of this process that are still open: the current one and the default one."""
+    seen = []
+    for ctx in (_CURRENT[0], _DEFAULT[0]):
+        if ctx is not None and ctx.gl is not None and ctx not in seen:
+            seen.append(ctx)
+    return seen
 
 
 def release_current() -> None:

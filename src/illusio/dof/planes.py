@@ -102,6 +102,6 @@ class PlanesPass:
             fbo.depth_mask = True
             ctx.gl.depth_func = "<"
             ctx.gl.disable(moderngl.DEPTH_TEST)
-            fbo.release()
+            ctx.release_framebuffer(fbo)
             scene_depth.release()
         return out
