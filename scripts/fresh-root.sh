@@ -50,6 +50,7 @@ chmod 755 "$root"  # mktemp makes it 0700: apt inside drops to its _apt user, wh
 mounts_under_root() { awk -v r="$root" '$5 == r || index($5, r "/") == 1 {print $5}' /proc/self/mountinfo | sort -r; }
 cleanup() {
   local status=$?
+  rm -f "$root.debootstrap.log"
   trap - EXIT INT TERM
   # what the commands left running (Xvfb, Ray, a test's server) holds the mounts: end it first
   local pid pids=()
@@ -71,13 +72,16 @@ cleanup() {
   exit "$status"
 }
 trap cleanup EXIT
-trap 'exit 130' INT TERM
+trap 'echo "fresh-root: interrupted" >&2; exit 130' INT TERM
 
 elapsed() { local s=$(( $(date +%s) - $1 )); printf '%dm%02ds' $((s / 60)) $((s % 60)); }
 t0=$(date +%s)
 echo "fresh-root: debootstrap --variant=minbase $suite from $mirror into $root"
+# long steps run in the background and are waited for: bash runs a trap for TERM only once the
+# foreground command ends, `wait` returns at once
 debootstrap --variant=minbase --include=python3,python3-venv,git,ca-certificates "$suite" "$root" "$mirror" \
-  >"$root.debootstrap.log" 2>&1 || { tail -20 "$root.debootstrap.log" >&2; rm -f "$root.debootstrap.log"; exit 1; }
+  >"$root.debootstrap.log" 2>&1 &
+wait $! || { tail -20 "$root.debootstrap.log" >&2; rm -f "$root.debootstrap.log"; exit 1; }
 rm -f "$root.debootstrap.log"
 echo "fresh-root: root made in $(elapsed "$t0")"
 
@@ -119,7 +123,7 @@ for v in CI http_proxy https_proxy no_proxy HTTP_PROXY HTTPS_PROXY NO_PROXY PIP_
   [ -n "${!v:-}" ] && env_keep+=("$v=${!v}")
 done
 [ "$write_constraints" = 1 ] && env_keep+=(ILLUSIO_CONSTRAINTS=none)
-inside() { chroot "$root" /usr/bin/env -i "${env_keep[@]}" bash -c "cd /work/illusio && $1"; }
+inside() { chroot "$root" /usr/bin/env -i "${env_keep[@]}" bash -c "cd /work/illusio && $1" & wait $!; }
 
 echo "fresh-root: $commit; README's demo command: $demo_cmd"
 t=$(date +%s)
