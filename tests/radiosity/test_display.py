@@ -223,3 +223,21 @@ def test_corner_ids_group_equal_rows_as_lexsort_does(rng, monkeypatch):
     assert same_partition(display.corner_ids(key))
     monkeypatch.setattr(display, "_row_hashes", lambda k: np.zeros(len(k), np.uint64))   # all collide
     assert same_partition(display.corner_ids(key))
+
+
+def test_a_solution_with_no_leaf_shown_draws_black(ctx):
+    """A loaded session whose display has no triangle (seen in the saved-session fuzz): GL refuses an
+    empty buffer, so the pass keeps none and draws the clear colour, element −1 everywhere."""
+    from illusio.radiosity.display import LeafMesh
+    from illusio.scene.builtin import builtin_scene
+
+    empty = LeafMesh(*(np.zeros((0, 3), np.float32) for _ in range(3)), np.zeros(0, np.float32),
+                     np.zeros((0, 3), np.int32), np.zeros(0, np.int64))
+    display = DisplayPass(ctx)
+    display.load(empty)
+    colour, element = display(builtin_scene("cornell-box").camera("main"), (16, 12))
+    try:
+        assert not ctx.readback(colour).any() and (ctx.readback(element) == -1).all()
+    finally:
+        ctx.release(colour, element)
+        display.release()

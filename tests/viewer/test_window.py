@@ -157,8 +157,11 @@ def test_the_command_opens_the_window_and_saves_the_last_frame(x_display, tmp_pa
     shot = tmp_path / "shot.png"
     r = subprocess.run([sys.executable, "-m", "illusio", "view", "--technique", "lines", "--size", "320x240",
                         "--exit-after", "3", "--screenshot", str(shot)], capture_output=True, text=True, timeout=300,
-                       env={**__import__("os").environ, "DISPLAY": x_display})
+                       env={**__import__("os").environ, "DISPLAY": x_display, "XDG_CONFIG_HOME": str(tmp_path / "config")},
+                       cwd=tmp_path)
     assert r.returncode == 0, r.stderr
+    # the panel's layout goes to the user's config folder, not into the folder the viewer started in
+    assert not (tmp_path / "imgui.ini").exists() and (tmp_path / "config" / "illusio" / "imgui.ini").is_file()
     image = read_image(shot)
     assert image.shape[:2] == (240, 320) and (image.max(axis=-1) < 0.5).sum() > 200  # a line drawing
 

@@ -19,7 +19,7 @@ from .gl import set_uniform
 from .programs import ProgramCache
 from .textures import TexturePool, TextureSpec, readback, upload, write_texture
 
-__all__ = ["Context", "REQUIRED_GL", "default_context", "live_contexts", "release_current"]
+__all__ = ["Context", "REQUIRED_GL", "current_context", "default_context", "live_contexts", "release_current"]
 
 REQUIRED_GL = 430
 _CURRENT: list["Context | None"] = [None]  # the Context whose GL context was made current last (one GL thread)
@@ -237,6 +237,12 @@ class Context:
 
 
 _DEFAULT: list["Context | None"] = [None]
+
+
+def current_context() -> Context | None:
+    """The Context made current last (None when none is, or it was released)."""
+    ctx = _CURRENT[0]
+    return ctx if ctx is not None and ctx.gl is not None else None
 
 
 def live_contexts() -> list[Context]:

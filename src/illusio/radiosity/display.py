@@ -213,6 +213,8 @@ class DisplayPass:
     def load(self, mesh: LeafMesh) -> None:
         self.ctx.make_current()          # buffers belong to the context current when they are made
         self.release()
+        if not len(mesh.faces):          # nothing shown (no leaf in view): draws nothing; GL refuses empty buffers
+            return
         gl = self.ctx.gl
         data = np.hstack([mesh.positions, mesh.radiance, mesh.corner, mesh.element[:, None]]).astype(np.float32)
         vbo = gl.buffer(np.ascontiguousarray(data).tobytes())

@@ -59,6 +59,11 @@ class ViewerWindow:
         self.imgui = imgui
         self.imgui_context = imgui.create_context()
         imgui.set_current_context(self.imgui_context)  # create_context makes only the first one current
+        # the panel's place and size are kept in the user's config folder, not written into whatever
+        # folder the viewer was started from
+        settings = Path(os.environ.get("XDG_CONFIG_HOME") or Path.home() / ".config") / "illusio" / "imgui.ini"
+        settings.parent.mkdir(parents=True, exist_ok=True)
+        imgui.get_io().set_ini_filename(str(settings))
         self.gui = ModernglWindowRenderer(self.window)
         import glfw
 
