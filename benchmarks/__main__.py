@@ -12,7 +12,11 @@ from pathlib import Path
 
 from .runner import print_table, write_results
 
-SUITES = ["core", "sis", "sis_quality", "lines", "lines_transfer", "protocol", "viewer", "dof", "ibr", "radiosity", "batch", "relight"]
+from illusio.core.technique import techniques
+
+#: each technique's suites (core.technique: ``benchmarks``) in the registry's order, then those of
+#: the whole package (the protocol's overheads, the viewer, batch jobs)
+SUITES = list(dict.fromkeys([s for t in techniques().values() for s in t.benchmarks] + ["protocol", "viewer", "batch"]))
 
 
 def main(argv=None) -> int:

@@ -109,8 +109,13 @@ def test_version_list_and_did_you_mean(capsys):
     code, out = call_cli(["list"], capsys)
     assert code == 0
     assert "office: cameras main, top; hosts back-wall; lamps lamp-0, lamp-1, lamp-2, lamp-3" in out.out
-    for name in ("torus-knot", "pink-noise", "symmetric", "apparent-ridges", "relight"):
+    for name in ("torus-knot", "pink-noise", "symmetric", "apparent-ridges"):
         assert f"  {name}\n" in out.out
+    from illusio.core.technique import techniques
+
+    for t in techniques().values():              # each technique with its title, source and views
+        assert f"  {t.name}: {t.title}; source: {t.source_kind} (default {t.default_source})" in out.out
+    assert "  relight: Relighting" in out.out and "views tv, wall, interactive" in out.out
     code, out = call_cli(["list", "shapes"], capsys)
     assert code == 0 and "scenes:" not in out.out and "  gear" in out.out
     for args, hint in ((["list", "scene"], "did you mean scenes?"),

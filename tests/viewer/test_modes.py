@@ -297,3 +297,21 @@ def test_sis_wall_host_layout_from_the_panel(ctx):
     with pytest.raises(Exception, match="not one of"):
         viewer.mode.set_param("host_layout", "sideways")
     viewer.release()
+
+
+def test_the_sis_mode_takes_a_scene_or_a_hidden_shape_as_its_source(ctx):
+    """`illusio view living-room -t sis` failed ("not a built-in shape"): a scene source is the host
+    scene (the default shape hidden), a shape or mesh source the hidden shape, as before."""
+    from illusio.viewer.modes import SisMode
+
+    by_scene = SisMode(ctx, "office", "wall")
+    by_shape = SisMode(ctx, "torus", "tv")
+    try:
+        assert by_scene.source == "torus-knot"
+        assert "lamp-0" in [light.name for light in by_scene.scene.lights]          # the office hosts it
+        ctx.release(by_scene.render(Frame(by_scene.home_view(), SIZE)))  # the viewer releases what a mode draws
+        assert (ctx.readback(by_scene.renderer.maps()["depth"])[..., 0] >= 0).sum() > 100  # on its back wall
+        assert by_shape.source == "torus" and "tv-screen" in [n.name for n in by_shape.scene.nodes]
+    finally:
+        by_scene.release()
+        by_shape.release()

@@ -36,8 +36,11 @@ def _names(what: str) -> list[str]:
     if what == "lines":
         from ..lines.params import LINE_TYPES
         return list(LINE_TYPES)
-    from ..viewer.modes import MODES
-    return list(MODES)
+    from ..core.technique import techniques
+
+    return [f"{t.name}: {t.title}; source: {t.source_kind} (default {t.default_source})"
+            + (f"; views {', '.join(t.presets)}" if t.presets else "") + (f"; needs {t.needs}" if t.needs else "")
+            for t in techniques().values()]
 
 
 def listing(what: str = typer.Argument(None, help=f"one of {', '.join(WHAT)} (default: all)")) -> None:

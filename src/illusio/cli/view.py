@@ -13,10 +13,12 @@ from .common import parse_size, progress
 
 
 def view(
-    source: str = typer.Argument(None, help="what to show: a scene or mesh (plain), the hidden shape (sis), a mesh (lines); "
-                                            "default: the mode's own"),
-    technique: str = typer.Option("plain", "--technique", "-t", help="plain, sis or lines"),
-    variant: str = typer.Option(None, "--view", help="the technique's view: sis tv|wall|interactive|raw, lines drawing|q1|t1|curvature"),
+    source: str = typer.Argument(None, help="what to show: the technique's scene, mesh or folder (sis: the hidden shape, "
+                                            "or the scene hosting it); default: the technique's own (illusio list techniques)"),
+    technique: str = typer.Option("plain", "--technique", "-t", help="a technique with a viewer mode: plain, sis, lines, dof, "
+                                                                      "ibr, radiosity, relight (illusio list techniques)"),
+    variant: str = typer.Option(None, "--view", help="the technique's view (its views in illusio list techniques), "
+                                                     "e.g. sis tv|wall|interactive|raw, lines drawing|q1|t1|curvature"),
     size: str = typer.Option("x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT of the window or the video"),
     path: Path = typer.Option(None, "--path", help="play a camera path (JSON keyframes t, eye, target)"),
     output: Path = typer.Option(None, "-o", "--output", help="record to a video (.mp4 or .gif) offscreen, no window"),

@@ -14,6 +14,7 @@ and "gather" (the depth-aware convolution).
 from ..core.lazy import lazy_exports
 
 _EXPORTS = {
+    "TECHNIQUES": "technique",
     **dict.fromkeys(("DofRenderer", "depth_of_field"), "renderer"),
     **dict.fromkeys(("DofParams", "METHODS", "STEREO_OUTPUTS"), "params"),
     **dict.fromkeys(("image_distance", "coc_diameter", "coc_pixels", "fov_for_focal_length"), "lens"),

@@ -12,12 +12,6 @@ from ..core.renderer import Frame
 from ..passes.scene_renderer import SceneRenderer
 from ..scene.builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .html import Item, Section
-from .dof import dof_showcase
-from .ibr import ibr_showcase
-from .lines import lines_showcase
-from .radiosity import radiosity_showcase
-from .relight import relight_showcase
-from .sis import sis_showcase
 from .viewer import viewer_showcase
 
 __all__ = ["SHOWCASES", "builtin_scenes", "builtin_shapes"]
@@ -62,14 +56,13 @@ def builtin_shapes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
     return section
 
 
-SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]] = [
-    ("scenes", builtin_scenes),
-    ("shapes", builtin_shapes),
-    ("sis", sis_showcase),
-    ("lines", lines_showcase),
-    ("dof", dof_showcase),
-    ("ibr", ibr_showcase),
-    ("radiosity", radiosity_showcase),
-    ("relight", relight_showcase),
-    ("viewer", viewer_showcase),
-]
+def _showcases() -> list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]]:
+    """The core's scenes and shapes, each technique's section (core.technique: ``showcase``) in the
+    registry's order, then the viewer's camera paths."""
+    from ..core.technique import techniques
+
+    own = [(t.name, t.showcase_function()) for t in techniques().values() if t.showcase]
+    return [("scenes", builtin_scenes), ("shapes", builtin_shapes)] + own + [("viewer", viewer_showcase)]
+
+
+SHOWCASES: list[tuple[str, Callable[[Context, Path, tuple[int, int]], Section]]] = _showcases()

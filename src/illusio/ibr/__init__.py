@@ -9,6 +9,7 @@
 from ..core.lazy import lazy_exports
 
 _EXPORTS = {
+    "TECHNIQUES": "technique",
     **dict.fromkeys(("IbrRenderer", "render_views", "source_view"), "renderer"),
     **dict.fromkeys(("IbrParams", "DISTANCES", "SELECTIONS"), "params"),
     **dict.fromkeys(("ReferenceView", "ReferenceSet", "capture", "save_references", "load_references", "load_cameras",

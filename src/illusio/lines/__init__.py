@@ -16,6 +16,7 @@ from ..core.lazy import lazy_exports
 # names -> the module that defines them; imported on first use, so that `illusio --help` and the
 # CLI's defaults (lines.params) do not pay for numba and the passes
 _EXPORTS = {
+    "TECHNIQUES": "technique",
     "LineRenderer": "drawing", "Drawing": "drawing", "framing_view": "drawing", "line_drawing": "drawing",
     "LineParams": "params", "CurvatureParams": "params", "LINE_TYPES": "params", "METHODS": "params",
     "Curvature": "curvature", "estimate_curvature": "curvature", "DEBUG_VIEWS": "debug", "debug_view": "debug",

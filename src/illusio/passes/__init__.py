@@ -8,7 +8,8 @@ from .scene_renderer import RenderSettings, SceneRenderer, render_scene
 from .shading import ShadingParams, ShadingPass
 from .shadows import ShadowPass
 from .stereo import COMPOSITES, StereoCompositePass
+from .technique import TECHNIQUES
 
-__all__ = ["ForwardPass", "ScreenMaterial", "GBuffer", "GBufferImages", "GBufferPass", "GpuScene", "Emitters", "emitters_from_lights",
+__all__ = ["TECHNIQUES", "ForwardPass", "ScreenMaterial", "GBuffer", "GBufferImages", "GBufferPass", "GpuScene", "Emitters", "emitters_from_lights",
            "RenderSettings", "SceneRenderer", "render_scene", "ShadingParams", "ShadingPass", "ShadowPass",
            "StereoCompositePass", "COMPOSITES"]

@@ -14,9 +14,10 @@ from .params import CRITERIA, SHOW, HierarchyParams, RadiosityParams
 from .polygons import Polygons, scene_polygons
 from .renderer import RadiosityRenderer
 from .solution import Radiosity, Stats
+from .technique import TECHNIQUES
 from .visibility import INVISIBLE, PARTIAL, VISIBLE
 
-__all__ = ["Radiosity", "RadiosityRenderer", "RadiosityParams", "HierarchyParams", "Polygons", "scene_polygons",
+__all__ = ["TECHNIQUES", "Radiosity", "RadiosityRenderer", "RadiosityParams", "HierarchyParams", "Polygons", "scene_polygons",
            "Stats", "CRITERIA", "SHOW", "VISIBLE", "PARTIAL", "INVISIBLE", "radiosity_image",
            "DisplayPass", "LeafMesh", "leaf_mesh", "point_polygon"]
 

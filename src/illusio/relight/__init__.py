@@ -16,6 +16,7 @@ from .params import METHODS, RelightParams
 from .photograph import RealScene, builtin_real_scene, load_real_scene, polygon_ids
 from .renderer import RelightRenderer
 from .session import RelightSession
+from .technique import TECHNIQUES
 
-__all__ = ["RelightSession", "RelightRenderer", "RelightParams", "RealScene", "builtin_real_scene", "load_real_scene",
+__all__ = ["TECHNIQUES", "RelightSession", "RelightRenderer", "RelightParams", "RealScene", "builtin_real_scene", "load_real_scene",
            "polygon_ids", "METHODS"]

@@ -10,7 +10,7 @@ from .loader import load_scene
 from .mesh import MESH_FORMATS, Mesh, load_mesh
 from .scene import Scene
 
-__all__ = ["resolve_scene", "resolve_mesh", "is_mesh_source"]
+__all__ = ["resolve_scene", "resolve_mesh", "is_mesh_source", "scene_subject", "mesh_subject"]
 
 
 def is_mesh_source(source: str) -> bool:
@@ -39,3 +39,13 @@ def resolve_scene(source: str) -> Scene:
         raise InputError(f"{source}: no such file, and not a built-in scene ({', '.join(SCENES)}) or shape "
                          f"({', '.join(SHAPES)}){did_you_mean(source, list(SCENES) + list(SHAPES))}")
     raise InputError(f"{source}: not a scene (.yaml) or mesh ({', '.join(MESH_FORMATS)})")
+
+
+def scene_subject(source: str, size: tuple[int, int], ctx=None) -> Scene:
+    """``resolve_scene`` as a technique's subject maker (core.technique: size and ctx unused)."""
+    return resolve_scene(source)
+
+
+def mesh_subject(source: str, size: tuple[int, int], ctx=None) -> Mesh:
+    """``resolve_mesh`` as a technique's subject maker (core.technique: size and ctx unused)."""
+    return resolve_mesh(source)

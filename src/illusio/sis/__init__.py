@@ -21,6 +21,7 @@ from ..core.lazy import lazy_exports
 # names -> the module that defines them; imported on first use (numba and the passes load only when
 # a stereogram is made, not for `illusio --help` or for reading the Params' defaults)
 _EXPORTS = {
+    "TECHNIQUES": "technique",
     **dict.fromkeys(("DecodeReport", "check", "decode_separation", "expected_separation", "separation_to_depth"), "decode"),
     **dict.fromkeys(("check_depth", "read_depth"), "depth"),
     **dict.fromkeys(("ALGORITHMS", "PATTERNS", "StereogramParams", "MultiSceneParams"), "params"),

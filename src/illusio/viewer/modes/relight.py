@@ -122,7 +122,8 @@ class RelightMode(Mode):
         self.params = replace(self.params, method=self.variant,
                               fresh_solution=self.params.fresh_solution and self.variant == "loscos")
         self._sync(self.renderer.session_for(self.params))
-        return self.renderer.render_texture(frame, self.params)
+        # the photograph's camera at its own size: the viewer's display scales it to the window
+        return self.renderer.render_texture(Frame(None, self.real.size, frame.time, frame.index), self.params)
 
     def panel(self, imgui, viewer) -> None:
         session = self.renderer.session

@@ -6,11 +6,12 @@ from __future__ import annotations
 
 from ...core.renderer import Frame
 from ...scene.builtin import SHAPES
-from ...scene.sources import resolve_mesh, resolve_scene
+from ...scene.sources import is_mesh_source, resolve_mesh, resolve_scene
 from ...sis.depth import depth_from_scene, hidden_scene
 from ...sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
 from ...sis.params import StereogramParams
 from ...sis.stereogram import StereogramRenderer
+from ...sis.technique import DEFAULT_HIDDEN
 from ..navigation import FixedCamera, WalkCamera
 from .base import Mode
 
@@ -23,12 +24,15 @@ _WALL = dict(host="back-wall", emission=0.0,
 class SisMode(Mode):
     name = "sis"
     variants = ("tv", "wall", "interactive", "raw")
-    source_help = "the hidden shape: a built-in shape or a mesh file (default torus-knot)"
+    source_help = ("the hidden shape (a built-in shape or a mesh file, default torus-knot), or the scene whose "
+                   "host surfaces show the stereogram (a built-in or .yaml scene, default living-room)")
     source_label = "hidden shape"
     source_choices = tuple(SHAPES)
 
     def __init__(self, ctx, source=None, variant=None, scene: str = "living-room"):
-        super().__init__(ctx, source or "torus-knot", variant)
+        if source is not None and not is_mesh_source(source):   # a scene: it hosts the default shape
+            scene, source = source, None
+        super().__init__(ctx, source or DEFAULT_HIDDEN, variant)
         self.hidden = hidden_scene(resolve_mesh(self.source))
         if self.variant == "raw":
             self.renderer = StereogramRenderer(ctx)
