@@ -91,4 +91,7 @@ def test_gbuffer_matches_ray_cast_reference_on_random_triangles(ctx, rng):
     # normals: interpolated in both, flipped towards the viewer on back faces in both (signed)
     alignment = (gpu.normal[both] * ref.normal[both]).sum(axis=1)
     assert (alignment > 1 - 5e-3).mean() > 0.99
-    assert (alignment > 0).all()
+    # a sign error flips whole triangles (dozens of pixels each); one or two pixels of opposite sign are
+    # where two crossing triangles of one node meet at nearly one depth (seen once in a CI run, seed
+    # 1382924269 under xdist: 1 pixel)
+    assert (alignment <= 0).sum() <= 2, (alignment <= 0).sum()
