@@ -117,7 +117,7 @@ def test_command(tmp_path, capsys):
     (["--set-lamp", "lamp-9=1"], "no lamp named"),
     (["--set-lamp", "lamp"], "NAME=SCALE"),
     (["--criterion", "bff"], "criterion"),
-    (["--epsilon", "0"], "ε"),
+    (["--epsilon", "0"], "--epsilon = 0 is out of range"),
     (["--show", "wires"], "show"),
     (["--reference", "SAME"], "choose another output path"),
 ])

@@ -10,28 +10,15 @@ import typer
 
 from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
-from ..dof.params import METHODS, STEREO_OUTPUTS, DofParams
+from ..dof.params import DofParams
 from .common import parse_size, resolve_scene, scene_inputs
+from .params_options import params_options
 
-_DEFAULT = DofParams()
-
-
+@params_options(params=DofParams)
 def dof(
     scene: str = typer.Argument("living-room", help="built-in scene, .yaml scene, mesh file or built-in shape"),
     output: Path = typer.Option(None, "-o", "--output", help="image to write (.png, .exr, .npy); with --scenario, the first frame"),
-    method: str = typer.Option(_DEFAULT.method, "--method", help=f"one of {', '.join(METHODS)}"),
-    focus_distance: float = typer.Option(_DEFAULT.focus_distance, "--focus-distance", help="d_f, metres along the view axis"),
     focus_object: str = typer.Option(None, "--focus-object", help="focus on this object of the scene (by name or tag)"),
-    policy: str = typer.Option(_DEFAULT.policy, "--policy", help="focus chosen each frame: none, gaze, largest, speed or nearest-exhibit"),
-    aperture: float = typer.Option(_DEFAULT.aperture_mm, "--aperture", help="A, lens diameter in mm"),
-    focal_length: float = typer.Option(_DEFAULT.focal_length_mm, "--focal-length", help="mm on a 24 mm frame (0: the camera's field of view)"),
-    samples: int = typer.Option(_DEFAULT.samples, "--samples", help="lens positions (accumulation)"),
-    planes_behind: int = typer.Option(_DEFAULT.planes_behind, "--planes-behind", help="m: planes behind the focal plane"),
-    planes_front: int = typer.Option(_DEFAULT.planes_front, "--planes-front", help="n: planes in front of it"),
-    distribution: str = typer.Option(_DEFAULT.distribution, "--distribution", help="exponential or linear spreading of the planes"),
-    max_coc: float = typer.Option(_DEFAULT.max_coc, "--max-coc", help="largest circle of confusion, pixels"),
-    stereo: str = typer.Option(_DEFAULT.stereo, "--stereo", help=f"one of {', '.join(STEREO_OUTPUTS)}"),
-    eye_separation: float = typer.Option(_DEFAULT.eye_separation * 100, "--eye-separation", help="cm between the eyes"),
     camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
     size: str = typer.Option("1024x768", "--size", help="WIDTHxHEIGHT of each eye's image"),
     scenario: str = typer.Option(None, "--scenario", help="a scenario file (or a shipped one: futuristic) driving objects and focus"),
@@ -40,6 +27,8 @@ def dof(
     duration: float = typer.Option(None, "--duration", help="seconds of video (default: the scenario's length)"),
     debug: str = typer.Option(None, "--debug", help="write a map instead: coc (pixels / max, white = most blur), depth, "
                                                     "or planes (each pixel's plane in grey levels, Piranda & Desorbier, Figure 8)"),
+    *,
+    params: DofParams,
 ) -> None:
     """Render SCENE with depth of field from a thin-lens eye (one focus for both eyes in stereo)."""
     from ..core.context import default_context
@@ -63,10 +52,6 @@ def dof(
     sc = resolve_scene(scene)
     view = sc.camera(camera)
     sc.check_in_view(view, (w, h))
-    params = DofParams(method=method, focus_distance=focus_distance, aperture_mm=aperture, focal_length_mm=focal_length,
-                       samples=samples, max_coc=max_coc, stereo=stereo, eye_separation=eye_separation / 100,
-                       planes_behind=planes_behind, planes_front=planes_front, distribution=distribution,
-                       policy=policy)
     if focus_object:
         params = replace(params, focus_distance=object_distance(sc, focus_object, view))
     if debug:  # the maps of the first eye; planes need the planes method, the others any blur method

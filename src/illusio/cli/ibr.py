@@ -12,9 +12,9 @@ from ..core.errors import InputError
 from ..core.images import check_output_path, write_image, write_video
 from ..ibr.params import IbrParams
 from .common import parse_eye_target, parse_size, resolve_scene, scene_inputs
+from .params_options import params_options
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Image-based rendering from reference views.")
-_DEFAULT = IbrParams()
 
 
 @app.command("capture")
@@ -77,6 +77,7 @@ def parse_camera(text: str, refs):
 
 
 @app.command("render")
+@params_options(params=IbrParams)
 def render_command(
     references: Path = typer.Argument(..., help="a references folder (illusio ibr capture, or your own)"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png, .exr, .npy), or .mp4/.gif with --path"),
@@ -85,17 +86,11 @@ def render_command(
                               "--path) played into a video, instead of --camera"),
     fps: float = typer.Option(12.0, "--fps", help="frames a second along --path"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT (default: the references')"),
-    show_sources: bool = typer.Option(_DEFAULT.show_sources, "--show-sources/--no-show-sources", help="colour by source view, holes magenta"),
-    photographic: bool = typer.Option(not _DEFAULT.relight, "--photographic/--no-photographic", help="the references' recorded colour, not re-lit"),
-    distance: str = typer.Option(_DEFAULT.distance, "--distance", help="2d (pixels on the new image) or 3d (metres)"),
-    nearest_depth: bool = typer.Option(not _DEFAULT.bilinear_depth, "--nearest-depth/--no-nearest-depth", help="nearest reference depth instead of bilinear"),
-    selection: str = typer.Option(_DEFAULT.selection, "--selection", help="single-pass (one draw comparing every reference) or multi-pass (a draw per reference)"),
-    light: str = typer.Option(None, "--light", help="move every light by DX,DY,DZ metres"),
     ground_truth: str = typer.Option(None, "--ground-truth", help="render this scene from the same camera instead"),
+    *,
+    params: IbrParams,
 ) -> None:
     """Render a new view from REFERENCES."""
-    from dataclasses import replace
-
     from ..core.context import Context
     from ..core.renderer import Frame
     from ..ibr.references import load_references
@@ -122,17 +117,6 @@ def render_command(
         truth = resolve_scene(ground_truth)
         images = [render_scene(truth, view, (w, h), ctx, RenderSettings(shadows=False)) for view in views]
     else:
-        offset = (0.0, 0.0, 0.0)
-        if light:
-            try:
-                offset = tuple(float(v) for v in light.split(","))
-                assert len(offset) == 3 and np.isfinite(offset).all()
-            except (ValueError, AssertionError):
-                raise InputError(f"--light must be DX,DY,DZ in metres, got {light!r}") from None
-        params = replace(_DEFAULT, show_sources=show_sources, distance=distance, bilinear_depth=not nearest_depth,
-                         selection=selection,
-                         relight=not photographic,
-                         light_x=offset[0], light_y=offset[1], light_z=offset[2])
         renderer = IbrRenderer(ctx)
         renderer.prepare(refs)
         images = [renderer.render(Frame(view, (w, h), k / fps, k), params) for k, view in enumerate(views)]

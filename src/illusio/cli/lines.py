@@ -10,11 +10,11 @@ import typer
 
 from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, read_image, write_image
-from ..lines.params import LINE_TYPES, CurvatureParams, LineParams
+from ..lines.params import CurvatureParams, LineParams
+from ..lines.style import LineStyle
 from .common import parse_size, resolve_mesh
+from .params_options import params_options
 
-_DEFAULT = LineParams()
-_CURVATURE = CurvatureParams()
 
 def _floats(text: str, count: tuple[int, ...], name: str) -> list[float]:
     try:
@@ -26,30 +26,22 @@ def _floats(text: str, count: tuple[int, ...], name: str) -> list[float]:
     return values
 
 
+@params_options(params=LineParams, style=LineStyle)
 def lines(
     mesh: str = typer.Argument(..., help="mesh file (.obj .ply .off .stl .gltf .glb) or built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="drawing to write: .png, or .svg (polylines per line type)"),
-    line_types: str = typer.Option(",".join(_DEFAULT.lines), "--lines", help=f"comma-separated: {', '.join(LINE_TYPES)}"),
-    method: str = typer.Option(_DEFAULT.method, "--method", help="apparent ridges by the hybrid GPU method or Judd's object-space one"),
-    tau: float = typer.Option(_DEFAULT.tau, "--tau", help="τ: q = 2^τ q1 (relative to the mesh's curvature scale unless --raw)"),
-    lam: float = typer.Option(_DEFAULT.lam, "--lambda", help="λ of the direction-adaptive Laplacian"),
-    threshold: float = typer.Option(_DEFAULT.threshold, "--threshold", help="ridge filter response threshold (0.2 in the report)"),
-    raw: bool = typer.Option(False, "--raw/--no-raw", help="the report's raw τ (q1 in 1/mesh units, no curvature scale)"),
-    min_ridge_pixels: int = typer.Option(_DEFAULT.min_ridge_pixels, "--min-ridge-pixels", help="drop hybrid ridge fragments shorter than this (pixels at 1024, scaled; 0 keeps all)"),
     view: str = typer.Option("30,15", "--view", help="AZIMUTH,ELEVATION in degrees around the mesh"),
     camera: str = typer.Option(None, "--camera", help="EYE_X,EYE_Y,EYE_Z[,TARGET_X,TARGET_Y,TARGET_Z] instead of --view"),
     size: str = typer.Option("1024x1024", "--size", help="WIDTHxHEIGHT"),
-    isophote_level: float = typer.Option(_DEFAULT.isophote_level, "--isophote-level", help="isophotes: the n·l they follow, lit by a headlight"),
-    silhouettes: str = typer.Option(_DEFAULT.silhouette_space, "--silhouettes", help="object (n·v = 0 zero crossings) or image (depth edges)"),
     grid: bool = typer.Option(False, "--grid/--no-grid", help="write the τ × λ grid of hybrid apparent ridges instead"),
     compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny (of the shaded mesh), photo (Canny of a path-traced photograph, scored with registration; needs mitsuba) or an edge IMAGE: print scores, write OUT-compare.png"),
     auto: bool = typer.Option(False, "--auto/--no-auto", help="choose τ, λ and --threshold that best match the edges of --compare (default: canny of the shaded mesh)"),
     debug: str = typer.Option(None, "--debug", help="write a debug view instead: q1, t1 or curvature"),
-    line_width: float = typer.Option(1.0, "--line-width", help="line width in pixels of the output"),
     colour: str = typer.Option(None, "--colour", help="one ink for every line: #rrggbb or R,G,B in [0, 1] (default: each type's)"),
-    transparent: bool = typer.Option(False, "--transparent/--no-transparent", help="a PNG with the paper transparent (alpha = ink)"),
-    fade: bool = typer.Option(False, "--fade/--no-fade", help="apparent ridges lighter where weak (|q| under the median ridge's), as rtsc does"),
     antialias: int = typer.Option(2, "--antialias", help="draw at N× the size and reduce (1: no antialiasing)"),
+    *,
+    params: LineParams,
+    style: LineStyle,
 ) -> None:
     """Draw MESH with apparent ridges and the classic line types."""
     from ..core.context import default_context
@@ -76,17 +68,14 @@ def lines(
         from ..passes.mitsuba import load_mitsuba
 
         load_mitsuba()                      # the install hint before anything is drawn
-    from ..lines.style import LineStyle, parse_colour, ridge_strength, stylise
+    from ..lines.style import parse_colour, ridge_strength, stylise
 
     if not 1 <= antialias <= 4:
         raise InputError(f"--antialias takes 1..4, got {antialias}")
-    style = LineStyle(width=line_width, colour=parse_colour(colour) if colour else None, transparent=transparent,
-                      fade=fade, supersample=antialias)
+    style = replace(style, colour=parse_colour(colour) if colour else None, supersample=antialias)
+    fade = style.fade
     w, h = parse_size(size)
     parse_size(f"{w * antialias}x{h * antialias}")          # the supersampled drawing must fit too
-    kinds = tuple(t.strip() for t in line_types.split(",") if t.strip())
-    params = LineParams(lines=kinds, method=method, silhouette_space=silhouettes, relative=not raw, tau=tau, lam=lam,
-                        threshold=threshold, min_ridge_pixels=min_ridge_pixels, isophote_level=isophote_level)
     m = resolve_mesh(mesh)
     if camera:
         c = _floats(camera, (3, 6), "--camera")
@@ -169,16 +158,14 @@ def lines(
         typer.echo(f"wrote {side} (red: ours only, blue: {compare} only, black: both)")
 
 
+@params_options(settings=CurvatureParams)
 def curvature(
     mesh: str = typer.Argument(..., help="mesh file or built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, "
                                                             "valid, and vertices, faces, source_index (each row's vertex in the file)"),
-    rings: int = typer.Option(_CURVATURE.rings, "--rings", help="smallest neighbourhood, in edge rings"),
-    degree: int = typer.Option(_CURVATURE.degree, "--degree", help="jet degree: 2, 3 or 4 (3 and 4 also give curvature derivatives)"),
-    smoothing: int = typer.Option(_CURVATURE.smoothing, "--smoothing", help="passes of curvature-tensor averaging over each vertex's 1-ring (0: none)"),
-    adaptive: bool = typer.Option(False, "--adaptive/--no-adaptive", help="also fit lower degrees on more rings and keep those the ICI rule accepts (see --extra-rings)"),
-    extra_rings: int = typer.Option(_CURVATURE.extra_rings, "--extra-rings", help="rings beyond the start that --adaptive fits may use"),
     no_cache: bool = typer.Option(False, "--no-cache", help="recompute even if a cached result exists"),
+    *,
+    settings: CurvatureParams,
 ) -> None:
     """Estimate per-vertex principal curvatures and directions of MESH."""
     from ..lines.curvature import estimate_curvature
@@ -186,7 +173,6 @@ def curvature(
     out = check_output_path(output, [mesh] if Path(mesh).exists() else [])
     if out.suffix.lower() != ".npz":
         raise InputError(f"{out.name}: curvature is written as .npz")
-    settings = CurvatureParams(rings=rings, degree=degree, smoothing=smoothing, adaptive=adaptive, extra_rings=extra_rings)
     m = resolve_mesh(mesh)
     c = estimate_curvature(m, settings.rings, settings.degree, cache=not no_cache, adaptive=settings.adaptive,
                            extra_rings=settings.extra_rings, confidence=settings.confidence, smoothing=settings.smoothing)

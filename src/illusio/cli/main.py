@@ -6,6 +6,7 @@ traceback; mesh repair warnings print one line each.
 
 from __future__ import annotations
 
+import inspect
 import signal
 import sys
 import threading
@@ -47,6 +48,46 @@ app.command("radiosity")(radiosity.radiosity)
 app.command("batch")(batch.batch)
 app.command("relight")(relight.relight)
 app.command("relight-prepare", hidden=True)(relight.relight_prepare)
+
+
+
+def _flowed(text: str | None) -> str | None:
+    """Docstring paragraphs as one line each: the command list shows the first without its line breaks."""
+    if not text:
+        return text
+    return "\n\n".join(" ".join(p.split()) for p in inspect.cleandoc(text).split("\n\n"))
+
+
+def _switches_untyped(command, ctx) -> None:
+    """A switch takes no value: no <bool> beside it in the help (typer shows the Python type)."""
+    for p in command.get_params(ctx):
+        if getattr(p, "is_flag", False):
+            p.metavar = ""
+
+
+class _Command(typer.core.TyperCommand):
+    def format_help(self, ctx, formatter):
+        _switches_untyped(self, ctx)
+        return super().format_help(ctx, formatter)
+
+
+class _Group(typer.core.TyperGroup):
+    def format_help(self, ctx, formatter):
+        _switches_untyped(self, ctx)
+        return super().format_help(ctx, formatter)
+
+
+def _tidy(typer_app: typer.Typer) -> None:
+    typer_app.info.cls = _Group
+    for command in typer_app.registered_commands:
+        command.cls = _Command
+        command.help = _flowed(command.help or inspect.getdoc(command.callback))
+    for group in typer_app.registered_groups:
+        group.typer_instance.info.help = _flowed(group.typer_instance.info.help)
+        _tidy(group.typer_instance)
+
+
+_tidy(app)
 
 #: two-word commands that are not groups: ``illusio relight prepare`` runs ``relight-prepare``
 ALIASES = {("relight", "prepare"): "relight-prepare"}

@@ -3,17 +3,17 @@ the Mitsuba ground truth of the same polygons for comparison."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import typer
 
 from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
-from ..radiosity.params import CRITERIA, SHOW, HierarchyParams, RadiosityParams
+from ..radiosity.params import RadiosityParams
 from .common import parse_size, resolve_scene, scene_inputs
+from .params_options import params_options
 
-_H = HierarchyParams()
-_P = RadiosityParams()
 
 
 def parse_lamps(values: list[str]) -> tuple:
@@ -31,25 +31,19 @@ def parse_lamps(values: list[str]) -> tuple:
     return tuple(out)
 
 
+@params_options(params=RadiosityParams)
 def radiosity(
     scene: str = typer.Argument(..., help="built-in scene (cornell-box, office, living-room, ...) or a .yaml scene"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png sRGB, .npy/.exr linear)"),
-    epsilon: float = typer.Option(_H.epsilon, "--epsilon", help="refinement ε, a fraction of the total emitted power"),
-    min_area: float = typer.Option(_H.min_area, "--min-area", help="smallest element area, m² (0: 3e-5 of the scene's total area)"),
-    criterion: str = typer.Option(_H.criterion, "--criterion", help=f"refinement criterion: {' | '.join(CRITERIA)}"),
-    lights_to_leaves: bool = typer.Option(_H.lights_to_leaves, "--lights-to-leaves/--no-lights-to-leaves",
-                                          help="push the lamps' links down to the leaves (Loscos Fig. 4.6b)"),
-    show: str = typer.Option(_P.show, "--show", help=f"what to draw: {' | '.join(SHOW)}"),
-    element: int = typer.Option(-1, "--element", help="--show links: the receiving element (default: the most linked)"),
     set_lamp: list[str] = typer.Option(None, "--set-lamp", help="NAME=SCALE, the lamp's exitance × SCALE (repeatable)"),
-    exposure: float = typer.Option(_P.exposure, "--exposure", help="scale on the radiance B/π before encoding"),
     size: str = typer.Option("640x480", "--size", help="WIDTHxHEIGHT of both images"),
     camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
     reference: Path = typer.Option(None, "--reference", help="also path-trace the same polygons with Mitsuba to this image"),
     spp: int = typer.Option(256, "--spp", help="--reference: paths per pixel"),
     supersample: int = typer.Option(0, "--supersample", help="samples per pixel side of the radiosity image (0: 4 with --reference, else 1)"),
     stats: bool = typer.Option(False, "--stats/--no-stats", help="print elements, links, rays and the time of each phase"),
-    seed: int = typer.Option(_H.seed, "--seed", help="visibility rays and path tracer"),
+    *,
+    params: RadiosityParams,
 ) -> None:
     """Solve SCENE by hierarchical radiosity (Hanrahan et al. 1991, as in Loscos 1999, ch. 4) and
     draw it; with --reference, score it against a Mitsuba 3 path tracing of the same polygons."""
@@ -68,9 +62,8 @@ def radiosity(
     k = supersample or (4 if reference is not None else 1)
     w, h = parse_size(size)
     parse_size(f"{w * k}x{h * k}")
-    params = RadiosityParams(
-        HierarchyParams(epsilon=epsilon, min_area=min_area, criterion=criterion, lights_to_leaves=lights_to_leaves, seed=seed),
-        show=show, exposure=exposure, element=element, lamp_scales=parse_lamps(set_lamp))
+    params = replace(params, lamp_scales=parse_lamps(set_lamp))
+    seed, exposure, element = params.hierarchy.seed, params.exposure, params.element
     sc = resolve_scene(scene)
     view = sc.camera(camera)
     sc.check_in_view(view, (w, h))

@@ -3,18 +3,17 @@
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 
 import typer
 
 from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, write_image
-from ..relight.params import INITIAL_HIERARCHY, METHODS, SHOW, RelightParams
+from ..relight.params import SHOW, VIRTUAL_LAMP_SIZE, RelightParams
 from .common import parse_size
+from .params_options import params_options
 from .radiosity import parse_lamps
 
-_P = RelightParams()
 
 
 def _numbers(text: str, count: int, what: str) -> tuple[float, ...]:
@@ -61,17 +60,15 @@ def _real_scene(scene: str, size: str, samples: int):
     return builtin_real_scene(scene, parse_size(size), samples)
 
 
+@params_options(params=RelightParams)
 def relight_prepare(
     scene: str = typer.Argument("office", help="a folder (scene.yaml, photograph, camera.json) or the built-in real "
                                                "scene (its photograph is path-traced: the photo extra)"),
     output: Path = typer.Option(..., "-o", "--output", help="the prepared session (.npz)"),
-    method: str = typer.Option(_P.method, "--method", help=f"one of {', '.join(METHODS)}"),
     size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
-    epsilon: float = typer.Option(INITIAL_HIERARCHY.epsilon, "--epsilon", help="ε of the initial BF radiosity solution (× total power)"),
-    mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1) (Loscos 1999)"),
-    fresh_solution: bool = typer.Option(False, "--fresh-solution/--no-fresh-solution",
-                                        help="loscos: end on a fresh BFV solution over the final textures (Loscos 4.3.3)"),
+    *,
+    params: RelightParams,
 ) -> None:
     """Prepare SCENE once (estimates, refinement, textures, the lamps' basis) and save it, so that
     `illusio relight FILE.npz --set ...` starts at once."""
@@ -80,13 +77,12 @@ def relight_prepare(
     out = check_output_path(output, [str(p) for p in Path(scene).iterdir()] if Path(scene).is_dir() else [])
     if out.suffix.lower() != ".npz":
         raise InputError(f"-o: a prepared session is saved as .npz, got {out.name}")
-    params = RelightParams(method=method, mean_reflectance=mean_reflectance,
-                           hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon), fresh_solution=fresh_solution)
     session = RelightSession(_real_scene(scene, size, samples), params)
     session.save(out)
     typer.echo(f"wrote {out}: {session.solution.stats.leaves} leaves, prepared in {session.times['prepare']:.1f} s")
 
 
+@params_options(params=RelightParams)
 def relight(
     scene: str = typer.Argument("office", help="a folder (scene.yaml, photograph, camera.json; see "
                                                "relight.load_real_scene), the built-in real scene (its photograph is "
@@ -94,17 +90,14 @@ def relight(
                                                "prepare` (.npz)"),
     output: Path = typer.Option(..., "-o", "--output", help="the relit image (.png sRGB, .npy/.exr linear)"),
     set_lamp: list[str] = typer.Option(None, "--set", help="NAME=SCALE: a real lamp's estimated exitance × SCALE (repeatable)"),
-    method: str = typer.Option(_P.method, "--method", help=f"one of {', '.join(METHODS)}"),
     size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
-    epsilon: float = typer.Option(INITIAL_HIERARCHY.epsilon, "--epsilon", help="ε of the initial BF radiosity solution (× total power)"),
-    mean_reflectance: float = typer.Option(_P.mean_reflectance, "--mean-reflectance", help="ρ̂, the first guess of eq. (4.1) (Loscos 1999)"),
-    add_lamp: list[str] = typer.Option(None, "--add-lamp", help="X,Y,Z:EXITANCE — a virtual 40 cm lamp facing down at X,Y,Z (m), W/m² (repeatable)"),
+    add_lamp: list[str] = typer.Option(None, "--add-lamp", help=f"X,Y,Z:EXITANCE — a virtual {VIRTUAL_LAMP_SIZE * 100:g} cm lamp facing down at X,Y,Z (m), W/m² (repeatable)"),
     add_object: list[str] = typer.Option(None, "--add-object", help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)"),
     photograph: Path = typer.Option(None, "--photograph", help="also write the photograph used"),
-    fresh_solution: bool = typer.Option(False, "--fresh-solution/--no-fresh-solution",
-                                        help="loscos: end on a fresh BFV solution over the final textures (Loscos 4.3.3)"),
     show: str = typer.Option("image", "--show", help="image, textures (what the method displays), mesh (leaf outlines) or display-factor"),
+    *,
+    params: RelightParams,
 ) -> None:
     """Relight SCENE from one photograph (Loscos 1999, ch. 4): reflectances and lamp powers estimated
     from the photograph, then the lamps changed (--set). `illusio relight prepare SCENE -o S.npz`
@@ -120,8 +113,6 @@ def relight(
         raise InputError(f"--samples must be in 1..65536, got {samples}")
     if show not in SHOW:
         raise InputError(f"--show must be one of {', '.join(SHOW)}, got {show!r}{did_you_mean(show, SHOW)}")
-    params = RelightParams(method=method, mean_reflectance=mean_reflectance,
-                           hierarchy=dataclasses.replace(INITIAL_HIERARCHY, epsilon=epsilon), fresh_solution=fresh_solution)
     scales = dict(parse_lamps(set_lamp))
     lamps = [_parse_lamp(t) for t in add_lamp or ()]           # every option checked before the photograph
     objects = [_parse_object(t) for t in add_object or ()]
@@ -135,7 +126,7 @@ def relight(
         raise InputError(f"no lamp named {unknown[0]!r}{did_you_mean(unknown[0], session.lamp_names)}; "
                          f"lamps: {', '.join(session.lamp_names)}")
     for k, (centre, power) in enumerate(lamps):
-        session.add_lamp(centre, 0.4, (power, power, power), f"virtual-lamp-{k}")
+        session.add_lamp(centre, VIRTUAL_LAMP_SIZE, (power, power, power), f"virtual-lamp-{k}")
     for k, (mesh, at) in enumerate(objects):
         session.add_object(mesh, f"virtual-object-{k}", at)
     image = session.image(scales)

@@ -12,8 +12,9 @@ from ..core.errors import InputError, did_you_mean
 from ..core.gl import check_size
 from ..core.images import check_output_path, read_image, write_image, write_video
 from ..scene.camera import Screen
-from ..sis.params import ALGORITHMS, MultiSceneParams, StereogramParams
+from ..sis.params import MultiSceneParams, StereogramParams
 from .common import parse_size, progress, scene_inputs
+from .params_options import params_options
 
 _DEFAULT = StereogramParams()
 _MULTI = MultiSceneParams()
@@ -57,43 +58,27 @@ def _print_size(text: str, dpi: float) -> tuple[tuple[int, int], Screen]:
     return (w, h), Screen(diagonal_cm=float(np.hypot(w_cm, h_cm)), aspect=w_cm / h_cm, width_px=w, height_px=h)
 
 
+@params_options(params=StereogramParams)
 def sis(
     depth: str = typer.Argument(..., help="depth map: grey PNG (8/16-bit, white = near), .npy, a mesh file or a built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="stereogram to write (.png)"),
-    algorithm: str = typer.Option(_DEFAULT.algorithm, "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
-    pattern: str = typer.Option(_DEFAULT.pattern, "--pattern", help="random-dot, grey-dots, colour-dots, pink-noise, snow, or an image file"),
-    strip_width: float = typer.Option(_DEFAULT.strip_width, "--strip-width", help="W_s, pixels: separation of the nearest depth"),
-    depth_factor: float = typer.Option(_DEFAULT.depth_factor, "--depth-factor", help="β, pixels: separations span [W_s, W_s + β]"),
-    exact: bool = typer.Option(_DEFAULT.exact, "--exact/--no-exact", help="equation (3) of the physical screen (Dehos et al. 2014) instead of the linear W_s + β·D"),
-    screen_diagonal: float = typer.Option(_SCREEN.diagonal_cm, "--screen-diagonal", help="d, cm"),
-    aspect: float = typer.Option(_SCREEN.aspect, "--aspect", help="a = width / height"),
-    distance: float = typer.Option(_SCREEN.viewing_distance_cm, "--distance", help="f, viewer to screen, cm"),
-    eye_separation: float = typer.Option(_SCREEN.eye_separation_cm, "--eye-separation", help="e, cm"),
-    screen_width_px: int = typer.Option(_SCREEN.width_px, "--screen-width-px", help="w_p, pixels across the screen"),
-    guides: bool = typer.Option(_DEFAULT.guides, "--guides/--no-guides", help="two guide dots W_s + β apart"),
-    cross_eyed: bool = typer.Option(_DEFAULT.cross_eyed, "--cross-eyed/--no-cross-eyed", help="for crossed eyes (default: wall-eyed)"),
-    invert: bool = typer.Option(_DEFAULT.invert, "--invert/--no-invert", help="black = near"),
-    oversample: int = typer.Option(_DEFAULT.oversample, "--oversample", help="compute at N times the width (smooth depth steps)"),
-    dot_size: int = typer.Option(_DEFAULT.dot_size, "--dot-size", help="pixels per random dot"),
-    seed: int = typer.Option(_DEFAULT.seed, "--seed", help="seed of the random pattern"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT in pixels (default: the depth map's)"),
     print_size: str = typer.Option(None, "--print-size", help="WIDTHxHEIGHTcm for print (with --dpi); sets the size and the physical model"),
     dpi: float = typer.Option(300.0, "--dpi", help="dots per inch with --print-size"),
     cpu: bool = typer.Option(False, "--cpu/--no-cpu", help="use the NumPy/numba reference instead of the GPU"),
+    *,
+    params: StereogramParams,
 ) -> None:
     """Make an autostereogram of DEPTH."""
     from ..core.context import Context
     from ..sis.stereogram import stereogram
 
-    out = check_output_path(output, scene_inputs(depth) + scene_inputs(pattern))
-    screen = Screen(diagonal_cm=screen_diagonal, aspect=aspect, width_px=screen_width_px,
-                    viewing_distance_cm=distance, eye_separation_cm=eye_separation)
+    out = check_output_path(output, scene_inputs(depth) + scene_inputs(params.pattern))
+    params = replace(params, screen=params.screen.derived())     # its height from the width and aspect given
     wanted = parse_size(size) if size else None
     if print_size:
         wanted, screen = _print_size(print_size, dpi)
-    params = StereogramParams(algorithm=algorithm, strip_width=strip_width, depth_factor=depth_factor, exact=exact,
-                              screen=screen, pattern=pattern, dot_size=dot_size, guides=guides, cross_eyed=cross_eyed,
-                              invert=invert, oversample=oversample, seed=seed)
+        params = replace(params, screen=screen)
     contexts = []
 
     def ctx_factory():
@@ -104,11 +89,11 @@ def sis(
     d = _depth_input(depth, wanted, ctx_factory)
     image = stereogram(d, params, None if cpu else ctx_factory(), cpu=cpu)
     # what made it, for sis-decode and for whoever finds the file later
-    text = {f"illusio:{k}": str(v) for k, v in (("strip_width", params.strip_width), ("depth_factor", params.depth_factor),
-                                                 ("algorithm", algorithm), ("cross_eyed", cross_eyed), ("invert", invert),
-                                                 ("exact", exact), ("seed", seed), ("pattern", pattern))}
+    text = {f"illusio:{k}": str(getattr(params, k)) for k in ("strip_width", "depth_factor", "algorithm", "cross_eyed",
+                                                              "invert", "exact", "seed", "pattern")}
     write_image(out, image, text=text)
-    typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {algorithm}, separations {strip_width:g}..{params.far_separation:g} px)")
+    typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.algorithm}, "
+               f"separations {params.strip_width:g}..{params.far_separation:g} px)")
 
 
 #: the share of checked pixels that must decode back for sis-decode's self-check to pass
@@ -171,29 +156,18 @@ def sis_decode(
             raise typer.Exit(1)
 
 
+@params_options(params=MultiSceneParams)
 def sis_scene(
     scene: str = typer.Argument("living-room", help="built-in scene or .yaml with a host surface"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png); with --frames, the first frame"),
     hidden: str = typer.Option("torus-knot", "--hidden", help="what the stereogram hides: a built-in shape or a mesh file"),
-    host: str = typer.Option(_MULTI.host, "--host", help="name or tag of the surface showing the stereogram"),
     camera: str = typer.Option("tv", "--camera", help="a named camera of the scene or EYE:TARGET (x,y,z:x,y,z in metres)"),
-    pattern: str = typer.Option(_MULTI.stereogram.pattern, "--pattern", help="snow (changes every frame), random-dot, ..., or an image"),
-    algorithm: str = typer.Option(_MULTI.stereogram.algorithm, "--algorithm", help=f"one of {', '.join(ALGORITHMS)}"),
-    strip_width: float = typer.Option(_MULTI.stereogram.strip_width, "--strip-width", help="W_s for a 1920-pixel-wide frame (scaled with the size)"),
-    depth_factor: float = typer.Option(_MULTI.stereogram.depth_factor, "--depth-factor", help="β for a 1920-pixel-wide frame"),
-    emission: float = typer.Option(_MULTI.emission, "--emission", help="host glow (TV); 0 for a lit surface such as a wall"),
-    interactive: bool = typer.Option(_MULTI.interactive, "--interactive/--no-interactive", help="orient the hidden scene by the viewer's position (Dehos et al. 2014, Figure 25)"),
-    spin: float = typer.Option(_MULTI.spin, "--spin", help="degrees per frame the hidden scene turns"),
-    shadows: bool = typer.Option(_MULTI.settings.shadows, "--shadows/--no-shadows", help="shadows in the main scene"),
-    host_shadows: bool = typer.Option(_MULTI.host_shadows, "--host-shadows/--no-host-shadows",
-                                      help="shadows fall on the host too (they break fusion; off: the host is lit unshadowed)"),
-    host_layout: str = typer.Option(_MULTI.host_layout, "--host-layout",
-                                    help="uv: the hidden scene painted through the host's uvs (foreshortened at an angle); viewer: laid out upright in the viewer's image of the host"),
     size: str = typer.Option(f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"),
     frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
     frame: int = typer.Option(0, "--frame", help="index of the first frame (its snow and spin; 24 frames a second)"),
     video: Path = typer.Option(None, "--video", help="write the frames as a video (.mp4 or .gif)"),
-    seed: int = typer.Option(_MULTI.stereogram.seed, "--seed", help="seed of the pattern"),
+    *,
+    params: MultiSceneParams,
 ) -> None:
     """Render SCENE with a stereogram on its host surface hiding another shape (Dehos et al. 2014,
     the multi-scene pipeline of Figure 22)."""
@@ -220,11 +194,7 @@ def sis_scene(
     if pair is not None:
         view = View(Pose(*pair), view.camera)
     hidden_mesh = resolve_mesh(hidden)
-    params = MultiSceneParams(host=host, stereogram=StereogramParams(algorithm=algorithm, pattern=pattern, strip_width=strip_width,
-                                                                     depth_factor=depth_factor, seed=seed),
-                              emission=emission, interactive=interactive, spin=spin,
-                              settings=replace(_MULTI.settings, shadows=shadows), host_shadows=host_shadows,
-                              host_layout=host_layout)
+    params = replace(params, stereogram=replace(params.stereogram, screen=params.stereogram.screen.derived()))
     renderer = default_context().kept(MultiSceneRenderer)     # warm between the tasks of a batch
     renderer.prepare(MultiSceneSubject(main, hidden_scene(hidden_mesh)))
     images = []

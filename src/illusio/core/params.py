@@ -19,20 +19,25 @@ from typing import Any
 
 from .errors import InputError, did_you_mean
 
-__all__ = ["param", "ParamInfo", "describe", "check_ranges", "with_values"]
+__all__ = ["param", "ParamInfo", "describe", "is_params", "check_ranges", "check_value", "with_values"]
 
 
 def param(default: Any = dataclasses.MISSING, *, range: tuple[float, float] | None = None, unit: str = "",
           choices: tuple | None = None, multiple: bool = False, step: float | None = None, label: str = "",
-          help: str = "", panel: bool = True, log: bool = False, default_factory: Any = dataclasses.MISSING):
+          help: str = "", panel: bool = True, log: bool = False, default_factory: Any = dataclasses.MISSING,
+          flag: str = "", cli: bool | None = None):
     """A dataclass field with its description in metadata.
 
     range: inclusive (low, high) for numbers; unit: "px", "cm", "s", "1/units"…; choices: the
     allowed values of a string (a combo box) or, with ``multiple``, of each element of a tuple
     (check boxes); step: the panel's increment for integers; log: a slider in log scale;
-    panel: False for fields a panel should not show (paths, nested colour tables)."""
+    panel: False for fields a panel should not show (paths, nested colour tables);
+    flag: the command-line name where it is not the field's (``aperture_mm`` → ``"aperture"``; a
+    switch may name its off side: ``"relative/raw"``); cli: whether commands offer it as an option
+    (default: as ``panel``)."""
     meta = {"range": range, "unit": unit, "choices": choices, "multiple": multiple, "step": step,
-            "label": label, "help": help, "panel": panel, "log": log}
+            "label": label, "help": help, "panel": panel, "log": log, "flag": flag,
+            "cli": panel if cli is None else cli}
     if default_factory is not dataclasses.MISSING:
         return field(default_factory=default_factory, metadata=meta)
     return field(default=default, metadata=meta)
@@ -40,8 +45,9 @@ def param(default: Any = dataclasses.MISSING, *, range: tuple[float, float] | No
 
 @dataclass(frozen=True)
 class ParamInfo:
-    """One field as a panel sees it. kind: "float", "int", "bool", "choice", "multi", "params"
-    (a nested Params: see ``children``) or "other" (shown read-only)."""
+    """One field as a panel sees it. kind: "float", "int", "bool", "choice", "multi", "text" (a free
+    string: a name or a path), "params" (a nested Params: see ``children``) or "other" (shown
+    read-only)."""
 
     name: str
     kind: str
@@ -54,6 +60,7 @@ class ParamInfo:
     help: str = ""
     log: bool = False
     children: tuple["ParamInfo", ...] = ()
+    flag: str = ""
 
     @property
     def title(self) -> str:
@@ -61,27 +68,37 @@ class ParamInfo:
         return f"{text} ({self.unit})" if self.unit else text
 
 
-def describe(params) -> tuple[ParamInfo, ...]:
-    """The panel's view of a Params instance: one ParamInfo per shown field, in declaration order."""
+def is_params(value) -> bool:
+    """Whether ``value`` is a Params instance: a dataclass whose fields are declared by :func:`param`."""
+    return dataclasses.is_dataclass(value) and not isinstance(value, type) and \
+        any("panel" in f.metadata for f in dataclasses.fields(value))
+
+
+def describe(params, audience: str = "panel") -> tuple[ParamInfo, ...]:
+    """One ParamInfo per field ``audience`` ("panel": a window's panel; "cli": a command's options)
+    is shown, in declaration order; nested Params as kind "params" with their own fields."""
     out = []
     for f in dataclasses.fields(params):
         meta = f.metadata
-        if not meta.get("panel", True):
+        if not meta.get(audience, meta.get("panel", True)):
             continue
         value = getattr(params, f.name)
         common = dict(range=meta.get("range"), unit=meta.get("unit", ""), step=meta.get("step"),
-                      label=meta.get("label", ""), help=meta.get("help", ""), log=meta.get("log", False))
+                      label=meta.get("label", ""), help=meta.get("help", ""), log=meta.get("log", False),
+                      flag=meta.get("flag", ""))
         if meta.get("choices") is not None:
             kind = "multi" if meta.get("multiple") else "choice"
             out.append(ParamInfo(f.name, kind, value, choices=tuple(meta["choices"]), **common))
-        elif dataclasses.is_dataclass(value):
-            out.append(ParamInfo(f.name, "params", value, children=describe(value), **common))
+        elif is_params(value):
+            out.append(ParamInfo(f.name, "params", value, children=describe(value, audience), **common))
         elif isinstance(value, bool):
             out.append(ParamInfo(f.name, "bool", value, **common))
-        elif isinstance(value, int):
+        elif isinstance(value, int) and f.type not in ("float", float):
             out.append(ParamInfo(f.name, "int", value, **common))
-        elif isinstance(value, float):
-            out.append(ParamInfo(f.name, "float", value, **common))
+        elif isinstance(value, float) or (isinstance(value, int) and f.type in ("float", float)):
+            out.append(ParamInfo(f.name, "float", float(value), **common))
+        elif isinstance(value, str):
+            out.append(ParamInfo(f.name, "text", value, **common))
         else:
             out.append(ParamInfo(f.name, "other", value, **common))
     return tuple(out)
@@ -91,24 +108,26 @@ def check_ranges(params) -> None:
     """Raise InputError for a number outside its declared range, a non-finite number, or a value not
     among its choices. Usable as ``__post_init__`` or called from one."""
     for f in dataclasses.fields(params):
-        meta = f.metadata
-        value = getattr(params, f.name)
-        name = meta.get("label") or f.name.replace("_", " ")
-        choices = meta.get("choices")
-        if choices is not None:
-            values = value if meta.get("multiple") else (value,)
-            bad = [v for v in values if v not in choices]
-            if bad:
-                raise InputError(f"{name}: {', '.join(map(repr, bad))} is not one of {', '.join(map(str, choices))}"
-                                 f"{did_you_mean(bad[0], choices)}")
-            continue
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            if not math.isfinite(value):
-                raise InputError(f"{name} must be a finite number, got {value}")
-            lo_hi = meta.get("range")
-            if lo_hi is not None and not lo_hi[0] <= value <= lo_hi[1]:
-                unit = f" {meta.get('unit')}" if meta.get("unit") else ""
-                raise InputError(f"{name} = {value:g}{unit} is out of range [{lo_hi[0]:g}, {lo_hi[1]:g}]")
+        check_value(f.metadata, getattr(params, f.name), f.metadata.get("label") or f.name.replace("_", " "))
+
+
+def check_value(meta, value, name: str) -> None:
+    """InputError naming ``name`` unless ``value`` keeps the choices and range in field metadata ``meta``."""
+    choices = meta.get("choices")
+    if choices is not None:
+        values = value if meta.get("multiple") else (value,)
+        bad = [v for v in values if v not in choices]
+        if bad:
+            raise InputError(f"{name}: {', '.join(map(repr, bad))} is not one of {', '.join(map(str, choices))}"
+                             f"{did_you_mean(bad[0], choices)}")
+        return
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        if not math.isfinite(value):
+            raise InputError(f"{name} must be a finite number, got {value}")
+        lo_hi = meta.get("range")
+        if lo_hi is not None and not lo_hi[0] <= value <= lo_hi[1]:
+            unit = f" {meta.get('unit')}" if meta.get("unit") else ""
+            raise InputError(f"{name} = {value:g}{unit} is out of range [{lo_hi[0]:g}, {lo_hi[1]:g}]")
 
 
 def with_values(params, **changes):

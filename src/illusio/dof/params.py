@@ -38,8 +38,10 @@ class DofParams:
 
     method: str = param("gather", choices=METHODS)
     focus_distance: float = param(2.0, range=(0.05, 1000.0), unit="m", log=True, label="focus distance d_f")
-    aperture_mm: float = param(50.0, range=(0.0, 500.0), unit="mm", label="aperture A")
-    focal_length_mm: float = param(0.0, range=(0.0, 2000.0), unit="mm", label="focal length (0: the camera's)")
+    aperture_mm: float = param(50.0, range=(0.0, 500.0), unit="mm", label="aperture A", flag="aperture",
+                               help="lens diameter")
+    focal_length_mm: float = param(0.0, range=(0.0, 2000.0), unit="mm", label="focal length (0: the camera's)",
+                                   flag="focal-length", help="on a 24 mm frame; 0 keeps the camera's field of view")
     samples: int = param(32, range=(1, 1024), step=1, help="lens positions of the accumulation method")
     planes_behind: int = param(6, range=(1, 64), step=1, label="planes behind (m)")
     planes_front: int = param(4, range=(0, 64), step=1, label="planes in front (n)")

@@ -39,14 +39,16 @@ class IbrParams:
 
     distance: str = param("2d", choices=DISTANCES)
     selection: str = param("single-pass", choices=SELECTIONS)
-    bilinear_depth: bool = param(True, label="bilinear depth")
+    bilinear_depth: bool = param(True, label="bilinear depth", flag="bilinear-depth/nearest-depth",
+                                 help="bilinear reference depth, or the nearest texel's")
     max_distance: float = param(3.0, range=(0.01, 1000.0), log=True, help="beyond it a pixel is a hole")
     mesh_step: int = param(2, range=(1, 16), step=1, unit="px", label="reconstruction mesh step")
     grazing: float = param(85.0, range=(1.0, 90.0), unit="°", help="mesh triangles seen more obliquely are cut")
     fill_radius: int = param(4, range=(0, 64), step=1, unit="px", help="holes of the reconstructed depth this wide are filled")
     fill_disocclusions: int = param(16, range=(0, 256), step=1, unit="px", help="disocclusions no reference sees are filled this far")
-    show_sources: bool = param(False, label="show source views")
-    relight: bool = param(True, help="light from the stored normals; off: the references' recorded colour")
+    show_sources: bool = param(False, label="show source views", help="colour by source view, holes magenta")
+    relight: bool = param(True, help="light from the stored normals; photographic: the references' recorded colour",
+                          flag="relight/photographic")
     light_x: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights x")
     light_y: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights y")
     light_z: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights z")

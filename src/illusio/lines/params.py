@@ -65,16 +65,18 @@ class LineParams:
                                    label="line types")
     method: str = param("hybrid", choices=METHODS, help="apparent ridges: hybrid GPU or object space")
     tau: float = param(-2.0, range=(-12.0, 12.0), label="τ", help="q = 2^τ q1")
-    lam: float = param(0.5, range=(0.0, 16.0), label="λ", help="direction weight of the adaptive Laplacian")
+    lam: float = param(0.5, range=(0.0, 16.0), label="λ", help="direction weight of the adaptive Laplacian", flag="lambda")
     threshold: float = param(REPORT_THRESHOLD, range=(0.0, 100.0), help="ridge filter response threshold")
-    relative: bool = param(True, help="thresholds relative to the mesh's curvature scale")
+    relative: bool = param(True, help="thresholds relative to the mesh's curvature scale (raw: the report's τ, q1 "
+                                      "in 1/mesh units)", flag="relative/raw")
     object_threshold: float = param(0.2, range=(0.0, 100.0), help="object-space apparent ridges: q1 / scale")
     ridge_threshold: float = param(1.0, range=(0.0, 100.0), help="ridges and valleys: |k| / scale")
     suggestive_threshold: float = param(0.05, range=(0.0, 100.0), help="suggestive contours: D_w κ_r / scale²")
     isophote_level: float = param(0.5, range=(0.0, 1.0), help="isophotes: the n·l they follow (headlight)")
     highlight_threshold: float = param(0.05, range=(0.0, 100.0),
                                        help="suggestive highlights: −D_w κ_r / scale²; principal: (k_max² − k_min²) n·v / scale²")
-    silhouette_space: str = param("object", choices=SILHOUETTE_SPACES)
+    silhouette_space: str = param("object", choices=SILHOUETTE_SPACES, flag="silhouettes",
+                                  help="object: n·v = 0 zero crossings; image: depth edges")
     depth_jump: float = param(0.05, range=(0.0, 10.0), help="image silhouettes: relative depth jump")
     min_ridge_pixels: int = param(24, range=(0, 100000), step=1, unit="px", help="drop shorter ridge fragments")
     colours: tuple = param(DEFAULT_COLOURS, panel=False)

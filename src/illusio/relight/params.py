@@ -26,6 +26,10 @@ METHODS = ("baseline", "loscos", "per-pixel")
 INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3)
 
 
+#: metres on a side of a virtual lamp added by the CLI, the viewer or ``RelightSession.add_lamp``
+VIRTUAL_LAMP_SIZE = 0.4
+
+
 @dataclass(frozen=True)
 class RelightParams:
     """method: one of METHODS. mean_reflectance: ρ̂ of eq. (4.1), the user's first guess of the scene's
@@ -48,11 +52,12 @@ class RelightParams:
     visibility_threshold: float = param(0.3, range=(0.0, 1.0), label="visibility similarity (Fig. 4.7)")
     texture_refinement: bool = param(True, help="loscos: split leaves along the photographed shadows (4.3.1)")
     min_pixels: int = param(4, range=(1, 10000), step=1, help="4.3.1 splits only leaves covering this many pixels")
-    hierarchy: HierarchyParams = param(default_factory=lambda: INITIAL_HIERARCHY)
+    hierarchy: HierarchyParams = param(default_factory=lambda: INITIAL_HIERARCHY,
+                                       help="the initial radiosity solution (BF at a coarse ε)")
     fresh_solution: bool = param(False, help="loscos: end with a fresh BFV solution over the final textures (4.3.3)")
     final_hierarchy: HierarchyParams = param(default_factory=HierarchyParams, panel=False)
     lamp_scales: tuple = param((), panel=False)
-    exposure: float = param(1.0, range=(1e-6, 1e6), log=True)
+    exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="factor on the displayed radiance")
 
     def __post_init__(self):
         check_ranges(self)

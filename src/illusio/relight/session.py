@@ -28,7 +28,7 @@ from ..radiosity import DisplayPass, Polygons, RadiosityParams, RadiosityRendere
 from ..radiosity.corner_cache import CornerGather
 from . import estimate, textures
 from .shadow_refine import refine_by_texture
-from .params import SHOW, RelightParams
+from .params import SHOW, VIRTUAL_LAMP_SIZE, RelightParams
 from .photograph import RealScene, polygon_ids
 
 __all__ = ["RelightSession"]
@@ -306,7 +306,7 @@ class RelightSession:
         if self.params.method == "per-pixel":
             raise InputError(f"{what} is not available with the per-pixel method yet; use baseline or loscos")
 
-    def add_lamp(self, centre, size: float = 0.4, exitance=(30.0, 30.0, 30.0), name: str = "virtual-lamp") -> np.ndarray:
+    def add_lamp(self, centre, size: float = VIRTUAL_LAMP_SIZE, exitance=(30.0, 30.0, 30.0), name: str = "virtual-lamp") -> np.ndarray:
         """A virtual rectangular lamp (size × size m, facing down, exitance W/m² RGB) linked at the
         leaves (Loscos 4.4.1); returns the new image."""
         self._element_method("a virtual lamp")

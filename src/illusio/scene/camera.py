@@ -12,6 +12,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.params import check_ranges, param
 from .transforms import frustum, look_at
 
 __all__ = ["Camera", "Pose", "View", "Screen", "StereoRig"]
@@ -138,19 +139,29 @@ class Screen:
     eye_separation_cm: e, between the pupils.
     """
 
-    diagonal_cm: float = 53.0
-    aspect: float = 16 / 9
-    width_px: int = 1920
-    height_px: int | None = None
-    viewing_distance_cm: float = 100.0
-    eye_separation_cm: float = 6.5
+    diagonal_cm: float = param(53.0, range=(1.0, 10000.0), unit="cm", label="d", flag="screen-diagonal",
+                               help="the screen's diagonal")
+    aspect: float = param(16 / 9, range=(0.05, 20.0), label="a", help="width / height of the screen")
+    width_px: int = param(1920, range=(16, 65536), unit="px", step=1, flag="screen-width-px", label="w_p",
+                          help="pixels across the screen")
+    # None: width_px / aspect (a command that changes either clears it: see Screen.derived)
+    height_px: int | None = param(None, panel=False)
+    viewing_distance_cm: float = param(100.0, range=(1.0, 100000.0), unit="cm", label="f", flag="distance",
+                                       help="viewer to screen")
+    eye_separation_cm: float = param(6.5, range=(0.5, 20.0), unit="cm", label="e", flag="eye-separation",
+                                     help="between the pupils")
 
     def __post_init__(self):
         for name in ("diagonal_cm", "aspect", "width_px", "viewing_distance_cm", "eye_separation_cm"):
             if not getattr(self, name) > 0:
                 raise InputError(f"screen {name} must be positive, got {getattr(self, name)}")
+        check_ranges(self)
         if self.height_px is None:
             object.__setattr__(self, "height_px", int(round(self.width_px / self.aspect)))
+
+    def derived(self) -> "Screen":
+        """This screen with its height in pixels taken again from width_px / aspect."""
+        return replace(self, height_px=None)
 
     @property
     def width_cm(self) -> float:

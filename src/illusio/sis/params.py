@@ -50,13 +50,13 @@ class StereogramParams:
                                help="separation of the nearest depth")
     depth_factor: float = param(50.0, range=(0.0, 1000.0), unit="px", label="depth factor β",
                                 help="separations span [W_s, W_s + β]")
-    exact: bool = param(False, help="equation (3) on the screen instead of W_s + β·D")
-    screen: Screen = param(default_factory=Screen, panel=False)
-    pattern: str = param("random-dot", panel=False, help="a built-in pattern or an image path")
+    exact: bool = param(False, help="equation (3) of the physical screen (Dehos et al. 2014) instead of W_s + β·D")
+    screen: Screen = param(default_factory=Screen, panel=False, cli=True)
+    pattern: str = param("random-dot", panel=False, cli=True, help=f"{', '.join(PATTERNS)}, or an image file")
     dot_size: int = param(1, range=(1, 64), unit="px", step=1, help="pixels per random dot")
     guides: bool = param(False, help="two guide dots W_s + β apart")
-    cross_eyed: bool = param(False, help="for crossed eyes")
-    invert: bool = param(False, help="D → 1 − D")
+    cross_eyed: bool = param(False, help="for crossed eyes (default: wall-eyed)")
+    invert: bool = param(False, help="D → 1 − D (black = near)")
     oversample: int = param(1, range=(1, 8), step=1, help="compute at N times the width")
     seed: int = param(0, range=(0, 2**31 - 1), step=1, help="seed of every random pattern")
 
@@ -120,13 +120,13 @@ class MultiSceneParams:
     rectangle on the screen, so the viewer sees the hidden scene undistorted at any angle (issue 20,
     the paper's Figure 27)."""
 
-    host: str = param("tv-screen", panel=False, help="name or tag of the host surface")
+    host: str = param("tv-screen", panel=False, cli=True, help="name or tag of the surface showing the stereogram")
     stereogram: StereogramParams = param(default_factory=lambda: StereogramParams(pattern="snow", strip_width=100, depth_factor=40))
     reference_width: int = param(1920, range=(16, 8192), unit="px", panel=False)
     hidden_size: int = param(512, range=(16, 4096), unit="px", step=16, label="hidden depth size")
     emission: float = param(0.9, range=(0.0, 4.0), help="host glow (a TV); 0 for a lit wall")
     pattern_repeat: tuple[float, float] = param((1.0, 1.0), panel=False)
-    interactive: bool = param(False, help="orient the hidden scene by where the viewer stands (Figure 25)")
+    interactive: bool = param(False, help="orient the hidden scene by where the viewer stands (Dehos et al. 2014, Figure 25)")
     spin: float = param(0.0, range=(-30.0, 30.0), unit="°/frame", help="the hidden scene turns")
     settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
     host_shadows: bool = param(False, help="shadows fall on the host too (they break the stereogram's fusion)")

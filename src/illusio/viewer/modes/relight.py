@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from ...core.renderer import Frame
-from ...relight.params import RelightParams
+from ...relight.params import VIRTUAL_LAMP_SIZE, RelightParams
 from ...relight.photograph import builtin_real_scene
 from ...relight.renderer import RelightRenderer
 from ..navigation import FixedCamera
@@ -23,7 +23,7 @@ __all__ = ["RelightMode"]
 #: the photograph's size and paths a pixel in the viewer (small: it is made on the first frame)
 PHOTOGRAPH = ((320, 240), 32)
 #: the virtual crate's side (m) and a virtual lamp's side (m)
-CRATE, LAMP = 0.5, 0.4
+CRATE, LAMP = 0.5, VIRTUAL_LAMP_SIZE
 _PHOTOGRAPHS: dict = {}
 
 

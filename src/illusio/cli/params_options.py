@@ -1,0 +1,168 @@
+"""Command-line options made from a Params class's declared fields.
+
+A technique's parameters are stated once, in its Params (default, range, choices, unit, help; see
+:func:`illusio.core.params.param`). A command asks for them by keyword and gets one instance::
+
+    @params_options(params=DofParams)
+    def dof(scene: str = typer.Argument(...), output: Path = ..., *, params: DofParams) -> None:
+        ...
+
+Every field a command shows (``cli`` metadata, by default the panel's) becomes an option: its
+name with ``-`` for ``_`` unless its ``flag`` says otherwise, nested Params flattened (their fields'
+own names; a clash between two fields is an error at import, caught by the tests); switches as
+``--x/--no-x``; a tuple of choices as one comma-separated value. The help says the unit, range
+and choices. A value is checked against its field's metadata and refused by its flag
+(``--aperture = 600 mm is out of range [0, 500]``) before the Params is made, so batch jobs (which
+run commands by their options) and the panel (which reads the same metadata) see the same fields.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import inspect
+import typing
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import typer
+
+from ..core.params import ParamInfo, check_value, describe, with_values
+
+__all__ = ["OptionSpec", "option_specs", "params_options"]
+
+
+@dataclass(frozen=True)
+class OptionSpec:
+    """One generated option. path: the dotted field path in the Params ("hierarchy.epsilon");
+    flag: "--epsilon" (a switch: "--x/--no-x"); name: the Python parameter's name; kind: as
+    ParamInfo.kind; info: the field's description."""
+
+    path: str
+    flag: str
+    name: str
+    kind: str
+    default: Any
+    info: ParamInfo
+    meta: Any
+
+    @property
+    def long(self) -> str:
+        """The option's first name ("--epsilon"), as batch jobs and error messages use it."""
+        return self.flag.split("/")[0]
+
+
+def option_specs(params_class, exclude: tuple[str, ...] = ()) -> list[OptionSpec]:
+    """The options a command gets for ``params_class`` (its default instance's values as defaults),
+    ``exclude`` naming dotted field paths the command sets itself."""
+    out: list[OptionSpec] = []
+    _walk(params_class(), "", set(exclude), out)
+    seen: dict[str, str] = {}
+    for spec in out:
+        if spec.long in seen:
+            raise TypeError(f"{params_class.__name__}: {spec.path} and {seen[spec.long]} both make {spec.long}; "
+                            f"give one a flag= in its param()")
+        seen[spec.long] = spec.path
+    return out
+
+
+def _walk(instance, prefix: str, exclude: set[str], out: list[OptionSpec]) -> None:
+    metas = {f.name: f.metadata for f in dataclasses.fields(instance)}
+    for info in describe(instance, "cli"):
+        path = prefix + info.name
+        if path in exclude:
+            continue
+        if info.kind == "params":
+            _walk(info.value, path + ".", exclude, out)
+            continue
+        if info.kind == "other":
+            continue                      # nothing a command line can spell (colour tables, poses)
+        flag = info.flag or info.name.replace("_", "-")
+        if info.kind == "bool" and "/" not in flag:
+            flag = f"{flag}/no-{flag}"
+        flag = "/".join("--" + part for part in flag.split("/"))
+        out.append(OptionSpec(path, flag, "param__" + path.replace(".", "__"), info.kind, info.value, info,
+                              metas[info.name]))
+
+
+_TYPES = {"float": float, "int": int, "bool": bool, "choice": str, "multi": str, "text": str}
+
+
+def _help(spec: OptionSpec) -> str:
+    info = spec.info
+    text = info.help or info.label or info.name.replace("_", " ")
+    if info.label and info.help and info.label not in info.help:
+        text = f"{info.label}: {info.help}"
+    extra = []
+    if info.unit:
+        extra.append(info.unit)
+    if info.range is not None and spec.kind in ("int", "float"):
+        extra.append(f"{_number(info.range[0])} to {_number(info.range[1])}")
+    if info.choices:
+        extra.append(("comma-separated, of: " if spec.kind == "multi" else "one of ") + ", ".join(map(str, info.choices)))
+    return text + (f" ({'; '.join(extra)})" if extra else "")
+
+
+def _number(value: float) -> str:
+    return str(int(value)) if float(value).is_integer() and abs(value) >= 1e5 else f"{value:g}"
+
+
+def _option(spec: OptionSpec) -> inspect.Parameter:
+    default = ",".join(spec.default) if spec.kind == "multi" else spec.default
+    if spec.kind == "choice" and not isinstance(default, str):
+        default_type = type(default)          # choices of numbers (a jet degree): that type
+    else:
+        default_type = _TYPES[spec.kind]
+    option = typer.Option(default, *spec.flag.split("/") if spec.kind != "bool" else (spec.flag,), help=_help(spec),
+                          show_default=True)
+    return inspect.Parameter(spec.name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=default_type)
+
+
+def _value(spec: OptionSpec, raw):
+    if spec.kind == "multi":
+        return tuple(v.strip() for v in str(raw).split(",") if v.strip())
+    return raw
+
+
+def params_options(exclude: tuple[str, ...] = (), **classes) -> Callable:
+    """Decorator: the command's keyword ``K`` (for each ``K=ParamsClass``) is made from generated
+    options. ``exclude``: dotted paths ("params.stereogram.screen") the command sets itself."""
+    def decorate(fn):
+        hints = typing.get_type_hints(fn)
+        signature = inspect.signature(fn)
+        kept = [p.replace(annotation=hints.get(p.name, p.annotation)) for p in signature.parameters.values()
+                if p.name not in classes]
+        specs = {}
+        for key, cls in classes.items():
+            own = tuple(e.partition(".")[2] for e in exclude if e.partition(".")[0] == key)
+            specs[key] = option_specs(cls, own)
+        generated = [_option(s) for group in specs.values() for s in group]
+        names = [p.name for p in kept]
+        clash = {f for s in generated for f in s.default.param_decls} & \
+            {f for p in kept if isinstance(p.default, typer.models.OptionInfo) for f in p.default.param_decls or ()}
+        if clash:
+            raise TypeError(f"{fn.__name__}: options {', '.join(sorted(clash))} are both the command's and a Params field's")
+        assert not set(names) & {p.name for p in generated}
+
+        @functools.wraps(fn)
+        def command(**kwargs):
+            for key, group in specs.items():
+                values = {}
+                for spec in group:
+                    value = _value(spec, kwargs.pop(spec.name))
+                    if value != spec.default:
+                        check_value(spec.meta, value, spec.long)
+                        values[spec.path] = value
+                kwargs[key] = with_values(classes[key](), **values)   # its own checks across fields
+            return fn(**kwargs)
+
+        parameters = kept + generated
+        order = [p for p in parameters if p.kind != inspect.Parameter.KEYWORD_ONLY] + \
+            [p for p in parameters if p.kind == inspect.Parameter.KEYWORD_ONLY]
+        command.__signature__ = inspect.Signature(
+            [p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in order], return_annotation=None)
+        command.__annotations__ = {p.name: p.annotation for p in order}
+        command.option_specs = specs
+        del command.__wrapped__          # typer must read our signature, not the wrapped function's
+        return command
+    return decorate
