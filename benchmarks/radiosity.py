@@ -52,7 +52,7 @@ def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
             image, emitter = renderer.radiance(Frame(view, size), RadiosityParams(hierarchy), 4)
             mask = ~emitter
             s = score(image, reference, mask)
-            st = renderer.solution.stats
+            st = renderer.result().stats
             ratios[f"{name}, {label} ({st.elements} elements, {st.links} links): mean relative error vs Mitsuba (goal <= 0.05)"] = s.mean_relative_error
             ratios[f"{name}, {label}: PSNR dB vs Mitsuba"] = s.psnr
         noise = score(halves[0], halves[1], mask).mean_relative_error / 2

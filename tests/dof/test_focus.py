@@ -52,23 +52,23 @@ def test_policies_in_the_museum(ctx):
     renderer.prepare(museum)
     gaze = DofParams(policy="gaze", accommodation=0.0)
     renderer.render(Frame(view, (96, 72)), gaze)
-    assert renderer.last_focus_distance == pytest.approx(object_distance(museum, "exhibit-superquadric", view), rel=0.15)
+    assert renderer.result().focus_distance == pytest.approx(object_distance(museum, "exhibit-superquadric", view), rel=0.15)
     # the speed policy reads the viewer's walk from frame to frame
     speed = replace(gaze, policy="speed")
     renderer.render(Frame(view, (48, 36), time=0.0), speed)
     moved = View(Pose(tuple(np.asarray(view.pose.position) - (0, 0, 2.0)), tuple(np.asarray(view.pose.target) - (0, 0, 2.0))),
                  view.camera)
     renderer.render(Frame(moved, (48, 36), time=1.0), speed)
-    assert renderer.last_focus_distance == pytest.approx(speed_focus(2.0))
+    assert renderer.result().focus_distance == pytest.approx(speed_focus(2.0))
     # accommodation: the focus follows a change over time, in dioptres
     slow = replace(gaze, accommodation=1.0)
     renderer.release()
     renderer.prepare(museum)
     far = View(Pose((0.0, 1.6, 6.0), (0.0, 1.6, -5.0)), view.camera)
     renderer.render(Frame(far, (48, 36), time=0.0), slow)
-    start = renderer.last_focus_distance
+    start = renderer.result().focus_distance
     renderer.render(Frame(view, (48, 36), time=0.5), slow)
-    halfway = renderer.last_focus_distance
+    halfway = renderer.result().focus_distance
     target = gaze_target = object_distance(museum, "exhibit-superquadric", view)
     assert min(start, gaze_target) < halfway < max(start, target)
     renderer.release()

@@ -67,9 +67,9 @@ def test_renderer_protocol_and_lamp_resolves(ctx):
     assert renderer.prepare(scene)
     assert not renderer.prepare(load_scene("cornell-box"))              # the same scene by value
     bright = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE))
-    built = renderer.solution
+    built = renderer.result()
     dim = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE, lamp_scales=(("lamp", 0.5),)))
-    assert renderer.solution is built                                    # links kept: re-solved, not rebuilt
+    assert renderer.result() is built                                    # links kept: re-solved, not rebuilt
     lit = bright.max(axis=-1) > 0.02
     ratio = dim[lit & (bright < 0.99).all(axis=-1)] / bright[lit & (bright < 0.99).all(axis=-1)]
     assert np.median(ratio) == pytest.approx(0.5, abs=0.02)              # B is linear in the lamp's exitance
@@ -77,7 +77,7 @@ def test_renderer_protocol_and_lamp_resolves(ctx):
     links = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE, show="links"))
     assert np.abs(mesh - bright).mean() > 1e-3 and np.abs(links - bright).mean() > 1e-3
     element = ctx.readback_image(renderer.maps()["element"], 1, clip=False)[..., 0]
-    assert (element >= 0).mean() > 0.8 and element.max() < len(renderer.solution.hierarchy)
+    assert (element >= 0).mean() > 0.8 and element.max() < len(renderer.result().hierarchy)
     renderer.release()
 
 

@@ -348,8 +348,8 @@ def test_removing_then_adding_back_and_adding_a_lamp(cornell):
     lamp = dict(centre=(0.15, 0.45, 0.3), edge_u=(0.05, 0, 0), edge_v=(0, 0, 0.05), exitance=(40.0, 40.0, 40.0))
     dyn = Radiosity(cornell, params).build()
     dyn.add_lamp(name="virtual", **lamp)
-    from illusio.radiosity.polygons import _rect
-    lamp_polygon = Polygons(_rect(lamp["centre"], lamp["edge_u"], lamp["edge_v"])[None], [False], np.zeros((1, 3)),
+    from illusio.radiosity.polygons import rectangle
+    lamp_polygon = Polygons(rectangle(lamp["centre"], lamp["edge_u"], lamp["edge_v"])[None], [False], np.zeros((1, 3)),
                             np.array([lamp["exitance"]]), [0], ["virtual"])
     fresh = Radiosity(cornell.extended(lamp_polygon, "virtual", lamp=True), params).build()
     a, area = per_polygon_radiosity(dyn)

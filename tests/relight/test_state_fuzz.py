@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, seed
 from hypothesis import strategies as st
 
-from illusio.relight.state import load_session
+from illusio.relight.session import RelightSession
 from tests.conftest import SESSION_SEED
 from tests.fuzz.harness import FUZZ, MUTATIONS, must_refuse, must_refuse_or_succeed, mutate
 
@@ -37,7 +37,7 @@ def readable(ctx):
             assert image.shape == session.real.photograph.shape and np.isfinite(image).all()
         finally:
             session.release()
-    return lambda path: load_session(path, ctx), check
+    return lambda path: RelightSession.load(path, ctx), check
 
 
 def with_bad_array(arrays, name, bad):
@@ -90,4 +90,4 @@ KEPT = [("hierarchy.corners", "nan"), ("hierarchy.child", "nan"), ("hierarchy.pa
 def test_kept_session_cases_are_refused(ctx, saved, name, bad, tmp_path):
     path = tmp_path / "office.npz"
     path.write_bytes(archive_bytes(with_bad_array(saved[1], name, bad)))
-    assert must_refuse(lambda p: load_session(p, ctx), path)
+    assert must_refuse(lambda p: RelightSession.load(p, ctx), path)

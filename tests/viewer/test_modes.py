@@ -213,14 +213,14 @@ def test_relight_lamp_and_crate_follow_the_pointer(ctx):
     viewer.pointer = (0.5, 0.7)
     assert viewer.mode_key("l") and not viewer.mode_key("z")
     viewer.step()
-    session = viewer.mode.renderer.session
+    session = viewer.mode.renderer.result()
     assert "virtual-lamp-0" in session.lamp_names and viewer.image().mean() > 1.02 * with_crate.mean()
     viewer.next_variant()            # per-pixel: no virtual things, and the panel says so
     viewer.step()
     assert "switch the view" in viewer.mode.message
     viewer.next_variant()            # loscos: the lamp and the crate are carried over
     viewer.step()
-    session = viewer.mode.renderer.session
+    session = viewer.mode.renderer.result()
     assert "virtual-lamp-0" in session.lamp_names and "crate" in session.solution.polygons.names
     viewer.release()
 

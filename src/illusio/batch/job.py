@@ -30,6 +30,7 @@ from pathlib import Path
 
 from ..core.errors import InputError
 from ..core.files import read_yaml
+from ..core.lazy import load
 
 __all__ = ["Task", "Job", "load_job", "command_table"]
 
@@ -60,13 +61,16 @@ class Job:
     videos: list[tuple[int, str, float, list[str]]] = field(default_factory=list)
 
 
+#: the application whose commands tasks run, and its two-word aliases: named, not imported, because
+#: the command line is the layer above batch (``illusio batch`` is one of its commands)
+APP, ALIASES = "illusio.cli.main:app", "illusio.cli.main:ALIASES"
+
+
 def command_table() -> dict:
     """illusio command name → its click command (those that take -o/--output)."""
     import typer
 
-    from ..cli.main import ALIASES, app
-
-    group = typer.main.get_command(app)
+    group = typer.main.get_command(load(APP))
     out = {}
     for name, command in group.commands.items():
         subcommands = getattr(command, "commands", None)
@@ -74,7 +78,7 @@ def command_table() -> dict:
         for full, c in pairs:       # "ibr capture", "ibr render": a group's commands by their two words
             if any("--output" in p.opts for p in c.params if hasattr(p, "opts")):
                 out[full] = c
-    for words, target in ALIASES.items():        # "relight prepare" for the hidden "relight-prepare"
+    for words, target in load(ALIASES).items():        # "relight prepare" for the hidden "relight-prepare"
         if target in out:
             out[" ".join(words)] = out.pop(target)
     return out

@@ -12,7 +12,11 @@ import time
 from pathlib import Path
 
 from ..core.errors import IllusioError
-from .job import Task
+from ..core.lazy import load
+from .job import APP, Task
+
+#: how the app reads a command line (aliases joined): see :data:`job.APP`
+EXPAND = "illusio.cli.main:expand"
 
 __all__ = ["run_task", "TaskFailed", "worker_name"]
 
@@ -29,7 +33,7 @@ def run_task(task: Task, out_dir: str) -> tuple[str, float, str]:
     """Run ``task`` writing into ``out_dir``; returns (output path, seconds, worker). Raises TaskFailed."""
     import typer
 
-    from ..cli.main import app, expand
+    app, expand = load(APP), load(EXPAND)
 
     output = Path(out_dir) / task.output
     output.parent.mkdir(parents=True, exist_ok=True)

@@ -63,7 +63,7 @@ def dof(
         return
     renderer.prepare(sc)
     image = renderer.render(Frame(view, (w, h)), params)
-    params = replace(params, focus_distance=renderer.last_focus_distance)
+    params = replace(params, focus_distance=renderer.result().focus_distance)
     if debug:
         from ..dof.reference import plane_index
 
@@ -73,7 +73,7 @@ def dof(
         elif debug == "depth":
             image = np.where(m > 0, 1 - m / max(float(m.max()), 1e-9), 0.0)
         else:
-            image = plane_index(m, renderer.last_planes) / max(len(renderer.last_planes) - 1, 1)
+            image = plane_index(m, renderer.result().planes) / max(len(renderer.result().planes) - 1, 1)
         write_image(out, image.astype(np.float32), srgb=False)
         typer.echo(f"wrote {out} ({debug} map)")
         return

@@ -9,14 +9,18 @@ import typer
 from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path
 from ..core.renderer import DEFAULT_SIZE
+from ..core.technique import techniques
 from .common import parse_size, progress
+
+#: the registry's techniques that have a viewer mode (read from their descriptors: nothing heavy loads)
+_VIEWABLE = [name for name, t in techniques().items() if t.viewer_mode]
 
 
 def view(
     source: str = typer.Argument(None, help="what to show: the technique's scene, mesh or folder (sis: the hidden shape, "
                                             "or the scene hosting it); default: the technique's own (illusio list techniques)"),
-    technique: str = typer.Option("plain", "--technique", "-t", help="a technique with a viewer mode: plain, sis, lines, dof, "
-                                                                      "ibr, radiosity, relight (illusio list techniques)"),
+    technique: str = typer.Option("plain", "--technique", "-t", help="a technique with a viewer mode: "
+                                  f"{', '.join(_VIEWABLE)} (illusio list techniques)"),
     variant: str = typer.Option(None, "--view", help="the technique's view (its views in illusio list techniques), "
                                                      "e.g. sis tv|wall|interactive|raw, lines drawing|q1|t1|curvature"),
     size: str = typer.Option("x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT of the window or the video"),

@@ -5,7 +5,18 @@ from __future__ import annotations
 
 import importlib
 
-__all__ = ["lazy_exports"]
+from typing import Any
+
+__all__ = ["lazy_exports", "load"]
+
+
+def load(reference: str) -> Any:
+    """The object a ``"package.module:attribute"`` string names, imported when asked for: how a
+    lower layer reaches one above it without importing it (the registry's renderers, batch's app)."""
+    module, _, attribute = reference.partition(":")
+    if not module or not attribute:
+        raise ValueError(f"a reference is 'module:attribute', got {reference!r}")
+    return getattr(importlib.import_module(module), attribute)
 
 
 def lazy_exports(package: str, exports: dict[str, str]):

@@ -120,6 +120,7 @@ class Renderer:
         self.ctx = ctx
         self._subject_key: bytes | None = None
         self._maps: dict[str, moderngl.Texture] = {}
+        self._result: Any = None
 
     # -- the protocol -------------------------------------------------------------------------
     def prepare(self, subject: Any) -> bool:
@@ -149,6 +150,13 @@ class Renderer:
     def maps(self) -> dict[str, moderngl.Texture]:
         """The named intermediate images of the last frame (depth, separation, q1, CoC…)."""
         return dict(self._maps)
+
+    def result(self) -> Any:
+        """What the last frame made beside its image, as the technique's documented object (dof:
+        ``DofResult``; radiosity: the ``Radiosity`` solution; relight: the ``RelightSession``; lines:
+        the ``Drawing``), or None before a frame and for techniques with nothing more to say. Valid
+        until the next frame or :meth:`prepare` of another subject."""
+        return self._result
 
     def release(self) -> None:
         """Free the subject's GPU copy and every kept texture; the renderer stays usable after a

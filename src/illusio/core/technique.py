@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import importlib
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Callable
 
+from .lazy import load
 from .errors import InputError, did_you_mean
 
 __all__ = ["Technique", "techniques", "technique", "register", "load"]
@@ -24,14 +25,6 @@ __all__ = ["Technique", "techniques", "technique", "register", "load"]
 #: (the viewer's Tab order)
 BUILTIN_PACKAGES = ("illusio.passes", "illusio.sis", "illusio.lines", "illusio.dof", "illusio.ibr",
                     "illusio.radiosity", "illusio.relight")
-
-
-def load(reference: str) -> Any:
-    """The object a ``"package.module:attribute"`` string names."""
-    module, _, attribute = reference.partition(":")
-    if not module or not attribute:
-        raise ValueError(f"a reference is 'module:attribute', got {reference!r}")
-    return getattr(importlib.import_module(module), attribute)
 
 
 @dataclass(frozen=True)

@@ -6,8 +6,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..core.params import check_ranges, param
-from ..passes.scene_renderer import RenderSettings
-from ..passes.stereo import COMPOSITES
+from ..passes.settings import RenderSettings
+from ..passes.settings import COMPOSITES
 
 __all__ = ["DofParams", "METHODS", "STEREO_OUTPUTS"]
 

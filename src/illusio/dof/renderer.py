@@ -4,7 +4,7 @@ shared stereo pass."""
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import moderngl
 import numpy as np
@@ -27,7 +27,18 @@ from .planes_improved import ImprovedPlanesPass, slab_lods
 from .params import DofParams
 from .reference import lens_samples
 
-__all__ = ["DofRenderer", "depth_of_field"]
+__all__ = ["DofRenderer", "DofResult", "depth_of_field"]
+
+
+@dataclass(frozen=True)
+class DofResult:
+    """What a depth-of-field frame used beside its image (``DofRenderer.result()``).
+
+    focus_distance: d_f in metres (the policy's choice when one drives the focus).
+    planes: the plane distances of a planes or planes-improved frame, far to near (metres), else ()."""
+
+    focus_distance: float
+    planes: tuple[float, ...] = ()
 
 
 class DofRenderer(Renderer):
@@ -50,8 +61,6 @@ class DofRenderer(Renderer):
         self.accumulate = AccumulatePass(ctx)
         self.composite = StereoCompositePass(ctx)
         self.scene: Scene | None = None
-        self.last_planes = None  # the plane distances of the last planes frame (far to near), for the debug view
-        self.last_focus_distance: float | None = None  # the focus the last frame used
         self._last_focus: tuple[float, float, np.ndarray] | None = None  # (time, focus, eye) for the policies
 
     def _load(self, scene: Scene) -> None:
@@ -117,7 +126,7 @@ class DofRenderer(Renderer):
         params = self._params(params)
         if params.policy != "none":
             params = replace(params, focus_distance=self.focus(frame, params))
-        self.last_focus_distance = params.focus_distance
+        self._result = DofResult(params.focus_distance)
         maps: dict[str, moderngl.Texture] = {}
         eyes = [self._eye(Frame(view, frame.size, frame.time, frame.index), params, maps, first=i == 0)
                 for i, view in enumerate(self.views(frame, params))]
@@ -150,7 +159,7 @@ class DofRenderer(Renderer):
         else:
             distances = plane_distances(params.focus_distance, params.planes_behind, params.planes_front,
                                         camera.near, camera.far, params.distribution)
-            self.last_planes = distances
+            self._result = replace(self._result, planes=tuple(float(d) for d in distances))
             if params.method == "planes-improved":
                 lods = slab_lods(distances, camera.near, params.focus_distance, params.aperture_m, camera.fov_y,
                                  frame.size[1], params.max_coc)

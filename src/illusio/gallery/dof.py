@@ -68,7 +68,7 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     section.items.append(Item("dof/museum-coc.png", "circle of confusion (black: in focus; white: the largest drawn, "
                               f"{base.max_coc:g} px)", "dof.lens: A·|1/d − 1/d_f|·H / (2 tan(fov/2))",
                               command="illusio dof museum --focus-object exhibit-superquadric --aperture 120 --debug coc -o coc.png"))
-    distances = renderer.last_planes
+    distances = renderer.result().planes
     write_image(out_dir / "dof/museum-planes-debug.png", plane_index(maps["depth"], distances) / (len(distances) - 1), srgb=False)
     section.items.append(Item("dof/museum-planes-debug.png", "the planes each pixel takes, in grey levels",
                               figure=PAPER + "Figure 8", command="illusio dof museum --debug planes -o planes.png", details=

@@ -68,7 +68,7 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
             write_image(out_dir / rel, np.concatenate([np.clip(image, 0, 1), relit], axis=1))
             section.items.append(Item(rel, "the office relit: lamps 0 and 2 off, lamp 3 doubled",
                                       f"re-solved with the links kept and drawn in {ms:.0f} ms "
-                                      f"({renderer.solution.result.iterations} iterations of gather + push-pull)",
+                                      f"({renderer.result().result.iterations} iterations of gather + push-pull)",
                                       figure="Loscos 1999, section 4.4.2",
                                       command="illusio radiosity office -o relit.png --set-lamp lamp-0=0 --set-lamp lamp-2=0 --set-lamp lamp-3=2"))
     renderer.release()

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..core.params import check_ranges, param
-from ..passes.scene_renderer import RenderSettings
+from ..passes.settings import RenderSettings
 
 __all__ = ["IbrParams", "DISTANCES", "SELECTIONS"]
 

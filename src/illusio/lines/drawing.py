@@ -175,7 +175,7 @@ class LineRenderer(Renderer):
         self._gpu_mesh: CurvatureMesh | None = None
         self._curvature_params: CurvatureParams | None = None
         self._depth: moderngl.Texture | None = None
-        self.segments: dict[str, Segments] = {}  # the last frame's object-space lines
+        self._segments: dict[str, Segments] = {}  # the last frame's object-space lines
         self.ridge_mask: np.ndarray | None = None  # the last frame's kept hybrid ridge pixels, when read back
         self.last_view: View | None = None
 
@@ -198,7 +198,7 @@ class LineRenderer(Renderer):
             self._depth.release()
             self._depth = None
         self.mesh = self._given = self._curvature_params = None
-        self.segments, self.ridge_mask = {}, None
+        self._segments, self.ridge_mask = {}, None
 
     def gpu_mesh(self, curvature: CurvatureParams = CurvatureParams()) -> CurvatureMesh:
         """The mesh and its curvature on the GPU; estimated again only when ``curvature`` differs by
@@ -249,7 +249,7 @@ class LineRenderer(Renderer):
         hybrid = "apparent-ridges" in params.lines and params.method == "hybrid"
         ridges = self.ridge_filter(q_t1, params.lam, params.threshold) if hybrid else None
         # the object-space lines on the CPU while the passes above run (before anything is read back)
-        self.segments = self.object_space_segments(curv, view, params, scale)
+        self._segments = self.object_space_segments(curv, view, params, scale)
         self.ridge_mask = None
         if ridges is not None and (params.min_ridge_pixels > 0 or read_ridges):
             # R: the thresholded ridge flag
@@ -272,7 +272,7 @@ class LineRenderer(Renderer):
             self.compose(q_t1, ridges, colour, depth, hybrid, image_silhouettes,
                          params.colour("apparent-ridges"), params.colour("silhouettes"), params.depth_jump)
         # object-space lines, hidden by the surface
-        for kind, segs in self.segments.items():
+        for kind, segs in self._segments.items():
             self.draw_segments(segs, view, (w, h), params.colour(kind), params.width(kind))
         self.last_view = view
         self._keep_maps({"q_t1": q_t1, "ridges": ridges, "depth": depth})
@@ -287,7 +287,7 @@ class LineRenderer(Renderer):
         finally:
             self.ctx.release(tex)
         q_t1 = self.ctx.readback(self._maps["q_t1"])
-        return Drawing(image, self.segments, self.last_view, frame.size, q_t1, self.ridge_mask)
+        return Drawing(image, self._segments, self.last_view, frame.size, q_t1, self.ridge_mask)
 
     def object_space_segments(self, curv: Curvature, view: View, params: LineParams, scale: float) -> dict[str, Segments]:
         mesh = self.mesh

@@ -1,15 +1,22 @@
-"""Passes shared by several techniques: G-buffer, shadows, shading, and the scene renderer."""
+"""Passes shared by several techniques: G-buffer, shadows, shading, and the scene renderer.
 
-from .forward import ForwardPass, ScreenMaterial
-from .gbuffer import GBuffer, GBufferImages, GBufferPass
-from .gpu_scene import GpuScene
-from .lights import Emitters, emitters_from_lights
-from .scene_renderer import RenderSettings, SceneRenderer, render_scene
-from .shading import ShadingParams, ShadingPass
-from .shadows import ShadowPass
-from .stereo import COMPOSITES, StereoCompositePass
-from .technique import TECHNIQUES
+Names are imported on first use (``core.lazy``): a Params that holds ``RenderSettings`` loads no GL."""
 
-__all__ = ["TECHNIQUES", "ForwardPass", "ScreenMaterial", "GBuffer", "GBufferImages", "GBufferPass", "GpuScene", "Emitters", "emitters_from_lights",
-           "RenderSettings", "SceneRenderer", "render_scene", "ShadingParams", "ShadingPass", "ShadowPass",
-           "StereoCompositePass", "COMPOSITES"]
+from ..core.lazy import lazy_exports
+
+_EXPORTS = {
+    "TECHNIQUES": "technique",
+    **dict.fromkeys(("ForwardPass", "ScreenMaterial"), "forward"),
+    **dict.fromkeys(("GBuffer", "GBufferImages", "GBufferPass"), "gbuffer"),
+    "GpuScene": "gpu_scene",
+    **dict.fromkeys(("Emitters", "emitters_from_lights"), "lights"),
+    **dict.fromkeys(("SceneRenderer", "render_scene"), "scene_renderer"),
+    **dict.fromkeys(("RenderSettings", "COMPOSITES"), "settings"),
+    **dict.fromkeys(("ShadingParams", "ShadingPass"), "shading"),
+    "ShadowPass": "shadows",
+    "StereoCompositePass": "stereo",
+}
+
+__all__ = list(_EXPORTS)
+
+__getattr__ = lazy_exports(__name__, _EXPORTS)

@@ -7,7 +7,6 @@ set-up cost. Techniques that draw a scene keep one inside their own renderer.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 
 import moderngl
 import numpy as np
@@ -15,7 +14,6 @@ import numpy as np
 from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.gl import MAX_SIZE, check_size
-from ..core.params import check_ranges, param
 from ..core.renderer import Frame, Renderer
 from ..scene.scene import Scene
 from .forward import ForwardPass, ScreenMaterial
@@ -23,25 +21,10 @@ from .gbuffer import GBuffer, GBufferPass
 from .gpu_scene import GpuScene
 from .lights import Emitters, emitters_from_lights
 from .shading import MAX_EMITTERS, ShadingParams, ShadingPass
+from .settings import RenderSettings
 from .shadows import ShadowPass
 
 __all__ = ["SceneRenderer", "RenderSettings", "render_scene", "MAX_SIZE", "check_size"]
-
-
-@dataclass(frozen=True)
-class RenderSettings:
-    """shadows: cube shadow maps on/off; shadow_tile_size: pixels per cube face;
-    exposure: scale on the linear result; forward: light the surfaces in the pass that draws them
-    instead of through the G-buffer (same image; faster where G-buffer bandwidth dominates, as on a
-    CPU rasteriser at high resolution)."""
-
-    shadows: bool = param(True, help="cube shadow maps of every light")
-    shadow_tile_size: int = param(512, range=(64, 4096), unit="px", step=64, label="shadow map size",
-                                  help="pixels per cube face")
-    exposure: float = param(1.0, range=(0.01, 16.0), log=True, help="scale on the linear radiance")
-    forward: bool = param(False, label="forward shading", help="light in the pass that draws (same image)")
-
-    __post_init__ = check_ranges
 
 
 class SceneRenderer(Renderer):

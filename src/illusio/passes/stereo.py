@@ -8,15 +8,13 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
+from .settings import COMPOSITES
 from ..core.context import Context
 from ..core.errors import InputError
 from ..core.gl import set_uniform
 
 __all__ = ["StereoCompositePass", "COMPOSITES", "ANAGLYPH_MATRICES", "composite_size"]
 
-#: layouts, then anaglyph schemes
-COMPOSITES = ("side-by-side", "cross-eyed", "top-bottom", "anaglyph", "anaglyph-colour", "anaglyph-half-colour",
-              "anaglyph-grey")
 
 _LUMA = np.array([0.2126, 0.7152, 0.0722])
 _RED = np.array([[1.0, 0, 0], [0, 0, 0], [0, 0, 0]])

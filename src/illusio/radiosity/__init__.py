@@ -8,25 +8,31 @@ Gouraud display on the GPU and path-traced ground truth from Mitsuba 3.
     solution.set_lamps({"lamp-0": 0.0})          # links kept, re-solved
 """
 
-from .display import DisplayPass, LeafMesh, leaf_mesh
-from .formfactor import point_polygon
-from .params import CRITERIA, SHOW, HierarchyParams, RadiosityParams
-from .polygons import Polygons, scene_polygons
-from .renderer import RadiosityRenderer
-from .solution import Radiosity, Stats
-from .technique import TECHNIQUES
-from .visibility import INVISIBLE, PARTIAL, VISIBLE
+from ..core.lazy import lazy_exports
 
-__all__ = ["TECHNIQUES", "Radiosity", "RadiosityRenderer", "RadiosityParams", "HierarchyParams", "Polygons", "scene_polygons",
-           "Stats", "CRITERIA", "SHOW", "VISIBLE", "PARTIAL", "INVISIBLE", "radiosity_image",
-           "DisplayPass", "LeafMesh", "leaf_mesh", "point_polygon"]
+_EXPORTS = {
+    "TECHNIQUES": "technique",
+    **dict.fromkeys(("DisplayPass", "LeafMesh", "leaf_mesh"), "display"),
+    "point_polygon": "formfactor",
+    **dict.fromkeys(("CRITERIA", "SHOW", "HierarchyParams", "RadiosityParams"), "params"),
+    **dict.fromkeys(("Polygons", "scene_polygons"), "polygons"),
+    "RadiosityRenderer": "renderer",
+    **dict.fromkeys(("Radiosity", "Stats"), "solution"),
+    **dict.fromkeys(("VISIBLE", "PARTIAL", "INVISIBLE"), "visibility"),
+}
+
+__all__ = list(_EXPORTS) + ["radiosity_image"]
+
+__getattr__ = lazy_exports(__name__, _EXPORTS)
 
 
-def radiosity_image(scene, size=(640, 480), params: RadiosityParams = RadiosityParams(), view=None, ctx=None):
+def radiosity_image(scene, size=(640, 480), params=None, view=None, ctx=None):
     """One-shot: the scene's radiosity solution rendered from ``view`` (default: its main camera), as
-    float32 (H, W, 3) radiance × exposure, row 0 at the top, clipped to [0, 1]."""
+    float32 (H, W, 3) radiance × exposure, row 0 at the top, clipped to [0, 1]; params: a
+    RadiosityParams (default: its defaults)."""
     from ..core.context import default_context
     from ..core.renderer import Frame
+    from .renderer import RadiosityRenderer
 
     ctx = ctx or default_context()
     renderer = ctx.kept(RadiosityRenderer)

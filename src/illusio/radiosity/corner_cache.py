@@ -26,9 +26,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .display import leaves_under
 from .formfactor import contour_integral
-from .hierarchy import Hierarchy
+from .hierarchy import Hierarchy, leaves_under
 from .links import Links
 
 __all__ = ["CornerGather"]

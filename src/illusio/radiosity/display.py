@@ -24,9 +24,10 @@ from ..core.context import Context
 from ..core.gl import set_uniform
 from ..scene.camera import View
 from .formfactor import point_polygon
-from .hierarchy import Hierarchy
+from .hierarchy import Hierarchy, leaves_under
 from .links import Links
-from .visibility import INVISIBLE, PARTIAL, VISIBLE, _mix
+from .corner_cache import CornerGather
+from .visibility import INVISIBLE, PARTIAL, VISIBLE, splitmix
 
 __all__ = ["LeafMesh", "leaf_mesh", "DisplayPass", "LINK_COLOURS"]
 
@@ -48,21 +49,6 @@ class LeafMesh:
     element: np.ndarray
     faces: np.ndarray
     face_element: np.ndarray
-
-
-def leaves_under(h: Hierarchy, leaves: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Every (element, leaf under it) of ``leaves`` and their ancestors, sorted by element: (element
-    (m,), leaf (m,)); the leaves under element e are ``leaf[searchsorted(element, e) : …right]``."""
-    element_of, leaf_of = [], []
-    element, leaf = leaves.copy(), leaves.copy()
-    while len(element):
-        element_of.append(element)
-        leaf_of.append(leaf)
-        up = h.parent[element] >= 0
-        element, leaf = h.parent[element[up]], leaf[up]
-    element, leaf = np.concatenate(element_of), np.concatenate(leaf_of)
-    order = np.argsort(element, kind="stable")
-    return element[order], leaf[order]
 
 
 def corner_form_factors(h: Hierarchy, leaf: np.ndarray, source: np.ndarray) -> np.ndarray:
@@ -108,7 +94,7 @@ def _row_hashes(key):
     for i in range(len(key)):
         z = np.uint64(0x9E3779B97F4A7C15)
         for c in range(key.shape[1]):
-            z = _mix(z ^ np.uint64(key[i, c]))
+            z = splitmix(z ^ np.uint64(key[i, c]))
         out[i] = z
     return out
 
@@ -161,7 +147,6 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
     corner_of_tri = np.tile([True, True, True, False], len(leaves)) | ~np.repeat(h.triangle[leaves], 4)
     vertex = corner_ids(key)
     if links is not None and gather is None:
-        from .corner_cache import CornerGather     # the fast gather (it imports this module's helpers)
         gather = CornerGather()
     b = np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
     if links is not None:

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..core.errors import InputError
 
-from .polygons import Polygons, _rect
+from .polygons import MAX_POLYGONS, Polygons, rectangle
 from .refine import refine
 
 __all__ = ["shaft_meets_box", "add_object", "add_lamp", "move_object", "remove_object"]
@@ -146,7 +146,7 @@ def _pairs_with(others: np.ndarray, roots: np.ndarray) -> tuple[np.ndarray, np.n
 def _finish(sol, started: float, phase: str, tolerance: float, max_iterations: int, elements=None):
     """Solve; then, when the object's links were made from estimated B (``elements``), re-test them
     against the solved B and solve again if any had to be refined (as a build's second round does)."""
-    sol._matrix = None
+    sol.links_changed()
     result = sol.solve(tolerance, max_iterations)
     if elements is not None:
         if sol.rerefine(_touching(sol, elements)):
@@ -160,7 +160,6 @@ def add_object(sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_
     """Add ``polygons`` as a new object ``name``: its links, and the links whose shafts it enters."""
     t = time.perf_counter()
     first = len(sol.polygons)
-    from .solution import MAX_POLYGONS
     if first + len(polygons) > MAX_POLYGONS:
         raise InputError(f"{name!r} has {len(polygons)} polygons: with the scene's {first} that is past the "
                          f"{MAX_POLYGONS} radiosity takes (no clustering); use a coarser mesh")
@@ -193,7 +192,7 @@ def _link_lamp(sol, roots) -> None:
 
 def add_lamp(sol, centre, edge_u, edge_v, exitance, name: str, tolerance: float = 1e-4, max_iterations: int = 200):
     """A rectangular lamp (one-sided along edge_u × edge_v, exitance E W/m² RGB) linked at the leaves."""
-    corners = _rect(centre, edge_u, edge_v)[None]
+    corners = rectangle(centre, edge_u, edge_v)[None]
     lamp = Polygons(corners, [False], np.zeros((1, 3)), np.asarray(exitance, np.float64).reshape(1, 3), [0], [name])
     return add_object(sol, lamp, name, tolerance, max_iterations, lamp=True)
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from .polygons import Polygons, polygon_areas
 
-__all__ = ["Hierarchy", "FIELDS"]
+__all__ = ["Hierarchy", "FIELDS", "leaves_under"]
 
 # per-element arrays: name → (shape after the element axis, dtype)
 FIELDS = {"corners": ((4, 3), np.float64), "triangle": ((), bool), "polygon": ((), np.int64),
@@ -243,3 +243,18 @@ def _sample_points(corners, triangle, elements, uv, out):
                 for c in range(3):
                     out[p, s, c] = ((1 - u) * (1 - v) * corners[e, 0, c] + u * (1 - v) * corners[e, 1, c]
                                     + u * v * corners[e, 2, c] + (1 - u) * v * corners[e, 3, c])
+
+
+def leaves_under(h: Hierarchy, leaves: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every (element, leaf under it) of ``leaves`` and their ancestors, sorted by element: (element
+    (m,), leaf (m,)); the leaves under element e are ``leaf[searchsorted(element, e) : …right]``."""
+    element_of, leaf_of = [], []
+    element, leaf = leaves.copy(), leaves.copy()
+    while len(element):
+        element_of.append(element)
+        leaf_of.append(leaf)
+        up = h.parent[element] >= 0
+        element, leaf = h.parent[element[up]], leaf[up]
+    element, leaf = np.concatenate(element_of), np.concatenate(leaf_of)
+    order = np.argsort(element, kind="stable")
+    return element[order], leaf[order]

@@ -20,7 +20,11 @@ import numpy as np
 from ..core.errors import InputError
 from ..scene.scene import AreaLight, PointLight, Scene
 
-__all__ = ["Polygons", "scene_polygons", "quads_from_triangles"]
+__all__ = ["Polygons", "scene_polygons", "quads_from_triangles", "MAX_POLYGONS"]
+
+#: the most input polygons a solution takes: every pair of roots that see each other is at least one
+#: link (there is no clustering of small polygons), so the links grow with the square of this
+MAX_POLYGONS = 4000
 
 
 @dataclass(eq=False)
@@ -167,7 +171,7 @@ def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: flo
     return corners, triangle
 
 
-def _rect(centre, u, v) -> np.ndarray:
+def rectangle(centre, u, v) -> np.ndarray:
     c, u, v = (np.asarray(x, np.float64) for x in (centre, u, v))
     return np.stack([c - u / 2 - v / 2, c + u / 2 - v / 2, c + u / 2 + v / 2, c - u / 2 + v / 2])
 
@@ -183,7 +187,7 @@ def _cube(centre, side: float) -> np.ndarray:
             u = np.zeros(3)
             u[(axis + 1) % 3] = side
             v = np.cross(n, u)
-            out.append(_rect(np.asarray(centre) + n * h, u, v))
+            out.append(rectangle(np.asarray(centre) + n * h, u, v))
     return np.stack(out)
 
 
@@ -213,7 +217,7 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         group.append(np.full(len(c), g))
     for light in scene.lights:
         if isinstance(light, AreaLight):
-            c = _rect(light.centre, light.edge_u, light.edge_v)[None]
+            c = rectangle(light.centre, light.edge_u, light.edge_v)[None]
             e = np.pi * light.radiance * np.asarray(light.colour, np.float64)
         elif isinstance(light, PointLight):
             c = _cube(light.position, point_lamp_size)

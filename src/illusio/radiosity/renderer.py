@@ -28,7 +28,7 @@ class RadiosityRenderer(Renderer):
     def __init__(self, ctx):
         super().__init__(ctx)
         self.display = DisplayPass(ctx)
-        self.solution: Radiosity | None = None
+        self._solution: Radiosity | None = None
         self.polygons: Polygons | None = None
         self._scene: Scene | None = None
         self._state = None      # (hierarchy params, lamp scales, tolerance, smooth) of the loaded mesh
@@ -43,23 +43,27 @@ class RadiosityRenderer(Renderer):
     def _unload(self) -> None:
         super()._unload()
         self.display.release()
-        self.solution = None
+        self._solution = None
         self._state = None
+
+    def result(self) -> Radiosity | None:
+        """The solution the last frame showed (hierarchy, links, B, stats), or None."""
+        return self._solution
 
     def solve(self, params: RadiosityParams) -> Radiosity:
         """The solution for ``params`` (built, re-solved or kept as they require)."""
         self._require_subject()
-        if self.solution is None or self.solution.params != params.hierarchy:
-            self.solution = Radiosity(self.polygons, params.hierarchy)
-            self.solution.build(params.tolerance, params.max_iterations)
+        if self._solution is None or self._solution.params != params.hierarchy:
+            self._solution = Radiosity(self.polygons, params.hierarchy)
+            self._solution.build(params.tolerance, params.max_iterations)
             self._state = None
         state = (params.hierarchy, params.lamp_scales, params.tolerance, params.show == "mesh")
         if self._state != state:
             if self._state is None or self._state[1:3] != state[1:3]:
-                self.solution.set_lamps(dict(params.lamp_scales), params.tolerance, params.max_iterations)
-            self.display.load(leaf_mesh(self.solution.hierarchy, self.solution.links, self.solution.exitance(), smooth=params.show != "mesh"))
+                self._solution.set_lamps(dict(params.lamp_scales), params.tolerance, params.max_iterations)
+            self.display.load(leaf_mesh(self._solution.hierarchy, self._solution.links, self._solution.exitance(), smooth=params.show != "mesh"))
             self._state = state
-        return self.solution
+        return self._solution
 
     def render_texture(self, frame: Frame, params: RadiosityParams | None = None) -> moderngl.Texture:
         params = self._params(params)
@@ -88,7 +92,7 @@ class RadiosityRenderer(Renderer):
         finally:
             self.ctx.release(tex)
         element = self.ctx.readback_image(self._maps["element"], 1, clip=False)[..., 0].astype(np.int64)
-        emitter = (element >= 0) & (self.solution.exitance()[np.maximum(element, 0)].max(axis=-1) > 0)
+        emitter = (element >= 0) & (self._solution.exitance()[np.maximum(element, 0)].max(axis=-1) > 0)
         image = image.reshape(h, k, w, k, 3).mean(axis=(1, 3))
         return image, emitter.reshape(h, k, w, k).any(axis=(1, 3))
 

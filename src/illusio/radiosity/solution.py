@@ -16,7 +16,8 @@ from ..core.errors import InputError, did_you_mean
 from .hierarchy import Hierarchy
 from .links import Links
 from .params import HierarchyParams
-from .polygons import Polygons
+from .polygons import MAX_POLYGONS, Polygons
+from .dynamic import add_lamp, add_object, move_object, remove_object
 from .refine import needs_refinement, refine, transfer_estimate
 from .solve import SolveResult, solve
 from .visibility import Visibility
@@ -25,9 +26,6 @@ __all__ = ["Radiosity", "Stats", "AUTO_MIN_AREA", "MAX_POLYGONS"]
 
 #: the automatic minimum element area, as a fraction of the scene's total surface area
 AUTO_MIN_AREA = 3e-5
-#: the most input polygons a solution takes: every pair of roots that see each other is at least one
-#: link (there is no clustering of small polygons), so the links grow with the square of this
-MAX_POLYGONS = 4000
 
 
 @dataclass
@@ -245,22 +243,23 @@ class Radiosity:
             new[self.polygons.names.index(name)] = float(value)
         return new
 
+    def links_changed(self) -> None:
+        """Forget what was made from the links (the gather operator): for whoever edits the hierarchy
+        or the links in place (dynamic updates, relight's shadow refinement)."""
+        self._matrix = None
+
     # --- dynamic updates (illusio.radiosity.dynamic)
     def add_lamp(self, centre, edge_u, edge_v, exitance, name: str, **solve) -> SolveResult:
         """A new rectangular lamp (exitance W/m², RGB), linked at the leaves (Loscos 4.4.1)."""
-        from .dynamic import add_lamp
         return add_lamp(self, centre, edge_u, edge_v, exitance, name, **solve)
 
     def add_object(self, polygons: Polygons, name: str, **solve) -> SolveResult:
-        from .dynamic import add_object
         return add_object(self, polygons, name, **solve)
 
     def move_object(self, name: str, matrix, **solve) -> SolveResult:
-        from .dynamic import move_object
         return move_object(self, name, matrix, **solve)
 
     def remove_object(self, name: str, **solve) -> SolveResult:
-        from .dynamic import remove_object
         return remove_object(self, name, **solve)
 
     @property

@@ -103,7 +103,7 @@ _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
 
 
 @numba.njit(cache=True, inline="always")
-def _mix(z):
+def splitmix(z):
     """splitmix64's finaliser: a uint64 to a well-spread uint64."""
     z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
     z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
@@ -116,21 +116,21 @@ def _pair_grids(receivers, sources, samples, seed, out_receiver, out_source):
     cells = side * side
     perm = np.empty(cells, np.int64)
     for p in range(len(receivers)):
-        state = _mix(np.uint64(seed) * _GOLDEN + _mix(np.uint64(receivers[p]) + np.uint64(1)))
-        state = _mix(state ^ _mix(np.uint64(sources[p]) + np.uint64(0x632BE59BD9B4E019)))
+        state = splitmix(np.uint64(seed) * _GOLDEN + splitmix(np.uint64(receivers[p]) + np.uint64(1)))
+        state = splitmix(state ^ splitmix(np.uint64(sources[p]) + np.uint64(0x632BE59BD9B4E019)))
         for which in range(2):
             out = out_receiver if which == 0 else out_source
             for c in range(cells):
                 perm[c] = c
             for c in range(cells - 1, 0, -1):           # Fisher–Yates
                 state += _GOLDEN
-                q = int(_mix(state) % np.uint64(c + 1))
+                q = int(splitmix(state) % np.uint64(c + 1))
                 perm[c], perm[q] = perm[q], perm[c]
             for t in range(samples):
                 state += _GOLDEN
-                u = float(_mix(state) >> np.uint64(11)) * 2.0 ** -53
+                u = float(splitmix(state) >> np.uint64(11)) * 2.0 ** -53
                 state += _GOLDEN
-                v = float(_mix(state) >> np.uint64(11)) * 2.0 ** -53
+                v = float(splitmix(state) >> np.uint64(11)) * 2.0 ** -53
                 out[p, t, 0] = (perm[t] % side + u) / side
                 out[p, t, 1] = (perm[t] // side + v) / side
 

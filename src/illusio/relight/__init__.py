@@ -12,11 +12,16 @@ shadows (4.3.1, ``shadow_refine``) and makes textures free of them (4.3.2, ``tex
 virtual lamp, a virtual object added and moved (4.4). ``tone`` fits the gain/γ step of Figure 4.21.
 """
 
-from .params import METHODS, RelightParams
-from .photograph import RealScene, builtin_real_scene, load_real_scene, polygon_ids
-from .renderer import RelightRenderer
-from .session import RelightSession
-from .technique import TECHNIQUES
+from ..core.lazy import lazy_exports
 
-__all__ = ["TECHNIQUES", "RelightSession", "RelightRenderer", "RelightParams", "RealScene", "builtin_real_scene", "load_real_scene",
-           "polygon_ids", "METHODS"]
+_EXPORTS = {
+    "TECHNIQUES": "technique",
+    **dict.fromkeys(("METHODS", "RelightParams"), "params"),
+    **dict.fromkeys(("RealScene", "builtin_real_scene", "load_real_scene", "polygon_ids"), "photograph"),
+    "RelightRenderer": "renderer",
+    "RelightSession": "session",
+}
+
+__all__ = list(_EXPORTS)
+
+__getattr__ = lazy_exports(__name__, _EXPORTS)

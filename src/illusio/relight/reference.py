@@ -20,7 +20,7 @@ def displayed_image(session, scales: dict) -> tuple[np.ndarray, np.ndarray]:
     method's session under ``scales``."""
     sol = session.solution
     sol.set_lamps(scales)
-    session._inherit_display_factor()
+    session.inherit_display_factor()
     h = sol.hierarchy
     now = leaf_mesh(h, sol.links, sol.exitance())
     leaves = h.leaves()

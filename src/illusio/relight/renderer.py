@@ -28,7 +28,7 @@ class RelightRenderer(Renderer):
     def __init__(self, ctx):
         super().__init__(ctx)
         self.real: RealScene | None = None
-        self.session: RelightSession | None = None
+        self._session: RelightSession | None = None
         self._key = None
 
     def _load(self, subject) -> None:
@@ -40,9 +40,13 @@ class RelightRenderer(Renderer):
 
     def _unload(self) -> None:
         super()._unload()
-        if self.session is not None:
-            self.session.release()
-        self.session, self._key = None, None
+        if self._session is not None:
+            self._session.release()
+        self._session, self._key = None, None
+
+    def result(self) -> RelightSession | None:
+        """The session the last frame was drawn by (its solution, textures, lamps, times), or None."""
+        return self._session
 
     def session_for(self, params: RelightParams | None = None) -> RelightSession:
         """The session prepared for ``params`` (made again when anything but the lamp scales and the
@@ -50,12 +54,12 @@ class RelightRenderer(Renderer):
         params = self._params(params)
         self._require_subject()
         key = dataclasses.replace(params, lamp_scales=(), exposure=1.0)
-        if self.session is None or self._key != key:
-            if self.session is not None:
-                self.session.release()
-            self.session = RelightSession(self.real, key, self.ctx)
+        if self._session is None or self._key != key:
+            if self._session is not None:
+                self._session.release()
+            self._session = RelightSession(self.real, key, self.ctx)
             self._key = key
-        return self.session
+        return self._session
 
     def render_texture(self, frame: Frame, params: RelightParams | None = None) -> moderngl.Texture:
         from ..core.errors import InputError
@@ -64,7 +68,7 @@ class RelightRenderer(Renderer):
         self.session_for(params)
         if frame.view is not None and frame.view != self.real.view:
             raise InputError("relighting shows the photograph's own camera only: give the frame no view (or that camera)")
-        image = self.session.image(dict(params.lamp_scales)) * params.exposure
+        image = self._session.image(dict(params.lamp_scales)) * params.exposure
         rgba = np.dstack([np.clip(image, 0, None), np.ones(image.shape[:2], np.float32)]).astype(np.float32)
         h, w = rgba.shape[:2]
         if frame.size != (w, h):

@@ -30,6 +30,7 @@ from . import estimate, textures
 from .shadow_refine import refine_by_texture
 from .params import SHOW, VIRTUAL_LAMP_SIZE, RelightParams
 from .photograph import RealScene, polygon_ids
+from .state import load_session, save_session
 
 __all__ = ["RelightSession"]
 
@@ -276,7 +277,7 @@ class RelightSession:
     _CHILD_BARY = np.array([[(0, 0), (.5, 0), (0, .5), (0, .5)], [(.5, 0), (1, 0), (.5, .5), (.5, .5)],
                             [(0, .5), (.5, .5), (0, 1), (0, 1)], [(.5, 0), (.5, .5), (0, .5), (0, .5)]])
 
-    def _inherit_display_factor(self) -> None:
+    def inherit_display_factor(self) -> None:
         """Elements made since preparation take D interpolated from their parent's corners (bilinear on
         quads, barycentric on triangles); a virtual object's elements have none (shown by B/π). Their
         texture factor is 1 (no texture work reached them), so every per-element array covers them."""
@@ -369,7 +370,7 @@ class RelightSession:
             image = self._per_pixel_image() * self.params.exposure
             self.times["edit"] = time.perf_counter() - start
             return image.astype(np.float32)
-        self._inherit_display_factor()
+        self.inherit_display_factor()
         h = sol.hierarchy
         shown = self._shown()
         now = self._corner_radiosity(shown)
@@ -416,7 +417,7 @@ class RelightSession:
         if what == "mesh":
             mesh.radiance = np.ones_like(mesh.radiance)
         else:
-            self._inherit_display_factor()
+            self.inherit_display_factor()
             mesh.radiance = self.corner_d[h.leaves()].reshape(-1, 3)
         self.display.load(mesh)
         w, h_pixels = self.real.size
@@ -486,14 +487,32 @@ class RelightSession:
 
     def save(self, path) -> None:
         """Write the prepared session to ``path`` (.npz; relight.state): load it with :meth:`load`."""
-        from .state import save_session
         save_session(self, path)
 
-    @staticmethod
-    def load(path, ctx: Context | None = None) -> "RelightSession":
+    @classmethod
+    def load(cls, path, ctx: Context | None = None) -> "RelightSession":
         """A session saved by :meth:`save`, ready for edits."""
-        from .state import load_session
-        return load_session(path, ctx)
+        fields = load_session(path)
+        basis = fields.pop("basis")
+        s = cls.__new__(cls)
+        vars(s).update(fields)
+        s.ctx, s.renderer = ctx or default_context(), None
+        s.display = DisplayPass(s.ctx)
+        s._gather = CornerGather()
+        sol = s.solution
+        s._geometry_key = (len(sol.hierarchy), len(sol.links), tuple(sol.lamp_names))
+        if basis is not None:
+            s._basis_key, s._basis, s._basis_mesh = basis
+        return s
+
+    def lamp_basis(self):
+        """(key, one corner-radiosity response per lamp and one with them off, their leaf mesh): what
+        an edit weights by the lamps' scales, made now if it is not yet (saved by ``save``); None
+        when the geometry has changed since and the basis waits for the next edit."""
+        self._corner_radiosity()
+        if getattr(self, "_basis_key", None) is None:
+            return None
+        return self._basis_key, self._basis, self._basis_mesh
 
     def release(self) -> None:
         self.display.release()

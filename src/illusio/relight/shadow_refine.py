@@ -146,7 +146,7 @@ def refine_by_texture(sol, pixel_leaf, photograph: np.ndarray, white: float, col
             back = np.isin(old.receiver, undo)
             L.extend(old.receiver[back], old.source[back], old.form_factor[back], old.visibility[back])
             h.collapse(undo)
-        sol._matrix = None
+        sol.links_changed()
         stats.split += int((~same).sum())
         stats.undone += int(same.sum())
         kept = parents[~same]

@@ -13,15 +13,14 @@ import dataclasses
 import json
 import time
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
-from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.files import load_npz
 from ..core.images import atomic_output
-from ..radiosity import DisplayPass, HierarchyParams, Polygons
-from ..radiosity.corner_cache import CornerGather
+from ..radiosity import HierarchyParams, Polygons
 from ..radiosity.display import LeafMesh
 from ..radiosity.hierarchy import FIELDS as HIERARCHY_FIELDS, Hierarchy
 from ..radiosity.links import Links
@@ -57,8 +56,8 @@ def save_session(session, path) -> Path:
     path = Path(path)
     if path.suffix.lower() != ".npz":
         raise InputError(f"a prepared session is saved as .npz, got {path.name}")
-    session._corner_radiosity()                       # the lamps' basis, saved so edits start at once
-    session._inherit_display_factor()                 # per-element arrays cover elements made by edits
+    basis = session.lamp_basis()                      # the lamps' basis, saved so edits start at once
+    session.inherit_display_factor()                  # per-element arrays cover elements made by edits
     sol = session.solution
     arrays: dict[str, np.ndarray] = {"photograph": session.real.photograph}
     record = {"format": FORMAT, "params": dataclasses.asdict(session.params),
@@ -77,11 +76,12 @@ def save_session(session, path) -> Path:
     arrays["lamp_scale"] = sol.lamp_scale
     for name in _SESSION_ARRAYS + (_PER_PIXEL_ARRAYS if session.params.method == "per-pixel" else ()):
         arrays[f"session.{name}"] = np.asarray(getattr(session, name))
-    if getattr(session, "_basis_key", None) is not None:
-        arrays["basis"] = np.stack(session._basis) if session._basis else np.zeros((0,) + session._basis_mesh.radiance.shape)
+    if basis is not None:
+        key, responses, mesh = basis
+        arrays["basis"] = np.stack(responses) if responses else np.zeros((0,) + mesh.radiance.shape)
         for name in _MESH_ARRAYS:
-            arrays[f"basis_mesh.{name}"] = getattr(session._basis_mesh, name)
-        record["basis_key"] = [int(session._basis_key[0]), int(session._basis_key[1]), list(session._basis_key[2])]
+            arrays[f"basis_mesh.{name}"] = getattr(mesh, name)
+        record["basis_key"] = [int(key[0]), int(key[1]), list(key[2])]
     arrays["record"] = np.array(json.dumps(record))
     with atomic_output(path) as tmp:
         with open(tmp, "wb") as f:
@@ -150,10 +150,10 @@ def _check_arrays(path: Path, arrays: dict, record: dict) -> None:
             raise InputError(f"{path}: saved {prefix} polygons name groups outside their {names} names")
 
 
-def load_session(path, ctx: Context | None = None):
-    """A RelightSession from a file written by :func:`save_session`."""
-    from .session import RelightSession
-
+def load_session(path) -> dict:
+    """What a file written by :func:`save_session` holds, by the RelightSession's public names, and
+    ``basis`` (the lamps' basis: key, responses, mesh, or None): ``RelightSession.load`` makes the
+    session from them (this module does not know the class)."""
     path = Path(path)
     start = time.perf_counter()
     arrays = load_npz(path, "saved relighting session")
@@ -181,11 +181,8 @@ def load_session(path, ctx: Context | None = None):
                                    arrays["lamp_scale"])
         if "visibility_rng" in record:
             sol.visibility.rng.bit_generator.state = record["visibility_rng"]
-        s = RelightSession.__new__(RelightSession)
-        s.real, s.params, s.ctx = real, params, ctx or default_context()
-        s.model = _polygons_in("model", arrays, record)
-        s.solution, s.renderer = sol, None
-        s.hierarchy_params = sol.params
+        s = SimpleNamespace(real=real, params=params, model=_polygons_in("model", arrays, record), solution=sol,
+                            hierarchy_params=sol.params, basis=None)
         names = _SESSION_ARRAYS + (_PER_PIXEL_ARRAYS if params.method == "per-pixel" else ())
         for name in names:
             setattr(s, name, arrays[f"session.{name}"])
@@ -194,18 +191,13 @@ def load_session(path, ctx: Context | None = None):
         s.scales = {k: float(x) for k, x in record["scales"].items()}
         s.virtual_groups = {int(g) for g in record["virtual_groups"]}
         s.times = {k: float(x) for k, x in record["times"].items()}
-        s.display = DisplayPass(s.ctx)
-        s._gather = CornerGather()
-        key = (len(hierarchy), len(links), tuple(sol.lamp_names))
-        s._geometry_key = key
         if "basis_key" in record:
             saved = record["basis_key"]
-            s._basis_key = (int(saved[0]), int(saved[1]), tuple(saved[2]))
-            s._basis = list(arrays["basis"])
-            s._basis_mesh = LeafMesh(*(arrays[f"basis_mesh.{n}"] for n in _MESH_ARRAYS))
+            s.basis = ((int(saved[0]), int(saved[1]), tuple(saved[2])), list(arrays["basis"]),
+                       LeafMesh(*(arrays[f"basis_mesh.{n}"] for n in _MESH_ARRAYS)))
     except KeyError as exc:
         raise InputError(f"{path}: not a saved relighting session (no {exc.args[0]!r})") from None
     except (TypeError, ValueError, AttributeError, IndexError) as exc:  # a field of the wrong type or shape
         raise InputError(f"{path}: a saved relighting session with a bad field ({exc})") from None
     s.times["load"] = time.perf_counter() - start
-    return s
+    return vars(s)

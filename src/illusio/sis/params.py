@@ -11,7 +11,7 @@ from dataclasses import dataclass, replace
 from ..core.errors import InputError
 from ..core.gl import MAX_SIZE
 from ..core.params import check_ranges, param
-from ..passes.scene_renderer import RenderSettings
+from ..passes.settings import RenderSettings
 from ..scene.camera import Screen
 from .physics import depth_range, max_separation_px
 

@@ -63,8 +63,8 @@ class DofMode(Mode):
 
     def panel(self, imgui, viewer) -> None:
         _, self.show_coc = imgui.checkbox("show the circle of confusion (black: in focus)", self.show_coc)
-        if self.renderer.last_focus_distance is not None:
-            imgui.text(f"focus {self.renderer.last_focus_distance:.2f} m")
+        if self.renderer.result() is not None:
+            imgui.text(f"focus {self.renderer.result().focus_distance:.2f} m")
         if self.player is not None and self.player.loop:
             changed, t = imgui.slider_float("time (s)##scenario", viewer.time % self.player.loop, 0.0, self.player.loop)
             if changed:

@@ -56,7 +56,7 @@ class RadiosityMode(Mode):
         return picked if picked >= 0 else self.params.element
 
     def panel(self, imgui, viewer) -> None:
-        solution = self.renderer.solution
+        solution = self.renderer.result()
         if solution is None:
             return
         st = solution.stats

@@ -126,7 +126,7 @@ class RelightMode(Mode):
         return self.renderer.render_texture(Frame(None, self.real.size, frame.time, frame.index), self.params)
 
     def panel(self, imgui, viewer) -> None:
-        session = self.renderer.session
+        session = self.renderer.result()
         if session is None:
             return
         self.lamp_sliders(imgui, session.lamp_names, 3.0)

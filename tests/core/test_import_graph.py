@@ -1,0 +1,105 @@
+"""The package's import graph: no cycle (imports inside functions counted), no private name imported
+from another module, and a technique's Params importable without numba or GL (so reading defaults,
+``illusio --help`` and the registry stay light). The graph is read from the source with ast."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+SRC = Path(__file__).resolve().parents[2] / "src" / "illusio"
+
+
+def _modules() -> dict[str, Path]:
+    out = {}
+    for path in SRC.rglob("*.py"):
+        parts = path.relative_to(SRC.parent).with_suffix("").parts
+        out[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    return out
+
+
+def _imports(name: str, path: Path, modules: dict[str, Path]):
+    """(line, imported module, imported names) for every import in the file, function bodies included."""
+    package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            base = package[: len(package) - node.level + 1] if node.level else []
+            target = ".".join(base + ([node.module] if node.module else [])) if node.level else node.module
+            if target in modules:
+                for alias in node.names:
+                    sub = f"{target}.{alias.name}"
+                    yield node.lineno, (sub if sub in modules else target), alias.name
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name in modules:
+                    yield node.lineno, alias.name, None
+
+
+def _graph():
+    modules = _modules()
+    return modules, {m: {t for _, t, _ in _imports(m, p, modules)} for m, p in modules.items()}
+
+
+def _cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected components of more than one module (Tarjan)."""
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 10000))
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_the_import_graph_has_no_cycle():
+    _, graph = _graph()
+    assert _cycles(graph) == []
+
+
+def test_the_cycle_finder_finds_one():
+    """The check above can fail: a back edge makes a cycle it reports."""
+    _, graph = _graph()
+    graph["illusio.batch.job"].add("illusio.cli.main")        # what batch once did (command_table)
+    assert any({"illusio.batch.job", "illusio.cli.main"} <= set(c) for c in _cycles(graph))
+
+
+def test_no_private_name_is_imported_from_another_module():
+    modules = _modules()
+    found = [f"{path.relative_to(SRC.parent)}:{line}: {name} from {target}"
+             for module, path in modules.items() for line, target, name in _imports(module, path, modules)
+             if name and name.startswith("_") and not name.startswith("__")]
+    assert found == []
+
+
+@pytest.mark.parametrize("technique", ["sis", "lines", "dof", "ibr", "radiosity", "relight"])
+def test_params_import_without_numba_or_gl(technique):
+    code = (f"import sys, illusio.{technique}.params, illusio.core.technique as t; t.technique('{technique}'); "
+            "print(sorted(m for m in ('numba', 'moderngl') if m in sys.modules))")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
