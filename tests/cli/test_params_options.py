@@ -159,3 +159,10 @@ def test_every_technique_command_offers_every_declared_field(command):
             option = opts[spec.long]
             default = ",".join(spec.default) if spec.kind == "multi" else spec.default
             assert option.default == default, (command, spec.long)
+
+
+def test_view_names_the_viewer_modes_the_registry_gives():
+    from illusio.cli.view import _VIEWABLE
+    from illusio.viewer.modes import MODES
+
+    assert _VIEWABLE == list(MODES)

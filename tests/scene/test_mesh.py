@@ -92,3 +92,16 @@ def test_shared_dirty_meshes_load_finite(models):
             assert np.isfinite(m.vertices).all() and np.isfinite(m.normals).all()
             assert m.faces.max() < len(m.vertices)
     assert len(load_mesh(models / "igea.ply").faces) == 268_686  # SOURCES.md's count
+
+
+def test_obj_negative_indices_and_off_counts_on_the_keyword_line_load(tmp_path):
+    """Both are in their formats: an OBJ face may count back from the last vertex (-1 is the latest),
+    and an OFF file may give its counts on the line of the keyword."""
+    obj = tmp_path / "relative.obj"
+    obj.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf -4 -3 -2\nf -3 -1 -2\n")
+    m = load_mesh(obj)
+    assert len(m.faces) == 2 and np.allclose(np.ptp(m.vertices, axis=0), (1, 1, 0))
+    off = tmp_path / "inline.off"
+    off.write_text("OFF 4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n")
+    m = load_mesh(off)
+    assert len(m.faces) == 2 and np.allclose(np.ptp(m.vertices, axis=0), (1, 1, 0))

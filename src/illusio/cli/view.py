@@ -12,8 +12,9 @@ from ..core.renderer import DEFAULT_SIZE
 from ..core.technique import techniques
 from .common import parse_size, progress
 
-#: the registry's techniques that have a viewer mode (read from their descriptors: nothing heavy loads)
-_VIEWABLE = [name for name, t in techniques().items() if t.viewer_mode]
+#: the registry's techniques with a viewer mode, one name per mode as viewer.modes.MODES has them (sis
+#: and sis-scene share one), read from the descriptors: nothing heavy loads
+_VIEWABLE = list({t.viewer_mode: name for name, t in reversed(techniques().items()) if t.viewer_mode}.values())[::-1]
 
 
 def view(
