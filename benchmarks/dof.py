@@ -23,7 +23,7 @@ from .runner import Timing, time_case
 
 SIZE = (1024, 768)
 CASES = (("museum", "exhibit-superquadric"), ("living-room", "coffee-table-top"))
-METHODS = ("accumulation-32", "gather", "mipmap", "planes", "planes-improved", "sharp")
+METHODS = ("accumulation-32", "gather", "mipmap", "planes", "sharp")
 
 
 def psnr(image, reference, mask=None) -> float:
@@ -56,7 +56,6 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         frame = Frame(view, size)
         variants = {"accumulation-32": replace(base, method="accumulation", samples=32), "gather": base,
                     "mipmap": replace(base, method="mipmap"), "planes": replace(base, method="planes"),
-                    "planes-improved": replace(base, method="planes-improved"),
                     "sharp": replace(base, method="mipmap", aperture_mm=0.0)}
         for eye in eyes:
             reference_params = replace(base, method="accumulation", samples=samples, stereo=eye)
@@ -79,10 +78,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
                 t = time_case(f"{key}/{name}", lambda p=params: renderer.render(frame, p), max(1, repeat // 3), warmup=1,
                               notes=f"{size[0]}x{size[1]}, one eye")
                 timings.append(t)
-                if name in ("planes", "planes-improved"):
+                if name == "planes":
                     ratios[f"{key}: reference time / {name} (goal >= 20)"] = reference_ms / t.median_ms
-            ratios[f"{key}: planes-improved minus planes near edges, dB (goal > 0)"] = (
-                ratios[f"{key}: planes-improved PSNR dB within 4 px of depth edges"]
-                - ratios[f"{key}: planes PSNR dB within 4 px of depth edges"])
         renderer.release()
     return timings, ratios

@@ -37,6 +37,14 @@ TOLERANCES = {
     # texture coordinates of a projected host, interpolated by the rasteriser (perspective-correct
     # in float32) against NumPy's exact projection
     "projected depth": {"rtol": 0.0, "atol": 1e-3},
+    # a whole depth-of-field renderer against a 128-sample accumulation on a strongly blurred view
+    # (tests/dof/test_renderer.py): the least PSNR gain over the unblurred image, dB. The gather is
+    # a depth-aware disk convolution, close to the lens model; mipmap and planes take a box-filtered
+    # level (a square, not the lens's disk) and the planes blur a surface by the plane behind it,
+    # not its own depth (the paper's approximation), so theirs are smaller. Measured 6.7, 3.2, 2.2.
+    "dof gain gather": {"min_db": 4.0},
+    "dof gain mipmap": {"min_db": 2.0},
+    "dof gain planes": {"min_db": 1.2},
 }
 
 # Fresh random inputs each session; ILLUSIO_TEST_SEED=N replays a failing run.

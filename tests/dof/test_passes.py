@@ -124,68 +124,29 @@ def test_planes_pass_matches_reference(ctx, rng):
     assert np.abs(got - want)[close].mean() < 2e-3
 
 
-def test_planes_are_spread_exponentially_around_the_focal_plane():
-    """The paper's distribution: the focal plane in the middle, the farthest at the far plane, the
-    nearest at the near plane; behind, the gaps grow away from the focal plane; in front, the planes
-    close in geometrically towards the camera, so their circles of confusion (linear in 1/z) grow by
-    increasing steps away from the focal plane."""
-    from illusio.dof.planes import plane_distances
+def test_equation_plane_law_exponential_density_around_the_focus():
+    """Piranda & de Sorbier 3.1, f(x) = e^(−x/z0)/z0: the planes have that density in x, their
+    distance from the focal plane, z0 the focus distance by default. So behind, the k-th plane sits
+    where the law's distribution function reaches k/(m + 1); in front, where the law truncated at
+    the near plane reaches j/(n + 1). Gaps grow away from the focus; z0 scales the offsets; linear
+    spreading keeps the outermost planes and evens the gaps; the farthest is drawn at the far plane."""
+    from illusio.dof.planes import covering, plane_distances
 
-    z = plane_distances(3.0, 6, 4, 0.1, 50.0)
-    assert z.size == 6 + 4 + 1 and (np.diff(z) < 0).all()
-    assert z[0] == pytest.approx(50.0) and z[6] == pytest.approx(3.0) and z[-1] == pytest.approx(0.1)
-    behind_gaps = -np.diff(z[:7])[::-1]  # from the focal plane outwards
-    front_gaps = -np.diff(z[6:])
-    assert (np.diff(behind_gaps) > 0).all() and (np.diff(front_gaps) < 0).all()
-    blur_steps = np.diff(1 / z[6:] - 1 / 3.0)
-    assert (np.diff(blur_steps) > 0).all()
-    linear = plane_distances(3.0, 6, 4, 0.1, 50.0, "linear")
-    assert np.allclose(np.diff(linear[:7]), np.diff(linear[:7])[0])
-
-
-def test_improved_planes_pass_matches_reference(ctx, rng):
-    """The layered variant against reference.planes_improved: slabs as premultiplied layers (half
-    floats on the GPU), each pixel's own layer at its own circle, the others at their spill level,
-    normalised by coverage up the levels, laid front to back (the same sum as far to near)."""
-    from illusio.dof.planes import plane_distances
-    from illusio.dof.planes_improved import ImprovedPlanesPass, slab_lods
-
-    image = rng.random((64, 64, 3)).astype(np.float32)
-    depth = np.repeat(np.repeat(rng.uniform(0.3, 19.0, (8, 8)), 8, 0), 8, 1).astype(np.float32)  # blocks: edges
-    depth[:8, :8] = 0.0
-    coc = (rng.random((64, 64)) * 12).astype(np.float32)
-    distances = plane_distances(rng.uniform(1, 5), 5, 3, 0.1, 20.0)
-    lods = slab_lods(distances, 0.1, 3.0, 0.05, 50.0, 64, 12.0)
-    textures = [ctx.upload(a, filter="nearest") for a in (np.dstack([image, np.ones((64, 64), np.float32)]), depth, coc)]
-    out = ImprovedPlanesPass(ctx)(textures[0], textures[1], textures[2], distances, lods)
-    got = ctx.readback(out, 3)
-    ctx.release(out)
-    for t in textures:
-        t.release()
-    want = reference.planes_improved(image, depth, coc, distances, lods)
-    close = np.abs(got - want).max(axis=-1) < 0.03
-    assert close.mean() > 0.99  # the half-coverage test may fall either side in half floats
-    assert np.abs(got - want)[close].mean() < 3e-3
-
-
-def test_improved_planes_keep_a_sharp_foreground_out_of_the_blurred_background():
-    """A sharp white square before a blurred black background: the paper's planes leak white into
-    the background around it (its mipmap levels hold the square), the improved layers do not."""
-    from illusio.dof.planes import plane_distances, plane_lods
-    from illusio.dof.planes_improved import slab_lods
-
-    image = np.zeros((64, 64, 3), np.float32)
-    image[24:40, 24:40] = 1.0
-    depth = np.full((64, 64), 15.0, np.float32)
-    depth[24:40, 24:40] = 2.0
-    distances = plane_distances(2.0, 4, 2, 0.1, 20.0)
-    lods = plane_lods(distances, 2.0, 0.2, 50.0, 64, 16.0)
-    coc = reference.coc(depth, 2.0, 0.2, 50.0, 16.0)
-    ring = np.zeros((64, 64), bool)
-    ring[18:46, 18:46] = True
-    ring[24:40, 24:40] = False  # the background just around the square
-    paper = reference.planes(image, depth, distances, lods)
-    improved = reference.planes_improved(image, depth, coc, distances, slab_lods(distances, 0.1, 2.0, 0.2, 50.0, 64, 16.0))
-    assert paper[ring].mean() > 0.05  # leaking
-    assert improved[ring].max() < 1e-6
-    assert improved[24:40, 24:40].min() > 0.99  # the square itself stays sharp and white
+    focus, near, far, m, n = 3.0, 0.05, 40.0, 6, 4
+    z = plane_distances(focus, m, n, near, far)
+    assert z.size == m + n + 1 and (np.diff(z) < 0).all() and z[m] == pytest.approx(focus)
+    behind = z[:m][::-1] - focus                       # offsets, nearest the focus first
+    front = focus - z[m + 1:]
+    cdf = lambda x, z0: 1 - np.exp(-x / z0)            # noqa: E731
+    assert np.allclose(cdf(behind, focus), np.arange(1, m + 1) / (m + 1))
+    assert np.allclose(cdf(front, focus) / cdf(focus - near, focus), np.arange(1, n + 1) / (n + 1))
+    assert (np.diff(behind) > 0).all() and (np.diff(np.diff(behind)) > 0).all()   # gaps grow outwards
+    assert (np.diff(front) > 0).all() and front[-1] < focus - near
+    wide = plane_distances(focus, m, n, near, far, scale=2 * focus)
+    assert np.allclose(wide[:m][::-1] - focus, 2 * behind)
+    assert np.allclose(plane_distances(focus, m, n, near, far, scale=focus), z)
+    linear = plane_distances(focus, m, n, near, far, "linear")
+    assert np.allclose(np.diff(linear[:m + 1]), np.diff(linear[:m + 1])[0]) and linear[0] == pytest.approx(z[0])
+    assert np.allclose(np.diff(linear[m:]), np.diff(linear[m:])[0]) and linear[-1] == pytest.approx(z[-1])
+    drawn = covering(z, far)
+    assert drawn[0] == far and np.array_equal(drawn[1:], z[1:])

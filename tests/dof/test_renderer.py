@@ -108,3 +108,78 @@ def test_a_scenario_plays_as_a_stereo_video_and_a_bad_one_says_where(tmp_path, c
     code, cap = call_cli(["dof", "futuristic", "--scenario", str(bad), "--video", str(tmp_path / "x.mp4")], capsys)
     assert code == 2 and f"{bad}:2:17:" in cap.err
     assert not (tmp_path / "x.mp4").exists()
+
+
+#: a view where blur is large: the unblurred image scores under 30 dB against the accumulation
+STRONG = dict(focus_distance=4.5, aperture_mm=500.0, max_coc=16.0)
+
+
+def _psnr(a, b):
+    return float(10 * np.log10(1.0 / np.mean((a - b) ** 2)))
+
+
+def _sharpness(image, mask):
+    """Mean |discrete Laplacian| of the luminance over ``mask``: a local measure of detail."""
+    y = image[..., :3].mean(axis=-1)
+    lap = np.abs(4 * y[1:-1, 1:-1] - y[:-2, 1:-1] - y[2:, 1:-1] - y[1:-1, :-2] - y[1:-1, 2:])
+    return float(lap[mask[1:-1, 1:-1]].mean())
+
+
+@pytest.fixture(scope="module")
+def strong_view(ctx, museum):
+    """The museum's main view, its accumulation reference (128 lens positions), the unblurred image
+    and the circle of confusion map, made once for the method tests."""
+    renderer = DofRenderer(ctx)
+    renderer.prepare(museum)
+    base = DofParams(**STRONG, settings=RenderSettings(shadows=False))
+    frame = Frame(museum.camera(), SIZE)
+    reference = renderer.render(frame, replace(base, method="accumulation", samples=128))
+    sharp = renderer.render(frame, replace(base, aperture_mm=0.0))
+    renderer.render(frame, base)
+    coc = ctx.readback(renderer.maps()["coc"])[..., 0]
+    yield ctx, renderer, frame, base, reference, sharp, coc
+    renderer.release()
+
+
+@pytest.mark.parametrize("method", ["gather", "mipmap", "planes"])
+def test_every_method_follows_the_accumulation_where_blur_is_large(strong_view, method):
+    """The whole renderer, not a pass against its NumPy twin: against an accumulation of the same
+    view, each method is closer than the unblurred image by its table gain; where the circle of
+    confusion is under a pixel the detail stays (sharpness ≥ 0.7 of the sharp image's), where it is
+    over 6 px it goes (≤ 0.4; the accumulation itself keeps 0.24); both eyes of a stereo pair alike."""
+    from tests.conftest import tolerance
+
+    _, renderer, frame, base, reference, sharp, coc = strong_view
+    params = replace(base, method=method)
+    image = renderer.render(frame, params)
+    unblurred = _psnr(sharp, reference)
+    assert unblurred <= 30.0                                   # the view is a hard one
+    assert _psnr(image, reference) >= unblurred + tolerance(f"dof gain {method}")["min_db"]
+    in_focus, far_off = coc < 1.0, coc > 6.0
+    assert in_focus.mean() > 0.03 and far_off.mean() > 0.3
+    assert _sharpness(image, in_focus) >= 0.7 * _sharpness(sharp, in_focus)
+    assert _sharpness(image, far_off) <= 0.4 * _sharpness(sharp, far_off)
+    pair = renderer.render(frame, replace(params, stereo="left-right"))
+    sharp_pair = renderer.render(frame, replace(params, stereo="left-right", aperture_mm=0.0))
+    w = SIZE[0]
+    for eye in (slice(0, w), slice(w, 2 * w)):
+        ratio = _sharpness(pair[:, eye], far_off) / _sharpness(sharp_pair[:, eye], far_off)
+        assert ratio <= 0.4, (method, eye, ratio)
+
+
+def test_zero_parallax_stays_at_the_screen_while_the_focus_moves(ctx, museum):
+    """The paper's premise: the eyes converge on the screen whatever they focus on. The eyes' views
+    depend on the screen distance, not on the focus; the difference is reported in dioptres."""
+    renderer = DofRenderer(ctx)
+    renderer.prepare(museum)
+    frame = Frame(museum.camera(), SIZE)
+    views = [renderer.views(frame, DofParams(stereo="left-right", focus_distance=f)) for f in (1.5, 6.0)]
+    for a, b in zip(*views):
+        assert np.allclose(a.projection_matrix(SIZE[0] / SIZE[1]), b.projection_matrix(SIZE[0] / SIZE[1]))
+    renderer.render(frame, DofParams(stereo="left-right", focus_distance=4.0, method="gather"))
+    result = renderer.result()
+    assert result.screen_distance == pytest.approx(1.0)
+    assert result.conflict_dioptres == pytest.approx(abs(1 / 1.0 - 1 / 4.0))
+    moved = renderer.views(frame, DofParams(stereo="left-right", screen_distance=3.0))
+    assert not np.allclose(moved[0].projection_matrix(1.0), views[0][0].projection_matrix(1.0))
+    renderer.release()

@@ -86,8 +86,10 @@ def dof(
             typer.echo(f"wrote {path}")
         return
     write_image(out, image)
+    result = renderer.result()
     typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.method}, focus {params.focus_distance:.2f} m, "
-               f"aperture {params.aperture_mm:g} mm)")
+               f"aperture {params.aperture_mm:g} mm; screen {result.screen_distance:.2f} m, "
+               f"vergence–accommodation {result.conflict_dioptres:.2f} D)")
 
 
 def _play(renderer, scene, view, size, params, scenario: str, first: Path | None, video: Path | None, fps: float,
@@ -108,6 +110,7 @@ def _play(renderer, scene, view, size, params, scenario: str, first: Path | None
     if not seconds > 0:
         raise InputError(f"--duration must be positive, got {seconds}")
     count = int(round(seconds * fps)) or 1
+    conflicts = []
     with (VideoWriter(video, fps) if video is not None else _Nothing()) as writer, progress(count, "frames") as advance:
         for i in range(count):
             t = i / fps
@@ -116,6 +119,7 @@ def _play(renderer, scene, view, size, params, scenario: str, first: Path | None
             focus = player.focus_distance(view, t)
             frame_params = replace(params, focus_distance=focus) if focus is not None else params
             image = renderer.render(Frame(view, size, t, i), frame_params)
+            conflicts.append(renderer.result().conflict_dioptres)
             if i == 0 and first is not None:
                 write_image(first, image)
             if writer is not None:
@@ -124,6 +128,9 @@ def _play(renderer, scene, view, size, params, scenario: str, first: Path | None
     for path in (first, video):
         if path is not None:
             typer.echo(f"wrote {path}" + (f" ({count} frames at {fps:g} fps)" if path == video else ""))
+    # the eyes converge on the screen and accommodate at the focus: how far apart, frame by frame
+    typer.echo(f"vergence–accommodation difference: {min(conflicts):.2f} to {max(conflicts):.2f} D "
+               f"(mean {sum(conflicts) / len(conflicts):.2f}; screen at {renderer.result().screen_distance:.2f} m)")
 
 
 class _Nothing:

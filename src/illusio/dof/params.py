@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..core.params import check_ranges, param
+from ..scene.camera import Screen
 from ..passes.settings import RenderSettings
 from ..passes.settings import COMPOSITES
 
@@ -13,10 +14,10 @@ __all__ = ["DofParams", "METHODS", "STEREO_OUTPUTS"]
 
 #: accumulation: the reference (the eye moved over the lens, renders averaged); gather: per-pixel
 #: convolution with CoC-sized disks, depth aware (the paper's "convolution" method, section 2.2.2);
-#: mipmap: each pixel at the mipmap level of its circle (2.2.3); planes: the paper's method (3.1–3.2);
-#: planes-improved: the planes' slabs as layers, each blurred by its middle's circle and laid over the
-#: ones behind by its own coverage (no banding from the far plane's circle, no foreground leaking)
-METHODS = ("accumulation", "gather", "mipmap", "planes", "planes-improved")
+#: mipmap: each pixel at the mipmap level of its circle (2.2.3); planes: the paper's method (3.1–3.2).
+#: (A layered "planes-improved" variant was dropped in issue 32: slower than the planes and, at strong
+#: blur, farther from the accumulation than the unblurred image; seams at its slab boundaries.)
+METHODS = ("accumulation", "gather", "mipmap", "planes")
 #: none: one (cyclopean) view; left / right: one eye; left-right: both, side by side in the texture
 #: (the CLI writes them as two files); or a composite of the pair
 STEREO_OUTPUTS = ("none", "left", "right", "left-right") + COMPOSITES
@@ -31,7 +32,10 @@ class DofParams:
     accumulation method averages. planes_behind, planes_front: m and n of the planes method, spread by
     ``distribution`` between the focal plane and the camera's far and near planes. max_coc: the largest circle of confusion drawn, pixels (the gather
     kernel's diameter). stereo: the output (STEREO_OUTPUTS). eye_separation: metres between the eyes.
-    screen_distance: metres to the zero-parallax plane; 0 puts it at the focus distance. seed: the
+    screen_distance: metres to the zero-parallax plane, the screen
+    the eyes converge on while they accommodate at the focus (the paper's premise: that conflict is
+    what the blur softens); default the physical screen's viewing distance (core Screen, 1 m);
+    0 puts it at the focus distance. seed: the
     rotation of the lens sampling pattern. policy: how the focus is chosen each frame (dof.focus.POLICIES);
     accommodation: seconds the focus takes to follow a policy's choice (exponential, in dioptres).
     settings: how each view is lit."""
@@ -46,10 +50,15 @@ class DofParams:
     planes_behind: int = param(6, range=(1, 64), step=1, label="planes behind (m)")
     planes_front: int = param(4, range=(0, 64), step=1, label="planes in front (n)")
     distribution: str = param("exponential", choices=("exponential", "linear"), help="how the planes are spread")
+    plane_scale: float = param(0.0, range=(0.0, 1000.0), unit="m", label="z0",
+                               help="scale of the planes' law e^(−x/z0)/z0 (Piranda & de Sorbier 3.1); 0: the focus distance")
     max_coc: float = param(24.0, range=(1.0, 64.0), unit="px", label="largest circle of confusion")
     stereo: str = param("none", choices=STEREO_OUTPUTS)
     eye_separation: float = param(0.065, range=(0.0, 1.0), unit="m")
-    screen_distance: float = param(0.0, range=(0.0, 1000.0), unit="m", help="zero parallax; 0: at the focus")
+    screen_distance: float = param(Screen().viewing_distance_cm / 100, range=(0.0, 1000.0), unit="m",
+                                   help="zero parallax: the screen the eyes converge on, whatever the focus "
+                                        "(the viewer's distance of the physical screen model, 1:1 with the scene); "
+                                        "0: at the focus")
     seed: int = param(0, range=(0, 2**31 - 1), step=1)
     policy: str = param("none", choices=("none", "gaze", "largest", "speed", "nearest-exhibit"),
                         help="how each frame's focus is chosen (section 4.2); none: focus distance")

@@ -15,31 +15,46 @@ from ..core.gl import set_uniform
 from ..scene.camera import Camera
 from .lens import coc_pixels
 
-__all__ = ["DISTRIBUTIONS", "plane_distances", "plane_lods", "window_depth", "PlanesPass"]
+__all__ = ["DISTRIBUTIONS", "plane_distances", "covering", "plane_lods", "window_depth", "PlanesPass"]
 
-#: how the planes are spread: "exponential" (the paper: geometric in distance from the focal plane
-#: outwards, dense near it) or "linear"
+#: how the planes are spread: "exponential" (the paper's law, dense near the focal plane) or "linear"
+#: (even gaps over the same range)
 DISTRIBUTIONS = ("exponential", "linear")
 
 
 def plane_distances(focus: float, behind: int, front: int, near: float, far: float,
-                    distribution: str = "exponential") -> np.ndarray:
-    """View depths of the m + n + 1 planes, far to near: ``behind`` planes from the focal plane out to
-    ``far`` (the last at ``far``, so every surface has a plane behind it), the focal plane, and
-    ``front`` planes down to ``near``. Exponential: z_i = d_f·(far/d_f)^(i/m) behind and
-    d_f·(near/d_f)^(j/n) in front — the paper's exponential spreading around the focal plane: behind,
-    gaps grow with the distance from it; in front, the planes close in geometrically towards the
-    camera, so their circles of confusion (linear in 1/z) grow by increasing steps."""
+                    distribution: str = "exponential", scale: float = 0.0) -> np.ndarray:
+    """View depths of the m + n + 1 planes, far to near, spread around the focal plane by the
+    paper's law (section 3.1): the planes have the density f(x) = e^(−x/z0)/z0 in x, the distance
+    from the focal plane, with z0 = ``scale`` (0: the focal plane's distance from the camera, as
+    the paper has it). So the k-th of the m planes behind sits at the k/(m + 1) quantile of f,
+    x_k = −z0·ln(1 − k/(m + 1)): the gaps grow away from the focus. In front, x cannot pass the
+    near plane: the same law truncated to [0, d_f − near], x_j = −z0·ln(1 − j/(n + 1)·(1 −
+    e^(−(d_f − near)/z0))). "linear": even gaps over the same two ranges.
+
+    The farthest plane covers every surface beyond it: the renderer draws it at the far plane
+    (:func:`covering`) while its blur stays that of its own distance."""
     if distribution not in DISTRIBUTIONS:
         raise InputError(f"plane distribution must be one of {', '.join(DISTRIBUTIONS)}, got {distribution!r}")
     focus = float(np.clip(focus, near * 1.0001, far * 0.9999))
-    i = np.arange(behind, 0, -1) / max(behind, 1)
-    j = np.arange(1, front + 1) / max(front, 1)
-    if distribution == "exponential":
-        back, ahead = focus * (far / focus) ** i, focus * (near / focus) ** j
-    else:
-        back, ahead = focus + (far - focus) * i, focus - (focus - near) * j
-    return np.concatenate([back, [focus], ahead])
+    z0 = float(scale) if scale > 0 else focus
+    room = focus - near
+    k = np.arange(behind, 0, -1) / (behind + 1)               # far to near
+    j = np.arange(1, front + 1) / (front + 1)
+    back = -z0 * np.log1p(-k)
+    ahead = -z0 * np.log1p(-j * -np.expm1(-room / z0))
+    if distribution == "linear":             # the outermost plane of each side where the law has it
+        back = back[0] * k / k[0] if behind else back
+        ahead = ahead[-1] * j / j[-1] if front else ahead
+    return np.concatenate([np.minimum(focus + back, far * 0.9999), [focus], np.maximum(focus - ahead, near)])
+
+
+def covering(distances: np.ndarray, far: float) -> np.ndarray:
+    """The depths the planes are drawn at: the farthest moved to the far plane, so that a surface
+    behind every plane still has one behind it (it takes the farthest plane's blur)."""
+    drawn = np.array(distances, np.float64)
+    drawn[0] = max(drawn[0], far)
+    return drawn
 
 
 def plane_lods(distances: np.ndarray, focus: float, aperture_m: float, fov_y: float, height: int, max_coc: float) -> np.ndarray:
@@ -58,7 +73,8 @@ def window_depth(camera: Camera, aspect: float, z) -> np.ndarray:
 
 
 class PlanesPass:
-    """``(mipmapped image, linear depth, camera, distances, lods)`` → the blurred image, RGBA32F."""
+    """``(mipmapped image, linear depth, camera, distances, lods)`` → the blurred image, RGBA32F. The
+    farthest plane is drawn at the camera's far plane (:func:`covering`); the rest where given."""
 
     def __init__(self, ctx: Context):
         self.ctx = ctx
@@ -68,6 +84,7 @@ class PlanesPass:
     def __call__(self, image: moderngl.Texture, linear_depth: moderngl.Texture, camera: Camera,
                  distances: np.ndarray, lods: np.ndarray) -> moderngl.Texture:
         ctx = self.ctx
+        distances = covering(distances, camera.far)      # every surface has a plane behind it
         w, h = linear_depth.size
         p = camera.projection(w / h).astype(np.float64)
         # window depth = 0.5 + 0.5 (−p22 z + p23) / z = (0.5 − 0.5 p22) + 0.5 p23 / z

@@ -9,7 +9,6 @@ import numpy as np
 from .lens import coc_pixels
 
 __all__ = ["coc", "gather", "accumulate", "lens_samples", "mip_pyramid", "sample_lod", "mipmap", "planes", "plane_index",
-           "planes_improved",
            "DEPTH_SLACK"]
 
 #: relative depth within which a neighbour counts as level with a pixel (not behind it)
@@ -128,48 +127,6 @@ def planes(image: np.ndarray, depth: np.ndarray, distances: np.ndarray, lods: np
     levels = mip_pyramid(np.asarray(image, np.float64)[..., :3])
     index = plane_index(depth, distances)
     return sample_lod(levels, np.asarray(lods, np.float64)[index]).astype(np.float32)
-
-
-def planes_improved(image: np.ndarray, depth: np.ndarray, coc_px: np.ndarray, distances: np.ndarray,
-                    lods: np.ndarray) -> np.ndarray:
-    """ImprovedPlanesPass: the image split into the planes' slabs (each pixel in the slab of the plane
-    it takes, plane_index) as premultiplied layers (rgb·a, a), each layer's mipmap pyramid, and the
-    layers laid front to back. At a pixel, its own slab's layer is read at the level of its own
-    circle, log2(max(c, 1)), the others at ``lods[k]`` (their spill level); layer k's coverage a_k
-    there weighs its colour — normalised by its coverage at the first level from there up (in steps
-    of one) where it is at least half covered, or at the top level — by a_k Π_(nearer j)(1 − a_j), and
-    the sum is divided by the total weight 1 − Π(1 − a_k). Where no layer covers the pixel at all,
-    the farthest layer with pixels, normalised, shows. Empty slabs are skipped."""
-    img = np.asarray(image, np.float64)[..., :3]
-    index = plane_index(depth, distances)
-    own_lod = np.log2(np.maximum(np.asarray(coc_px, np.float64), 1.0))
-    result = np.zeros_like(img)
-    through = np.ones(img.shape[:2])
-    farthest_colour = None
-    for k in range(len(distances) - 1, -1, -1):  # near to far
-        a = (index == k).astype(np.float64)
-        if not a.any():
-            continue
-        levels = mip_pyramid(np.dstack([img * a[..., None], a]))
-        top = len(levels) - 1
-        lod = np.where(index == k, own_lod, lods[k])
-        coverage = np.clip(sample_lod(levels, lod)[..., 3], 0, 1)
-        colour = np.zeros_like(img)
-        done = np.zeros(img.shape[:2], bool)
-        for j in range(16):
-            level = np.minimum(lod + j, top)
-            c = sample_lod(levels, level)
-            take = ~done & ((c[..., 3] >= 0.5) | (level >= top))
-            colour[take] = c[take][:, :3] / np.maximum(c[take][:, 3:], 1e-6)
-            done |= take
-            if done.all():
-                break
-        result += (through * coverage)[..., None] * colour
-        through *= 1 - coverage
-        farthest_colour = colour
-    covered = through < 1
-    out = np.where(covered[..., None], result / np.maximum(1 - through, 1e-12)[..., None], farthest_colour)
-    return out.astype(np.float32)
 
 
 def plane_index(depth: np.ndarray, distances: np.ndarray) -> np.ndarray:

@@ -22,8 +22,7 @@ from .focus import gaze_focus, largest_focus, nearest_exhibit_focus, speed_focus
 from .gather import GatherPass
 from .lens import fov_for_focal_length
 from .mipmap import MipmapPass, mipmapped
-from .planes import PlanesPass, plane_distances, plane_lods
-from .planes_improved import ImprovedPlanesPass, slab_lods
+from .planes import PlanesPass, covering, plane_distances, plane_lods
 from .params import DofParams
 from .reference import lens_samples
 
@@ -35,10 +34,17 @@ class DofResult:
     """What a depth-of-field frame used beside its image (``DofRenderer.result()``).
 
     focus_distance: d_f in metres (the policy's choice when one drives the focus).
-    planes: the plane distances of a planes or planes-improved frame, far to near (metres), else ()."""
+    screen_distance: metres to the zero-parallax plane the eyes converge on.
+    planes: the plane distances of a planes frame, far to near (metres), else ()."""
 
     focus_distance: float
+    screen_distance: float
     planes: tuple[float, ...] = ()
+
+    @property
+    def conflict_dioptres(self) -> float:
+        """The vergence–accommodation difference |1/d_screen − 1/d_f|, dioptres (1/m)."""
+        return abs(1.0 / self.screen_distance - 1.0 / self.focus_distance)
 
 
 class DofRenderer(Renderer):
@@ -57,7 +63,6 @@ class DofRenderer(Renderer):
         self.gather = GatherPass(ctx)
         self.mipmap = MipmapPass(ctx)
         self.planes = PlanesPass(ctx)
-        self.planes_improved = ImprovedPlanesPass(ctx)
         self.accumulate = AccumulatePass(ctx)
         self.composite = StereoCompositePass(ctx)
         self.scene: Scene | None = None
@@ -73,7 +78,6 @@ class DofRenderer(Renderer):
         super()._unload()
         self._last_focus = None
         self.scene_renderer.release()
-        self.planes_improved.release()
         self.scene = None
 
     def views(self, frame: Frame, params: DofParams) -> list[View]:
@@ -126,7 +130,7 @@ class DofRenderer(Renderer):
         params = self._params(params)
         if params.policy != "none":
             params = replace(params, focus_distance=self.focus(frame, params))
-        self._result = DofResult(params.focus_distance)
+        self._result = DofResult(params.focus_distance, params.screen_distance or params.focus_distance)
         maps: dict[str, moderngl.Texture] = {}
         eyes = [self._eye(Frame(view, frame.size, frame.time, frame.index), params, maps, first=i == 0)
                 for i, view in enumerate(self.views(frame, params))]
@@ -157,22 +161,18 @@ class DofRenderer(Renderer):
         if params.method == "gather":
             out = self.gather(sharp, coc, depth, params.max_coc)
         else:
-            distances = plane_distances(params.focus_distance, params.planes_behind, params.planes_front,
-                                        camera.near, camera.far, params.distribution)
-            self._result = replace(self._result, planes=tuple(float(d) for d in distances))
-            if params.method == "planes-improved":
-                lods = slab_lods(distances, camera.near, params.focus_distance, params.aperture_m, camera.fov_y,
-                                 frame.size[1], params.max_coc)
-                out = self.planes_improved(sharp, depth, coc, distances, lods)
-            else:
-                mip = mipmapped(self.ctx, sharp)
-                if params.method == "mipmap":
-                    out = self.mipmap(mip, coc)
-                else:
-                    lods = plane_lods(distances, params.focus_distance, params.aperture_m, camera.fov_y, frame.size[1],
-                                      params.max_coc)
-                    out = self.planes(mip, depth, camera, distances, lods)
-                self.ctx.release(mip)
+            mip = mipmapped(self.ctx, sharp)
+            if params.method == "mipmap":
+                out = self.mipmap(mip, coc)
+            else:                                   # the paper's planes
+                distances = plane_distances(params.focus_distance, params.planes_behind, params.planes_front,
+                                            camera.near, camera.far, params.distribution, params.plane_scale)
+                drawn = covering(distances, camera.far)
+                self._result = replace(self._result, planes=tuple(float(d) for d in drawn))
+                lods = plane_lods(distances, params.focus_distance, params.aperture_m, camera.fov_y, frame.size[1],
+                                  params.max_coc)
+                out = self.planes(mip, depth, camera, drawn, lods)
+            self.ctx.release(mip)
         self.ctx.release(sharp)
         if first:
             depth_copy = self.ctx.acquire(depth.size, 1, "f4")

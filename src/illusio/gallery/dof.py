@@ -47,7 +47,7 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                               command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method accumulation "
                                       f"--size {size[0]}x{size[1]} -o accumulation.png"))
     rows = []
-    for method in ("gather", "mipmap", "planes", "planes-improved"):
+    for method in ("gather", "mipmap", "planes"):
         params = replace(base, method=method)
         renderer.render(frame, params)  # compiled and warm
         t0 = time.perf_counter()
@@ -75,7 +75,7 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                               f"{base.planes_behind} behind, {base.planes_front} in front of the focal plane, "
                               f"{base.distribution} spreading"))
     section.items.append(_table(out_dir / "dof/methods.png", rows, f"{size[0]}×{size[1]}, {ctx.info()['renderer']}"))
-    anaglyph = renderer.render(frame, replace(base, stereo="anaglyph", method="planes-improved"))
+    anaglyph = renderer.render(frame, replace(base, stereo="anaglyph", method="planes"))
     write_image(out_dir / "dof/museum-anaglyph.png", anaglyph)
     section.items.append(Item("dof/museum-anaglyph.png", "the stereo pair as a red-cyan anaglyph (Dubois)",
                               "one focus for both eyes; zero parallax at the focus distance",
@@ -108,7 +108,7 @@ def _museum_walk(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float 
                        Keyframe(5.0, (2.5, 1.7, 3.5), (1.7, 1.2, 1.0)), Keyframe(7.5, (4.5, 1.7, 0.5), (3.4, 1.3, -2.2))])
     renderer = DofRenderer(ctx)
     renderer.prepare(scene)
-    params = DofParams(method="planes-improved", policy="nearest-exhibit", aperture_mm=150.0, max_coc=16.0)
+    params = DofParams(method="planes", policy="nearest-exhibit", aperture_mm=150.0, max_coc=16.0)
     small = (max(64, size[0] // 2), max(36, size[1] // 2))
     count = int(path.duration * fps) + 1
     with VideoWriter(out_dir / "dof/museum-walk.mp4", fps) as video:
@@ -132,7 +132,7 @@ def _scenario_video(ctx: Context, out_dir: Path, size: tuple[int, int], fps: flo
     player = ScenarioPlayer(load_scenario(shipped_scenario("futuristic")), scene)
     view = scene.camera()
     renderer = DofRenderer(ctx)
-    params = DofParams(method="planes-improved", aperture_mm=300.0, stereo="anaglyph", max_coc=16.0)
+    params = DofParams(method="planes", aperture_mm=300.0, stereo="anaglyph", max_coc=16.0)
     small = (max(64, size[0] // 2), max(36, size[1] // 2))
     count = int(player.loop * fps)
     with VideoWriter(out_dir / "dof/futuristic-scenario.mp4", fps) as video:

@@ -37,9 +37,9 @@ class DofMode(Mode):
         self.player = None
         if variant == "scenario":
             self.player = ScenarioPlayer(load_scenario(shipped_scenario("futuristic")), self.scene)
-            self.params = DofParams(method="planes-improved", aperture_mm=300.0, max_coc=16.0)
+            self.params = DofParams(method="planes", aperture_mm=300.0, max_coc=16.0)
         else:
-            self.params = DofParams(focus_distance=3.0, max_coc=16.0, method="planes-improved")
+            self.params = DofParams(focus_distance=3.0, max_coc=16.0, method="planes")
 
     def home_view(self):
         return self.scene.camera()
@@ -64,7 +64,9 @@ class DofMode(Mode):
     def panel(self, imgui, viewer) -> None:
         _, self.show_coc = imgui.checkbox("show the circle of confusion (black: in focus)", self.show_coc)
         if self.renderer.result() is not None:
-            imgui.text(f"focus {self.renderer.result().focus_distance:.2f} m")
+            r = self.renderer.result()
+            imgui.text(f"focus {r.focus_distance:.2f} m, screen {r.screen_distance:.2f} m: "
+                       f"vergence–accommodation {r.conflict_dioptres:.2f} D")
         if self.player is not None and self.player.loop:
             changed, t = imgui.slider_float("time (s)##scenario", viewer.time % self.player.loop, 0.0, self.player.loop)
             if changed:
