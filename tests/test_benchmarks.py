@@ -31,3 +31,13 @@ def test_quick_protocol_and_viewer_benchmarks_write_their_goals(tmp_path):
     names = {t["name"] for t in viewer["timings"]}
     assert {"plain/default", "sis/tv", "sis/raw", "lines/drawing"} <= names
     assert all(v > 0 for v in viewer["ratios"].values())
+
+
+def test_dof_speed_is_compared_with_the_accumulation_of_equal_quality():
+    """The baseline of a method is the fewest lens positions reaching its PSNR, not a converged one."""
+    from benchmarks.dof import matched
+
+    ladder = {1: (29.0, 40.0), 2: (31.0, 80.0), 4: (34.0, 160.0), 8: (38.0, 320.0)}
+    assert matched(ladder, 33.0) == (4, 160.0)
+    assert matched(ladder, 29.0) == (1, 40.0)
+    assert matched(ladder, 40.0) is None

@@ -183,3 +183,36 @@ def test_zero_parallax_stays_at_the_screen_while_the_focus_moves(ctx, museum):
     moved = renderer.views(frame, DofParams(stereo="left-right", screen_distance=3.0))
     assert not np.allclose(moved[0].projection_matrix(1.0), views[0][0].projection_matrix(1.0))
     renderer.release()
+
+
+def test_figure_11_shows_depth_of_field():
+    """README's Figure 11 command is the gallery's; the script's focus changes by metres when the
+    robot fires (it went from 28.1 to 27.0 m), and the aperture blurs the far end of the ship's
+    loop by many pixels while the robot is in focus."""
+    from pathlib import Path
+
+    from illusio.dof.lens import coc_pixels
+    from illusio.dof.scenario import load_scenario, shipped_scenario
+    from illusio.dof.timeline import ScenarioPlayer
+    from illusio.gallery.dof import FIGURE_11_APERTURE, FIGURE_11_COMMAND
+    from illusio.scene.builtin import builtin_scene
+
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    assert FIGURE_11_COMMAND in " ".join(readme.split())
+    scene = builtin_scene("futuristic")
+    view = scene.camera()
+    player = ScenarioPlayer(load_scenario(shipped_scenario("futuristic")), scene)
+    focuses = []
+    for t in np.arange(0.0, player.loop, 0.25):
+        player.apply(scene, t)
+        f = player.focus_distance(view, t)
+        if f is not None:
+            focuses.append(f)
+    near, far = min(focuses), max(focuses)
+    assert far - near > 10.0, (near, far)
+    player.apply(scene, 2.4)
+    ship = player.focus_distance(view, 2.4)          # just before the robot fires, then (the focus moved) on the robot
+    player.apply(scene, 3.4)
+    assert ship - player.focus_distance(view, 3.4) > 8.0
+    largest = coc_pixels(np.array([far]), near, FIGURE_11_APERTURE / 1000, view.camera.fov_y, 384)[0]
+    assert largest > 6.0

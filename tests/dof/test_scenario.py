@@ -122,3 +122,15 @@ def test_the_shipped_scenario_plays_on_the_futuristic_scene():
     assert not player.state(2.0)["projectile"].visible and player.state(3.0)["projectile"].visible
     assert player.focus_distance(view, 3.4) == pytest.approx(
         float(-(view.view_matrix().astype(float) @ np.append(player.state(3.4)["robot"].position, 1))[2]), rel=0.05)
+
+
+def test_an_incomplete_line_is_reported_at_its_own_line():
+    """A statement ends with its line: 'temps' alone on line 3 is line 3's mistake, not line 4's
+    (statements used to run across line ends); several statements may still share a line."""
+    with pytest.raises(ScenarioError) as err:
+        parse_scenario("temps 0\naffiche objet 1\ntemps\naffiche objet 2\n", "my.txt")
+    assert str(err.value).startswith("my.txt:3:") and "the end of the line" in str(err.value), str(err.value)
+    with pytest.raises(ScenarioError) as err:
+        parse_scenario("temps 0 affiche objet 1\npositionne objet 1\nvecteur [1, 2, 3]\n", "my.txt")
+    assert str(err.value).startswith("my.txt:2:"), str(err.value)
+    assert len(parse_scenario("temps 0 affiche objet 1 nettete objet 1\n").commands) == 3

@@ -167,9 +167,11 @@ def futuristic() -> Scene:
     s = Scene("futuristic", ambient=(0.05, 0.055, 0.07), background=(0.02, 0.02, 0.05))
     _place(s, "ship", shapes.superquadric((0.3, 0.6), (2.2, 0.5, 0.9)), (0, 6, 0),
            material=Material(colour=(0.75, 0.78, 0.82), specular=0.6, shininess=80), tags=("actor",))
-    _place(s, "robot", shapes.superquadric((0.5, 0.8), (0.7, 1.6, 0.7)), (6.0, 1.6, -6.0),
+    # the robot near the camera (12 m) and the ship's loop beyond it (to 28 m): the focus jumps by
+    # metres when it fires (it stood at 27 m, beside the ship's far side, and the jump was 1 m)
+    _place(s, "robot", shapes.superquadric((0.5, 0.8), (0.7, 1.6, 0.7)), (4.0, 1.6, 8.0),
            material=Material(colour=(0.7, 0.35, 0.1), specular=0.4, shininess=50), tags=("actor",))
-    _place(s, "projectile", shapes.sphere(0.18, 24, 12), (6.0, 3.4, -6.0),
+    _place(s, "projectile", shapes.sphere(0.18, 24, 12), (4.0, 3.4, 8.0),
            material=Material(colour=(1.0, 0.3, 0.1), emission=(2.0, 0.5, 0.1)), tags=("actor",))
     _place(s, "ground", shapes.plane((60.0, 60.0), uv_scale=6.0),
            material=Material(texture=textures.tiles(), colour=(0.6, 0.65, 0.75), specular=0.2, shininess=40))
@@ -178,7 +180,7 @@ def futuristic() -> Scene:
     while k < 14:  # towers around the square, none between the camera and the robot
         angle, radius = rng.uniform(0, 2 * np.pi), rng.uniform(10, 24)
         x, z = radius * np.cos(angle), radius * np.sin(angle)
-        if abs(x) < 10 and z > -14:
+        if (abs(x) < 10 and z > -14) or (abs(x - 4) < 4 and z > 0):
             continue
         height = rng.uniform(3, 12)
         _place(s, f"tower-{k}", shapes.box((2.0, height, 2.0)), (x, height / 2, z),
@@ -186,7 +188,7 @@ def futuristic() -> Scene:
         k += 1
     s.curves["flight"] = Curve("flight", [[-12, 6, 4], [-12, 8, -12], [12, 8, -12], [12, 6, 4],
                                           [12, 4, 16], [-12, 5, 16], [-12, 6, 4]], "bezier")
-    s.curves["shot"] = Curve("shot", [[0, 1.8, 0], [-4, 5, 6], [-9, 7, 12]], "polyline")
+    s.curves["shot"] = Curve("shot", [[0, 1.8, 0], [-3, 5, -6], [-7, 7, -14]], "polyline")   # away from the camera
     s.actions["fire"] = Action("fire", "projectile", "shot")
     s.lights.append(PointLight((8, 18, 10), (1.0, 0.95, 0.9), 900.0, name="sun"))
     s.lights.append(PointLight((-10, 8, -6), (0.5, 0.6, 1.0), 120.0, shadows=False, name="sky"))
