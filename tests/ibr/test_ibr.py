@@ -158,7 +158,7 @@ def test_ibr_commands(tmp_path, capsys):
     assert shown.shape[:2] == (48, 64)
     # the source-view colouring: more than one reference's colour among the pixels
     assert len(np.unique((shown[..., :3] * 4).round().reshape(-1, 3), axis=0)) >= 3
-    for args, message in ((["--camera", "ref:7"], "--camera must be"), (["--light-x", "40"], "--light-x = 40 m is out of range"),
+    for args, message in ((["--camera", "ref:7"], "reference 7 does not exist"), (["--light-x", "40"], "--light-x = 40 m is out of range"),
                           (["--distance", "4d"], "distance"), (["--selection", "one"], "selection")):
         code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / "x.png"), *args], capsys)
         assert code == 2 and message in cap.err and cap.err.count("\n") == 1, cap.err

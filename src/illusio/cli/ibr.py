@@ -57,13 +57,25 @@ def parse_camera(text: str, refs):
     from ..scene.camera import Pose, View
 
     lens = refs.views[0].view.camera
+    count = len(refs.views)
+
+    def index(word: str) -> int:
+        k = int(word)
+        if not 0 <= k < count:            # Python's -1 would silently take the last reference
+            raise InputError(f"--camera {text}: reference {k} does not exist; there are {count} (0 to {count - 1})")
+        return k
+
     try:
         kind, _, rest = text.partition(":")
         if kind == "ref":
-            return refs.views[int(rest)].view
+            return refs.views[index(rest)].view
         if kind == "between":
-            parts = [float(v) for v in rest.split(",")]
-            i, j, t = int(parts[0]), int(parts[1]), (parts[2] if len(parts) > 2 else 0.5)
+            parts = rest.split(",")
+            if len(parts) not in (2, 3):
+                raise ValueError
+            i, j, t = index(parts[0]), index(parts[1]), (float(parts[2]) if len(parts) > 2 else 0.5)
+            if not 0.0 <= t <= 1.0:       # beyond the pair is extrapolation, not "between"
+                raise InputError(f"--camera {text}: T must be in [0, 1] (0 at reference {i}, 1 at {j}), got {t:g}")
             a, b = refs.views[i].view.pose, refs.views[j].view.pose
             mix = lambda p, q: tuple((1 - t) * np.asarray(p) + t * np.asarray(q))  # noqa: E731
             return View(Pose(mix(a.position, b.position), mix(a.target, b.target), a.up), refs.views[i].view.camera)
@@ -71,6 +83,8 @@ def parse_camera(text: str, refs):
         if pair is None:
             raise ValueError
         return View(Pose(*pair), lens)
+    except InputError:
+        raise
     except (ValueError, IndexError):
         raise InputError(f"--camera must be ref:K, between:I,J[,T] or x,y,z:x,y,z (with {len(refs.views)} "
                          f"references), got {text!r}") from None

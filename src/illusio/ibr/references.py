@@ -23,7 +23,8 @@ from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.camera import Camera, Pose, View
 from ..scene.scene import AreaLight, PointLight, Scene
 
-__all__ = ["ReferenceView", "ReferenceSet", "capture", "save_references", "load_references", "load_cameras", "orbit_views"]
+__all__ = ["ReferenceView", "ReferenceSet", "capture", "save_references", "load_references", "load_cameras", "orbit_views",
+           "rig_placement", "WALL_MARGIN"]
 
 
 @dataclass(eq=False)
@@ -80,14 +81,43 @@ class ReferenceSet:
             raise InputError(f"reference views differ in size: {', '.join(f'{w}×{h}' for w, h in sorted(sizes))}")
 
 
-def orbit_views(scene: Scene, count: int, baseline: float = 1.2) -> list[View]:
-    """``count`` views of ``scene`` from its main camera's eye moved sideways (along the camera's
-    right) over ``baseline`` metres, all looking at the camera's target — a rig that stays where the
-    main camera stands (inside a room)."""
+#: the least room a reference camera keeps between itself and a surface beside it, metres
+WALL_MARGIN = 0.3
+
+
+def rig_placement(scene: Scene, baseline: float) -> tuple[np.ndarray, float]:
+    """Where the sideways rig stands and how wide it is: at the main camera's eye when ``baseline``
+    fits between the surfaces left and right of it (WALL_MARGIN clear), else slid towards the
+    camera's target (up to half way) until it fits, else as wide as the roomiest place allows. A
+    camera moved through a wall sees the wall's back from 0.2 m and gives nothing to new views (the
+    office's main camera stands 0.4 m from a wall)."""
+    from ..scene.raycast import first_hit, world_triangles
+
     base = scene.camera()
     right, _, _ = base.pose.axes()
-    offsets = np.linspace(-baseline / 2, baseline / 2, count) if count > 1 else [0.0]
+    triangles = world_triangles(scene)
     eye = np.asarray(base.pose.position, np.float64)
+    ahead = np.asarray(base.pose.target, np.float64) - eye
+    best = (eye, 0.0)
+    for k in np.linspace(0.0, 0.5, 11):
+        centre = eye + k * ahead
+        room = min(first_hit(triangles, centre, right), first_hit(triangles, centre, -right)) - WALL_MARGIN
+        width = float(max(0.0, min(baseline / 2, room)) * 2)
+        if width > best[1] + 1e-9:
+            best = (centre, width)
+        if width >= baseline - 1e-9:
+            break
+    return best
+
+
+def orbit_views(scene: Scene, count: int, baseline: float = 1.2) -> list[View]:
+    """``count`` views of ``scene`` from its main camera's eye moved sideways (along the camera's
+    right) over ``baseline`` metres, all looking at the camera's target — a rig that stays inside
+    the room the main camera is in (:func:`rig_placement` slides or narrows it clear of walls)."""
+    base = scene.camera()
+    right, _, _ = base.pose.axes()
+    eye, baseline = rig_placement(scene, baseline)
+    offsets = np.linspace(-baseline / 2, baseline / 2, count) if count > 1 else [0.0]
     return [View(Pose(tuple(eye + right * o), base.pose.target, base.pose.up), base.camera) for o in offsets]
 
 
@@ -199,6 +229,9 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
         if not isinstance(entry, dict) or not isinstance(entry.get("file"), str):
             raise InputError(f"{where}: a view needs a file name and a camera")
         path = root / entry["file"]
+        if Path(entry["file"]).is_absolute() or not path.resolve().is_relative_to(root.resolve()):
+            raise InputError(f"{where}: {entry['file']!r} is outside the folder; a view's file is named "
+                             "relative to references.json, inside its folder")
         view = _camera_from_dict(entry.get("camera"), where)
         if not path.is_file():
             raise InputError(f"{where}: {path.name} is missing")
