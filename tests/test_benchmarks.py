@@ -4,6 +4,8 @@ import json
 import subprocess
 import sys
 
+import pytest
+
 from tests.conftest import REPO
 
 
@@ -38,6 +40,8 @@ def test_dof_speed_is_compared_with_the_accumulation_of_equal_quality():
     from benchmarks.dof import matched
 
     ladder = {1: (29.0, 40.0), 2: (31.0, 80.0), 4: (34.0, 160.0), 8: (38.0, 320.0)}
-    assert matched(ladder, 33.0) == (4, 160.0)
-    assert matched(ladder, 29.0) == (1, 40.0)
+    assert matched(ladder, 34.0) == pytest.approx((4.0, 160.0))
+    n, t = matched(ladder, 32.5)                      # half way from 2 to 4 positions, in log
+    assert n == pytest.approx(2 ** 1.5) and t == pytest.approx(80 * 2 ** 0.5)
+    assert matched(ladder, 28.0) == (1.0, 40.0)
     assert matched(ladder, 40.0) is None

@@ -33,14 +33,26 @@ def psnr(a, b):
     return 10 * np.log10(1 / np.mean((np.asarray(a, np.float64) - b) ** 2))
 
 
-@pytest.mark.parametrize("use_3d, bilinear, single_pass", [(False, True, False), (True, False, False), (False, True, True)])
-def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_pass):
+def _shifted(view):
+    """The view through a photograph's lens: principal point off centre, f_x ≠ f_y."""
+    from dataclasses import replace
+
+    return replace(view, camera=replace(view.camera, shift=(0.07, -0.05), pixel_aspect=1.15))
+
+
+@pytest.mark.parametrize("use_3d, bilinear, single_pass, shifted", [(False, True, False, False), (True, False, False, False),
+                                                                    (False, True, True, False), (False, True, True, True)])
+def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_pass, shifted):
     """At a new view (and a random reconstructed depth near the true one), the GPU picks the same
     reference per pixel as reference.select, with the same corrected depth and attributes, in the
     multi-pass mode (a draw per reference, the depth test choosing) and in the single pass; the
-    shaded resolve lights that choice as passes.reference.shading does."""
+    shaded resolve lights that choice as passes.reference.shading does. ``shifted``: every camera
+    with its principal point off centre and f_x ≠ f_y (an imported capture's lens)."""
     scene, refs = room
     view = orbit_views(scene, 7)[int(rng.integers(1, 6))]
+    if shifted:
+        refs = capture(scene, [_shifted(v) for v in orbit_views(scene, 3)], SIZE, ctx)
+        view = _shifted(view)
     truth = SceneRenderer(ctx)
     truth.prepare(scene)
     g = truth.gbuffer(Frame(view, SIZE))

@@ -3,12 +3,13 @@ from them."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import typer
 
-from ..core.errors import InputError
+from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, write_image, write_video
 from ..ibr.params import IbrParams
 from .common import parse_eye_target, parse_size, resolve_scene, scene_inputs
@@ -52,6 +53,65 @@ def capture_command(
     typer.echo(f"wrote {output} ({len(chosen)} reference views)")
 
 
+@app.command("import")
+def import_command(
+    kind: str = typer.Argument(..., help="rgbd (color/ + depth/ + intrinsic.json + trajectory.log), tum (rgb.txt, "
+                                         "depth.txt, groundtruth.txt) or colmap (sparse/ text model, images/, "
+                                         "stereo/depth_maps/)"),
+    source: Path = typer.Argument(..., help="the capture's folder"),
+    output: Path = typer.Option(..., "-o", "--output", help="references folder to write"),
+    frames: str = typer.Option(None, "--frames", help="comma-separated frame indices to use as references (e.g. 0,10,20)"),
+    every: int = typer.Option(None, "--every", help="every N-th frame as a reference (default: 8 spread evenly, or all if fewer)"),
+    max_depth: float = typer.Option(None, "--max-depth", help="metres: farther depth becomes a hole"),
+    intrinsics: Path = typer.Option(None, "--intrinsics", help="intrinsics JSON (width, height, fx, fy, cx, cy, or "
+                                    "Open3D's intrinsic_matrix) instead of the folder's intrinsic.json"),
+    poses: Path = typer.Option(None, "--poses", help="rgbd: a trajectory .log instead of the folder's trajectory.log"),
+    depth_scale: float = typer.Option(None, "--depth-scale", help="depth PNG units per metre (rgbd 1000, tum 5000)"),
+) -> None:
+    """Import a real capture (colour + depth + poses) as reference views: the photos as recorded colour
+    and albedo, normals from the depth, the full intrinsics; every frame's camera and photo kept
+    for --camera frame:K and --compare-photo K."""
+    from ..ibr import captures
+    from ..ibr.references import save_references
+    from ..ibr.select import MAX_REFERENCES
+
+    if kind not in captures.KINDS:
+        raise InputError(f"capture kind must be one of {', '.join(captures.KINDS)}, got {kind!r}{did_you_mean(kind, captures.KINDS)}")
+    if not source.is_dir():
+        raise InputError(f"{source}: no such folder")
+    if output.resolve() == source.resolve() or source.resolve().is_relative_to(output.resolve()):
+        raise InputError(f"{output}: the references would be written over the capture; choose another folder")
+    if frames is not None and every is not None:
+        raise InputError("give --frames or --every, not both")
+    if kind == "rgbd":
+        read = captures.read_rgbd_folder(source, intrinsics, poses, 1000.0 if depth_scale is None else depth_scale)
+    elif kind == "tum":
+        read = captures.read_tum(source, intrinsics, depth_scale=5000.0 if depth_scale is None else depth_scale)
+    else:
+        read = captures.read_colmap(source)
+    count = len(read)
+    if frames is not None:
+        try:
+            chosen = [int(v) for v in frames.split(",")]
+        except ValueError:
+            raise InputError(f"--frames takes comma-separated frame indices, got {frames!r}") from None
+        bad = [k for k in chosen if not 0 <= k < count]
+        if bad:
+            raise InputError(f"--frames: frame {bad[0]} does not exist; the capture has {count} (0 to {count - 1})")
+    elif every is not None:
+        if every < 1:
+            raise InputError(f"--every must be at least 1, got {every}")
+        chosen = list(range(0, count, every))
+    else:
+        chosen = sorted({int(round(v)) for v in np.linspace(0, count - 1, min(count, 8))})
+    if not 1 <= len(chosen) <= MAX_REFERENCES:
+        raise InputError(f"{len(chosen)} references chosen; image-based rendering takes 1..{MAX_REFERENCES}")
+    refs = captures.frames_to_references(read, chosen, max_depth)
+    save_references(refs, output)
+    w, h = refs.views[0].size
+    typer.echo(f"wrote {output} ({len(chosen)} references of {count} frames, {w}×{h}: frames {','.join(map(str, chosen))})")
+
+
 def parse_camera(text: str, refs):
     """``ref:K``, ``between:I,J[,T]`` or ``x,y,z:x,y,z`` → a View (the lens of the first reference)."""
     from ..scene.camera import Pose, View
@@ -69,6 +129,12 @@ def parse_camera(text: str, refs):
         kind, _, rest = text.partition(":")
         if kind == "ref":
             return refs.views[index(rest)].view
+        if kind == "frame":
+            k = int(rest)
+            if not 0 <= k < len(refs.frames):
+                raise InputError(f"--camera {text}: frame {k} does not exist; the capture has {len(refs.frames)} frames"
+                                 + ("" if refs.frames else " (frames come with an imported capture: illusio ibr import)"))
+            return refs.frames[k][0]
         if kind == "between":
             parts = rest.split(",")
             if len(parts) not in (2, 3):
@@ -86,7 +152,7 @@ def parse_camera(text: str, refs):
     except InputError:
         raise
     except (ValueError, IndexError):
-        raise InputError(f"--camera must be ref:K, between:I,J[,T] or x,y,z:x,y,z (with {len(refs.views)} "
+        raise InputError(f"--camera must be ref:K, frame:K, between:I,J[,T] or x,y,z:x,y,z (with {len(refs.views)} "
                          f"references), got {text!r}") from None
 
 
@@ -95,7 +161,10 @@ def parse_camera(text: str, refs):
 def render_command(
     references: Path = typer.Argument(..., help="a references folder (illusio ibr capture, or your own)"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png, .exr, .npy), or .mp4/.gif with --path"),
-    camera: str = typer.Option("between:0,1", "--camera", help="ref:K, between:I,J[,T] or x,y,z:x,y,z"),
+    camera: str = typer.Option("between:0,1", "--camera", help="ref:K, frame:K (an imported capture's frame), "
+                                                                 "between:I,J[,T] or x,y,z:x,y,z"),
+    compare_photo: int = typer.Option(None, "--compare-photo", help="render frame K of an imported capture and print "
+                                      "PSNR and SSIM against its photo over the pixels with depth"),
     path: Path = typer.Option(None, "--path", help="camera path JSON [{t, eye, target}, ...] (as illusio view "
                               "--path) played into a video, instead of --camera"),
     fps: float = typer.Option(12.0, "--fps", help="frames a second along --path"),
@@ -117,6 +186,13 @@ def render_command(
     if not 0 < fps <= 120:
         raise InputError(f"--fps must be in (0, 120], got {fps:g}")
     refs = load_references(references)
+    if compare_photo is not None:
+        if path is not None:
+            raise InputError("--compare-photo renders one frame: leave out --path")
+        camera = f"frame:{compare_photo}"
+    if refs.albedo_from_photo and params.relight:
+        # a capture's albedo is its photo and it has no lights: drawn as recorded (relit it is dark)
+        params = replace(params, relight=False)
     if path is not None:
         from ..viewer.path import CameraPath
 
@@ -141,3 +217,24 @@ def render_command(
     else:
         write_image(out, images[0])
         typer.echo(f"wrote {out} ({w}×{h})")
+    if compare_photo is not None:
+        _compare(refs, compare_photo, images[0], (w, h))
+
+
+def _compare(refs, k: int, image: np.ndarray, size: tuple[int, int]) -> None:
+    """PSNR and SSIM of ``image`` against frame ``k``'s photo, over the pixels the render covers."""
+    from skimage.metrics import structural_similarity
+
+    from ..core.images import read_image
+
+    photo = refs.frames[k][1]
+    photo = read_image(photo)[..., :3] if isinstance(photo, (str, Path)) else np.asarray(photo)[..., :3]
+    if photo.shape[:2] != (size[1], size[0]):
+        raise InputError(f"--compare-photo {k}: the photo is {photo.shape[1]}×{photo.shape[0]}; render at its size "
+                         f"(leave out --size)")
+    covered = np.abs(image[..., :3]).sum(axis=-1) > 0          # holes are black: no reference saw them
+    diff = (image[..., :3] - photo)[covered]
+    psnr = 10 * np.log10(1.0 / max(float(np.mean(diff ** 2)), 1e-12)) if covered.any() else float("nan")
+    _, ssim = structural_similarity(image[..., :3], photo, channel_axis=2, data_range=1.0, full=True)
+    ssim_value = float(ssim.mean(axis=-1)[covered].mean()) if covered.any() else float("nan")
+    typer.echo(f"against frame {k}'s photo: PSNR {psnr:.2f} dB, SSIM {ssim_value:.3f} over {covered.mean():.0%} of the pixels")

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -74,6 +75,8 @@ def _feed(h, obj: Any, depth: int) -> None:
         raise InputError("subject is nested too deeply to compare by value")
     if obj is None or isinstance(obj, (bool, int, float, complex, str, bytes)):
         h.update(repr((type(obj).__name__, obj)).encode())
+    elif isinstance(obj, os.PathLike):      # a file named, by its name (what it holds is read elsewhere)
+        h.update(repr(("path", os.fspath(obj))).encode())
     elif isinstance(obj, np.ndarray):
         a = np.ascontiguousarray(obj)
         h.update(repr(("ndarray", a.shape, a.dtype.str)).encode())

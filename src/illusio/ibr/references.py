@@ -17,7 +17,7 @@ import numpy as np
 from ..core.context import Context
 from ..core.errors import InputError
 from ..core.files import load_npz, read_text
-from ..core.images import atomic_output
+from ..core.images import atomic_output, read_image, write_image
 from ..core.renderer import Frame
 from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.camera import Camera, Pose, View
@@ -50,6 +50,8 @@ class ReferenceView:
                                + (0.0 if name == "albedo" else 32.0)])
             if a.shape != (h, w, c):
                 raise InputError(f"reference {name} is {a.shape[1]}×{a.shape[0]}, its depth {w}×{h}")
+            if not np.isfinite(a).all():
+                raise InputError(f"reference {name} holds non-finite values")
             setattr(self, name, a)
         if self.colour is not None:
             c = np.asarray(self.colour, np.float32)[..., :3]
@@ -68,10 +70,17 @@ class ReferenceView:
 
 @dataclass(eq=False)
 class ReferenceSet:
+    """views: the references; lights, ambient, background: the scene's light, to draw them lit
+    again. frames: every frame of an imported capture, references or not, as (View, photo: an
+    (H, W, 3) array or the path of its PNG), for ``--camera frame:K`` and ``--compare-photo K``.
+    albedo_from_photo: the albedo is the recorded photo (a capture), so it is drawn as recorded."""
+
     views: list[ReferenceView]
     lights: list = field(default_factory=list)
     ambient: tuple[float, float, float] = (0.08, 0.08, 0.09)
     background: tuple[float, float, float] = (0.02, 0.02, 0.025)
+    frames: list = field(default_factory=list)
+    albedo_from_photo: bool = False
 
     def __post_init__(self):
         if not self.views:
@@ -145,7 +154,8 @@ def _floats(values) -> list[float]:
 def _camera_dict(view: View) -> dict:
     c = view.camera
     return {"eye": _floats(view.pose.position), "target": _floats(view.pose.target), "up": _floats(view.pose.up),
-            "fov": float(c.fov_y), "near": float(c.near), "far": float(c.far), "shift": _floats(c.shift)}
+            "fov": float(c.fov_y), "near": float(c.near), "far": float(c.far), "shift": _floats(c.shift),
+            "pixel_aspect": float(c.pixel_aspect)}
 
 
 def _light_dict(light) -> dict:
@@ -162,7 +172,7 @@ def _camera_from_dict(cam, where: str) -> View:
         return View(Pose(tuple(float(v) for v in cam["eye"]), tuple(float(v) for v in cam["target"]),
                          tuple(float(v) for v in cam.get("up", (0, 1, 0)))),
                     Camera(float(cam["fov"]), float(cam["near"]), float(cam["far"]),
-                           tuple(float(v) for v in cam.get("shift", (0, 0)))))
+                           tuple(float(v) for v in cam.get("shift", (0, 0))), float(cam.get("pixel_aspect", 1.0))))
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
         raise InputError(f"{where}: a camera needs eye, target, fov, near, far ({exc})") from None
     except InputError as exc:
@@ -201,8 +211,22 @@ def save_references(refs: ReferenceSet, folder: str | os.PathLike) -> Path:
                 extra = {"colour": v.colour} if v.colour is not None else {}
                 np.savez_compressed(f, albedo=v.albedo, normal=v.normal, emission=v.emission, depth=v.depth, **extra)
         entries.append({"file": name, "camera": _camera_dict(v.view)})
+    frames = []
+    for k, (view, photo) in enumerate(refs.frames):
+        name = f"frames/frame-{k}.png"
+        if not isinstance(photo, (str, os.PathLike)):
+            (out / "frames").mkdir(exist_ok=True)
+            write_image(out / name, np.asarray(photo))
+        elif Path(photo).resolve() != (out / name).resolve():
+            (out / "frames").mkdir(exist_ok=True)
+            write_image(out / name, read_image(photo))
+        frames.append({"photo": name, "camera": _camera_dict(view)})
     doc = {"views": entries, "lights": [_light_dict(light) for light in refs.lights],
            "ambient": list(refs.ambient), "background": list(refs.background)}
+    if frames:
+        doc["frames"] = frames
+    if refs.albedo_from_photo:
+        doc["albedo_from_photo"] = True
     with atomic_output(out / "references.json") as tmp:
         Path(tmp).write_text(json.dumps(doc, indent=1), encoding="utf-8")
     return out
@@ -266,7 +290,19 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
             colours[name] = tuple(float(c) for c in np.broadcast_to(np.asarray(doc.get(name, default), float), (3,)))
         except (TypeError, ValueError) as exc:
             raise InputError(f"{index}: {name} must be an RGB triple ({exc})") from None
+    frames = []
+    if not isinstance(doc.get("frames") or [], list):
+        raise InputError(f"{index}: frames must be a list")
+    for k, entry in enumerate(doc.get("frames") or []):
+        where = f"{index}: frames[{k}]"
+        if not isinstance(entry, dict) or not isinstance(entry.get("photo"), str):
+            raise InputError(f"{where}: a frame needs a photo and a camera")
+        photo = root / entry["photo"]
+        if Path(entry["photo"]).is_absolute() or not photo.resolve().is_relative_to(root.resolve()):
+            raise InputError(f"{where}: {entry['photo']!r} is outside the folder")
+        frames.append((_camera_from_dict(entry.get("camera"), where), photo))
     try:
-        return ReferenceSet(views, lights, colours["ambient"], colours["background"])
+        return ReferenceSet(views, lights, colours["ambient"], colours["background"], frames,
+                            bool(doc.get("albedo_from_photo", False)))
     except InputError as exc:
         raise InputError(f"{index}: {exc}") from None

@@ -25,26 +25,45 @@ class Camera:
     fov_y: vertical field of view, degrees. near, far: clip distances, metres.
     shift: lens shift (x right, y up) as the tangent of the angle between the view axis and the
       centre of the frustum window; (0, 0) is a symmetric frustum. Stereo rigs use it for off-axis
-      frusta (no toe-in).
+      frusta (no toe-in); a photograph's principal point off the image centre is a shift too.
+    pixel_aspect: f_y / f_x of a pinhole's intrinsics: the frustum's width is tan(fov_y/2) ×
+      the image's aspect × this (1: square pixels). See :meth:`from_intrinsics`.
     """
 
     fov_y: float = 50.0
     near: float = 0.05
     far: float = 100.0
     shift: tuple[float, float] = (0.0, 0.0)
+    pixel_aspect: float = 1.0
+
+    @classmethod
+    def from_intrinsics(cls, width: int, height: int, fx: float, fy: float, cx: float, cy: float,
+                        near: float = 0.05, far: float = 100.0) -> "Camera":
+        """A pinhole's camera from its intrinsics in pixels (OpenCV's convention: the centre of the
+        top-left pixel at (0, 0), x right, y down): fov_y from f_y, the principal point as a shift,
+        f_x ≠ f_y as pixel_aspect. Its projection puts the point (x, y, z) of the camera's frame at
+        pixel (f_x·x/z + c_x, f_y·y/z + c_y), as the intrinsics do."""
+        if not (fx > 0 and fy > 0 and width > 0 and height > 0):
+            raise InputError(f"intrinsics need positive fx, fy, width and height, got fx={fx}, fy={fy}, {width}×{height}")
+        fov_y = math.degrees(2 * math.atan(height / (2 * fy)))
+        shift = (((width - 1) / 2 - cx) / fx, (cy - (height - 1) / 2) / fy)
+        return cls(fov_y, near, far, shift, fy / fx)
 
     def __post_init__(self):
         if not 0.0 < self.fov_y < 180.0:
             raise InputError(f"camera fov_y must be in ]0, 180[ degrees, got {self.fov_y}")
         if not 0.0 < self.near < self.far:
             raise InputError(f"camera clip distances need 0 < near < far, got near={self.near}, far={self.far}")
+        if not 0.0 < self.pixel_aspect < 100.0:
+            raise InputError(f"camera pixel_aspect must be in ]0, 100[, got {self.pixel_aspect}")
 
     def projection(self, aspect: float) -> np.ndarray:
         """OpenGL projection matrix for an image of width/height ``aspect``."""
         t = math.tan(math.radians(self.fov_y) / 2)
         sx, sy = self.shift
         n = self.near
-        return frustum(n * (-t * aspect + sx), n * (t * aspect + sx), n * (-t + sy), n * (t + sy), n, self.far)
+        half_width = t * aspect * self.pixel_aspect
+        return frustum(n * (-half_width + sx), n * (half_width + sx), n * (-t + sy), n * (t + sy), n, self.far)
 
 
 @dataclass(frozen=True)
