@@ -36,7 +36,9 @@ class IbrMode(Mode):
         self._captured_size = None
 
     def home_view(self):
-        return self.scene.camera()
+        # the middle reference: the rig may stand ahead of the main camera (inside the room), and
+        # from its own view a reference gives back what it recorded
+        return orbit_views(self.scene, self.reference_count)[self.reference_count // 2]
 
     def render(self, frame: Frame):
         if self.truth is not None:
