@@ -11,6 +11,7 @@ import pytest
 
 REPO = Path(__file__).resolve().parent.parent
 MODELS = Path(os.environ.get("ILLUSIO_MODELS", REPO.parent / "shared" / "data" / "models"))
+MGF_SCENES = Path(os.environ.get("ILLUSIO_MGF", REPO.parent / "shared" / "data" / "scenes" / "mgf"))
 
 # Every tolerance of a GPU-vs-reference comparison comes from this table (tolerance(NAME)). The first
 # three are keyed by the dtype the GPU result is stored in: float32 is GPU single precision against
@@ -100,6 +101,14 @@ def models() -> Path:
     if not MODELS.is_dir():
         pytest.skip(f"test meshes not found at {MODELS} (set ILLUSIO_MODELS)")
     return MODELS
+
+
+@pytest.fixture(scope="session")
+def mgf_scenes() -> Path:
+    """The classic MGF scenes (../shared/data/scenes/mgf: read from there, never copied)."""
+    if not MGF_SCENES.is_dir():
+        pytest.skip(f"MGF test scenes not found at {MGF_SCENES} (set ILLUSIO_MGF)")
+    return MGF_SCENES
 
 
 def prepared(renderer, subject):

@@ -3,6 +3,7 @@ the radiosity equation B = E + ρ Σ F V B, refinement, gather and push-pull aga
 reference, interactive re-solves and the dynamic updates against full rebuilds."""
 
 import dataclasses
+import warnings
 
 import numpy as np
 import pytest
@@ -216,17 +217,28 @@ def test_refinement_respects_the_minimum_area_and_types(cornell):
     assert (types == PARTIAL).any()            # the blocks cast shadows
 
 
-def test_bfv_refines_more_than_bf_in_the_shadows(cornell):
-    """BFV splits partial links that BF keeps: more partial links end up at smaller elements."""
+def test_criteria_bf_is_b_f_a_and_bfv_is_b_f_v_a():
+    """Loscos 4.2 / HSA91: BF refines by the unoccluded transfer B·F·A, BFV by the carried one B·F·V·A."""
+    from illusio.radiosity.refine import needs_refinement
+
+    transfer, visibility = np.array([2.0, 2.0, 2.0, 0.5]), np.array([0.0, 0.25, 0.75, 1.0])
+    assert needs_refinement(transfer, visibility, 1.0, "bf").tolist() == [True, True, True, False]
+    assert needs_refinement(transfer, visibility, 1.0, "bfv").tolist() == [False, False, True, False]
+
+
+def test_bfv_is_coarser_than_bf_in_the_shadows(cornell):
+    """As the chapter says of BFV: the mesh less fine in the shadows, as fine in the light, fewer
+    links: the lamp's occluded links end at larger elements than under BF."""
     bf = Radiosity(cornell, HierarchyParams(epsilon=1e-4, criterion="bf")).build()
     bfv = Radiosity(cornell, HierarchyParams(epsilon=1e-4, criterion="bfv")).build()
 
-    def partial_area(sol):
-        part = sol.links.type == PARTIAL
-        return np.mean(sol.hierarchy.area[sol.links.receiver[part]])
+    def shadowed_area(sol):
+        h, L = sol.hierarchy, sol.links
+        from_lamp = h.exitance[L.source].max(axis=1) > 0
+        return np.mean(h.area[L.receiver[from_lamp & (L.type == INVISIBLE)]])
 
-    assert partial_area(bfv) < partial_area(bf)
-    assert len(bfv.hierarchy) >= len(bf.hierarchy)
+    assert shadowed_area(bfv) > shadowed_area(bf)
+    assert len(bfv.links) < len(bf.links) and len(bfv.hierarchy) <= len(bf.hierarchy)
 
 
 def test_lights_to_leaves(cornell):
@@ -358,3 +370,16 @@ def test_removing_then_adding_back_and_adding_a_lamp(cornell):
     rel = np.abs(a - b).mean(axis=1) / b.mean(axis=1)
     assert np.average(rel[reflector], weights=area[reflector]) < 0.02
     assert "virtual" in dyn.lamp_names
+
+
+def test_a_solve_stopped_at_its_cap_says_so(cornell):
+    """Two iterations cannot converge the Cornell box: a warning names the cap and the residual,
+    and --stats shows the residual."""
+    sol = Radiosity(cornell, HierarchyParams(epsilon=1e-3))
+    with pytest.warns(UserWarning, match="stopped at its cap of 2 iterations"):
+        sol.build(1e-6, 2)
+    assert sol.stats.residual > 1e-6 and "residual" in sol.stats.lines()[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                # converged: no warning
+        sol.solve(1e-4, 500)
+    assert sol.stats.residual < 1e-4

@@ -33,7 +33,7 @@ def parse_lamps(values: list[str]) -> tuple:
 
 @params_options(params=RadiosityParams)
 def radiosity(
-    scene: str = typer.Argument(..., help="built-in scene (cornell-box, office, living-room, ...) or a .yaml scene"),
+    scene: str = typer.Argument(..., help="built-in scene (cornell-box, office, living-room, ...), a .yaml scene or an MGF file (.mgf)"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png sRGB, .npy/.exr linear)"),
     set_lamp: list[str] = typer.Option(None, "--set-lamp", help="NAME=SCALE, the lamp's exitance × SCALE (repeatable)"),
     size: str = typer.Option("640x480", "--size", help="WIDTHxHEIGHT of both images"),

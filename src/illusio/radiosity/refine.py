@@ -6,8 +6,11 @@ Breadth first and vectorised: every round evaluates all pending pairs at once (f
 batch of visibility rays, the criterion), accepts some, splits elements for the others and makes the
 next round's pairs. The criteria (``params.CRITERIA``), with Φ the total emitted power:
 
-- bf: refine when B_j·F_ij·V_ij·A_i > ε·Φ;
-- bfv: also refine a PARTIAL link (0 < V < 1) when B_j·F_ij·A_i > ε·Φ.
+- bf: refine when B_j·F_ij·A_i > ε·Φ — the transfer as if nothing were in the way (Loscos 4.2's
+  "BF": the mesh as fine in the shadows as in the light);
+- bfv: refine when B_j·F_ij·V_ij·A_i > ε·Φ — the transfer the link carries (HSA91's BFV, as the
+  chapter uses it: coarser in the shadows, finer in the light, fewer links).
+(Before issue 31, bf was the second and bfv refined partial links further.)
 
 A pair straddling a plane (some corners of one behind the other) is refined while it can be: its
 centre-to-centre estimate is unreliable: it is refined while the bound B_j·A_j·A_i/(π r² + A_j) (both
@@ -42,10 +45,9 @@ def transfer_estimate(h: Hierarchy, receiver, source, form_factor, radiosity=Non
 
 def needs_refinement(transfer, visibility, threshold: float, criterion: str) -> np.ndarray:
     """The criterion of the module docstring, given B_j·F_ij·A_i and V_ij."""
-    refine = transfer * visibility > threshold
-    if criterion == "bfv":
-        refine |= (visibility > 0) & (visibility < 1) & (transfer > threshold)
-    return refine
+    if criterion == "bf":
+        return transfer > threshold
+    return transfer * visibility > threshold
 
 
 def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: float, min_area: float,

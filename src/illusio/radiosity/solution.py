@@ -8,6 +8,7 @@ adds, moves or removes objects, re-linking only what the change touches (Drettak
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -37,6 +38,9 @@ class Stats:
     links: int = 0
     rays: int = 0
     iterations: int = 0
+    #: the last iteration's largest change of B relative to the reflected light (below the tolerance
+    #: when the solve converged)
+    residual: float = 0.0
     seconds: dict = field(default_factory=dict)
 
     def add_time(self, phase: str, seconds: float) -> None:
@@ -45,7 +49,7 @@ class Stats:
     def lines(self) -> list[str]:
         times = ", ".join(f"{k} {v * 1000:.0f} ms" for k, v in self.seconds.items())
         return [f"elements {self.elements} ({self.leaves} leaves), links {self.links}, rays {self.rays}, "
-                f"iterations {self.iterations}", f"time: {times}"]
+                f"iterations {self.iterations} (residual {self.residual:.2g})", f"time: {times}"]
 
 
 class Radiosity:
@@ -223,6 +227,10 @@ class Radiosity:
         self.result = solve(self.hierarchy, self.matrix(), self.exitance(), tolerance, max_iterations)
         self.stats.add_time("solve", time.perf_counter() - t)
         self._update_stats()
+        if not self.result.converged:       # an image made from it would be wrong without a word
+            warnings.warn(f"radiosity: the solve stopped at its cap of {max_iterations} iterations, the last change "
+                          f"of B {self.result.change:.2g} of the reflected light (tolerance {tolerance:g}); raise "
+                          "--max-iterations, or check that the lamps face the scene")
         return self.result
 
     def set_lamps(self, scales: dict[str, float] | tuple = (), tolerance: float = 1e-4,
@@ -273,3 +281,4 @@ class Radiosity:
         self.stats.links = len(self.links)
         self.stats.rays = self.visibility.rays
         self.stats.iterations = self.result.iterations if self.result else 0
+        self.stats.residual = self.result.change if self.result else 0.0

@@ -62,15 +62,20 @@ TEXTURES = {"checker": builtin_textures.checker, "planks": builtin_textures.plan
 
 
 def load_scene(source: str | os.PathLike) -> Scene:
-    """A built-in scene name (``living-room``, ``office``, ``museum``, ``turntable``) or a YAML path."""
+    """A built-in scene name (``living-room``, ``office``, ``museum``, ``turntable``), a YAML path or
+    an MGF file (``.mgf``: the classic radiosity scenes; :mod:`illusio.scene.mgf`)."""
     text = str(source)
     if text in SCENES:
         return builtin_scene(text)
     p = Path(source)
+    if p.suffix.lower() == ".mgf":
+        from .mgf import load_mgf
+
+        return load_mgf(p)
     if p.suffix.lower() not in (".yaml", ".yml"):
         if not p.exists():
             raise InputError(f"{text}: not a built-in scene ({', '.join(SCENES)}) nor a YAML file{did_you_mean(text, SCENES)}")
-        raise InputError(f"{p}: scene files must be .yaml or .yml")
+        raise InputError(f"{p}: scene files must be .yaml, .yml or .mgf")
     if not p.is_file():
         raise InputError(f"{p}: no such file")
     data = read_yaml(p, "scene")

@@ -31,14 +31,14 @@ def resolve_mesh(source: str) -> Mesh:
 
 def resolve_scene(source: str) -> Scene:
     """A built-in scene, a YAML scene file, a mesh file or a built-in shape (on the turntable)."""
-    if source in SCENES or Path(source).suffix.lower() in (".yaml", ".yml"):
+    if source in SCENES or Path(source).suffix.lower() in (".yaml", ".yml", ".mgf"):
         return load_scene(source)
     if is_mesh_source(source):
         return turntable(resolve_mesh(source))
     if not Path(source).exists():
         raise InputError(f"{source}: no such file, and not a built-in scene ({', '.join(SCENES)}) or shape "
                          f"({', '.join(SHAPES)}){did_you_mean(source, list(SCENES) + list(SHAPES))}")
-    raise InputError(f"{source}: not a scene (.yaml) or mesh ({', '.join(MESH_FORMATS)})")
+    raise InputError(f"{source}: not a scene (.yaml, .mgf) or mesh ({', '.join(MESH_FORMATS)})")
 
 
 def scene_subject(source: str, size: tuple[int, int], ctx=None) -> Scene:
