@@ -143,7 +143,7 @@ nodes:
     position: [0, 0.25, 0]
     scale: 0.5
 lights:
-  - {{type: area, centre: [0, 2, 0], edge_u: [0.5, 0, 0], edge_v: [0, 0, -0.5], radiance: {radiance}}}
+  - {{type: area, centre: [0, 2, 0], edge_u: [0.5, 0, 0], edge_v: [0, 0, 0.5], radiance: {radiance}}}
 """
 
 

@@ -383,3 +383,20 @@ def test_a_solve_stopped_at_its_cap_says_so(cornell):
         warnings.simplefilter("error")                # converged: no warning
         sol.solve(1e-4, 500)
     assert sol.stats.residual < 1e-4
+
+
+def test_a_lamp_facing_away_from_everything_is_named():
+    """The issue's case: a lamp facing away, a black image. The solve converges at once (nothing to
+    reflect) and says the scene is dark, rather than running to its cap in silence."""
+    from illusio.scene.scene import AreaLight, Scene
+
+    scene = Scene("away")
+    scene.lights.append(AreaLight((0, 2, 0), (0.5, 0, 0), (0, 0, -0.5), (1, 1, 1), 5.0))    # faces up
+    from illusio.scene.builtin import shapes
+    from illusio.scene.scene import Node
+
+    scene.add(Node("floor", shapes.plane((4.0, 4.0))))
+    sol = Radiosity(scene_polygons(scene), HierarchyParams(epsilon=1e-3))
+    with pytest.warns(UserWarning, match="no light reaches any surface"):
+        sol.build()
+    assert sol.result.converged and sol.result.iterations < 10

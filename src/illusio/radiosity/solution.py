@@ -227,6 +227,9 @@ class Radiosity:
         self.result = solve(self.hierarchy, self.matrix(), self.exitance(), tolerance, max_iterations)
         self.stats.add_time("solve", time.perf_counter() - t)
         self._update_stats()
+        if self.result.dark:
+            warnings.warn("radiosity: no light reaches any surface (the reflected light is under 1e-9 of the "
+                          "lamps' exitance): do the lamps face the scene? (a lamp shines to its front)")
         if not self.result.converged:       # an image made from it would be wrong without a word
             warnings.warn(f"radiosity: the solve stopped at its cap of {max_iterations} iterations, the last change "
                           f"of B {self.result.change:.2g} of the reflected light (tolerance {tolerance:g}); raise "

@@ -24,8 +24,11 @@ __all__ = ["push_pull", "solve", "SolveResult"]
 @dataclass(frozen=True)
 class SolveResult:
     iterations: int
-    change: float      # the last largest change of B, relative to the largest B
+    change: float      # the last largest change of B, relative to the largest reflected B
     converged: bool
+    #: no light reaches any surface (the reflected radiosity under 1e-9 of the largest exitance):
+    #: the lamps face away from everything
+    dark: bool = False
 
 
 def push_pull(h: Hierarchy, irradiance: np.ndarray, exitance: np.ndarray, levels: list[np.ndarray]) -> np.ndarray:
@@ -63,17 +66,24 @@ def solve(h: Hierarchy, matrix, exitance: np.ndarray, tolerance: float = 1e-4,
     """Iterate gather + push-pull from ``start`` (default: the hierarchy's B) until the largest change
     of B is below ``tolerance`` × the largest reflected radiosity max(B − E); leaves B and H in the
     hierarchy. ``matrix``: K with H = K @ B (a scipy matrix or :class:`links.LinkGather`)."""
+    if not np.any(exitance):               # nothing emits: B = 0 (the relative change below would never settle)
+        h.radiosity[:] = 0.0
+        h.irradiance[:] = 0.0
+        return SolveResult(0, 0.0, True)
     levels = h.by_level()
     b = (h.radiosity if start is None else start).copy()
     change, k = np.inf, 0
     for k in range(1, max_iterations + 1):
         irradiance = np.asarray(matrix @ b)
         new = push_pull(h, irradiance, exitance, levels)
-        scale = max(float(np.abs(new - exitance).max()), 1e-300)   # the reflected light, not the lamps
+        # the reflected light, not the lamps; where almost none is (a lamp facing away) the change
+        # is measured against 1e-9 of the lamps' exitance, so a dark scene converges too
+        scale = max(float(np.abs(new - exitance).max()), 1e-9 * float(np.abs(exitance).max()))
         change = float(np.abs(new - b).max()) / scale
         b = new
         if change < tolerance:
             break
     h.radiosity[:] = b
     h.irradiance[:] = irradiance
-    return SolveResult(k, change, change < tolerance)
+    dark = float(np.abs(b - exitance).max()) < 1e-9 * float(np.abs(exitance).max())
+    return SolveResult(k, change, change < tolerance, dark)
