@@ -135,9 +135,10 @@ def test_host_projection_pass_matches_reference_on_a_tilted_quad(ctx, rng, layou
     want_d, want_p = reference.host_projection(corners[:3], uvs[:3], view.view_projection(size), size, depth,
                                                pattern.astype(np.float32) / 255, repeat, box)
     on_both = (got_d >= 0) & (want_d >= 0)
-    # D is read only inside the host (and, laid out for the viewer, inside the box: as small as 30×20)
+    # D is read only inside the host (and, laid out for the viewer, inside the box: as small as 30×20);
+    # the random host covers 20–45 % of the frame (a CI run drew 23 %): enough pixels to compare
     area = got_d.size if box is None else (box[2] - box[0]) * (box[3] - box[1])
-    assert on_both.sum() > 0.25 * area
+    assert on_both.sum() > 0.12 * area
     assert ((got_d >= 0) != (want_d >= 0)).mean() < 0.01  # edges may rasterise one pixel apart
     np.testing.assert_allclose(got_d[on_both], want_d[on_both], **tolerance("projected depth"))
     same = np.abs(got_p - want_p).max(axis=-1) <= 1 / 255 + 1e-6
