@@ -147,18 +147,18 @@ lights:
 """
 
 
-@pytest.mark.parametrize("colour, radiance, shape, message", [
-    ("[1.0, 0.5, 0.5]", 5, "box", "reflectance"),          # ρ = 1 would make energy grow
-    ("[0.5, 0.5, 0.5]", 5, "sphere", "at most 4000 input polygons"),
+@pytest.mark.parametrize("colour, radiance, shape, options, message", [
+    ("[1.0, 0.5, 0.5]", 5, "box", [], "reflectance"),          # ρ = 1 would make energy grow
+    ("[0.5, 0.5, 0.5]", 5, "sphere", ["--no-clusters"], "without clusters radiosity takes at most 4000"),
 ])
-def test_command_refuses_scenes_radiosity_cannot_take(tmp_path, capsys, colour, radiance, shape, message):
+def test_command_refuses_scenes_radiosity_cannot_take(tmp_path, capsys, colour, radiance, shape, options, message):
     scene = tmp_path / "room.yaml"
     text = BOX_ROOM.format(colour=colour, radiance=radiance)
     if shape == "sphere":
         text = text.replace("shape: box", "shape: sphere\n    params: {segments: 128, rings: 64}")
     scene.write_text(text)
     out = tmp_path / "x.png"
-    code, cap = call_cli(["radiosity", str(scene), "-o", str(out), "--size", "32x32"], capsys)
+    code, cap = call_cli(["radiosity", str(scene), "-o", str(out), "--size", "32x32", *options], capsys)
     assert code == 2 and message in cap.err and "Traceback" not in cap.err
     assert not out.exists()
 

@@ -334,7 +334,10 @@ def test_moving_an_object_matches_a_full_rebuild(scene, name, epsilon):
     a, area = per_polygon_radiosity(sol)
     b, _ = per_polygon_radiosity(fresh)
     reflector = p.exitance.max(axis=1) == 0
-    rel = np.abs(a - b).mean(axis=1) / np.maximum(b.mean(axis=1), 1e-9)
+    # a face black in the rebuild (a chair leg's foot on the floor: 1e-5 W/m² through a cluster's
+    # push) is measured against a thousandth of the mean B, not against 0
+    floor = 1e-3 * np.average(b.mean(axis=1)[reflector], weights=area[reflector])
+    rel = np.abs(a - b).mean(axis=1) / np.maximum(b.mean(axis=1), floor)
     assert np.average(rel[reflector], weights=area[reflector]) < 0.02
 
 

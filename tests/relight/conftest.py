@@ -8,7 +8,7 @@ import pytest
 from illusio.radiosity import HierarchyParams
 from illusio.relight import RelightParams, RelightSession, builtin_real_scene
 
-COARSE = RelightParams(hierarchy=HierarchyParams(epsilon=3e-4))
+COARSE = RelightParams(hierarchy=HierarchyParams(epsilon=3e-4, clusters=False))
 
 
 @pytest.fixture(scope="module")

@@ -45,7 +45,7 @@ def board_scene():
 
 # BFV (B·F·V·A): a first mesh as coarse in the shadow as the criterion allows, so what follows the
 # shadow is the texture refinement (BF, B·F·A, would refine the shadow region already)
-PARAMS = RelightParams(method="loscos", hierarchy=HierarchyParams(criterion="bfv", epsilon=3e-2, min_area=1e-3))
+PARAMS = RelightParams(method="loscos", hierarchy=HierarchyParams(criterion="bfv", epsilon=3e-2, min_area=1e-3, clusters=False))
 
 
 @pytest.fixture(scope="module")
@@ -172,7 +172,7 @@ def test_fresh_bfv_solution_reprojects_the_shadows(ctx, board_scene, sessions):
     where BFV puts them; with nothing changed the photograph comes back (the shadows re-projected,
     Figure 4.15b), and switching the lamp off still darkens the floor."""
     params = dataclasses.replace(PARAMS, fresh_solution=True,
-                                 final_hierarchy=HierarchyParams(epsilon=1e-3, min_area=1e-3))
+                                 final_hierarchy=HierarchyParams(epsilon=1e-3, min_area=1e-3, clusters=False))
     s = RelightSession(board_scene, params, ctx)
     try:
         refined = sessions[True]

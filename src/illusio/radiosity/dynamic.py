@@ -21,6 +21,7 @@ import numpy as np
 
 from ..core.errors import InputError
 
+from .clusters import cluster_visibility
 from .polygons import MAX_POLYGONS, Polygons, rectangle
 from .refine import refine
 
@@ -103,6 +104,10 @@ def _detach(sol, name: str):
     elements = _object_elements(sol, group)
     box = _object_box(sol, elements)
     sol.links.remove(_touching(sol, elements))
+    if sol.tree is not None:
+        # its roots leave their clusters (which stop counting their light) and are linked on their own
+        sol.cluster_links.remove(sol.cluster_links.touching(elements, len(sol.hierarchy)))
+        sol.tree.exclude(elements)
     return group, elements, box
 
 
@@ -119,12 +124,37 @@ def _relink_shafts(sol, boxes) -> int:
     # pair split if it must be)
     refine(h, sol.visibility, gone.receiver, gone.source, sol.threshold, sol.min_area,
            sol.params.criterion, links=L, form_factor=gone.form_factor, rays=gone.rays, boxes=boxes)
-    return len(gone)
+    return len(gone) + _recast_cluster_links(sol, boxes, lo, hi)
+
+
+def _recast_cluster_links(sol, boxes, lo, hi) -> int:
+    """V cast again (fresh rays) for the cluster links whose shaft meets a box; their kernel stands
+    (a cluster's box is where it was built: conservative once a member left)."""
+    C, tree = sol.cluster_links, sol.tree
+    if tree is None or not len(C):
+        return 0
+    n = len(lo)
+    lo, hi = np.r_[lo, tree.lo], np.r_[hi, tree.hi]
+    index = lambda node: np.where(node >= 0, node, n - 1 - node)          # cluster c after the elements
+    hit = np.zeros(len(C), bool)
+    _links_in_shafts(lo, hi, index(C.receiver), index(C.source), np.array([b[0] for b in boxes], np.float64),
+                     np.array([b[1] for b in boxes], np.float64), hit)
+    if hit.any():
+        C.visibility[hit] = cluster_visibility(sol.hierarchy, tree, sol.visibility, C.receiver[hit], C.source[hit])
+    return int(hit.sum())
 
 
 def _link_object(sol, roots: np.ndarray) -> None:
-    """Refine every pair between ``roots`` and the active roots (both directions, and among themselves)."""
+    """Refine every pair between ``roots`` and the active roots (both directions, and among
+    themselves); with clusters, between ``roots`` and the tree's top (refined down through it) and
+    among themselves."""
     h = sol.hierarchy
+    if sol.tree is not None:
+        roots = np.sort(roots)
+        top = np.full(len(roots), sol.tree.top)
+        among_r, among_s = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
+        sol._refine_nodes(np.r_[roots, top, among_r], np.r_[top, roots, among_s])
+        return
     recv, src = _pairs_with(np.sort(h.roots[h.active[h.roots]]), np.sort(roots))
     refine(h, sol.visibility, recv, src, sol.threshold, sol.min_area, sol.params.criterion, links=sol.links)
 
@@ -160,9 +190,9 @@ def add_object(sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_
     """Add ``polygons`` as a new object ``name``: its links, and the links whose shafts it enters."""
     t = time.perf_counter()
     first = len(sol.polygons)
-    if first + len(polygons) > MAX_POLYGONS:
+    if first + len(polygons) > MAX_POLYGONS and sol.tree is None:
         raise InputError(f"{name!r} has {len(polygons)} polygons: with the scene's {first} that is past the "
-                         f"{MAX_POLYGONS} radiosity takes (no clustering); use a coarser mesh")
+                         f"{MAX_POLYGONS} radiosity takes without clusters; use a coarser mesh")
     sol.polygons = sol.polygons.extended(polygons, name, lamp)
     sol.hierarchy.polygons = sol.polygons
     sol.lamp_scale = np.r_[sol.lamp_scale, 1.0]

@@ -29,7 +29,11 @@ class HierarchyParams:
     criterion: one of CRITERIA. visibility_samples: rays per link for V_ij (a jittered grid of
     that many points on each element, paired). lights_to_leaves: push every link from a light source
     down to the receivers' leaves after refinement (Loscos Figure 4.6b). refinements: refine → solve
-    rounds (the first round estimates B from the emitters' power). seed: the ray jitter."""
+    rounds (the first round estimates B from the emitters' power). seed: the ray jitter.
+    clusters: link through a hierarchy of clusters above the input polygons (radiosity.clusters:
+    the first links are not every pair of polygons, so a scene of 10⁵ polygons solves); off: every
+    pair of input polygons is refined from the start (exact form factors everywhere, quadratic in
+    the polygon count, at most MAX_POLYGONS)."""
 
     epsilon: float = param(6e-5, range=(1e-9, 1.0), log=True, label="refinement ε (× total power)")
     min_area: float = param(0.0, range=(0.0, 100.0), unit="m²", label="minimum element area A_ε (0: automatic)")
@@ -38,6 +42,7 @@ class HierarchyParams:
     lights_to_leaves: bool = param(False, help="links from lamps pushed to the receivers' leaves (Loscos 1999, Figure 4.6b)")
     refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds")
     seed: int = param(0, range=(0, 2**31 - 1), step=1, help="visibility rays (and the path tracer of a reference)")
+    clusters: bool = param(True, help="link through clusters of polygons (off: every pair of input polygons)")
 
     __post_init__ = check_ranges
 

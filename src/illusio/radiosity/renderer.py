@@ -61,7 +61,8 @@ class RadiosityRenderer(Renderer):
         if self._state != state:
             if self._state is None or self._state[1:3] != state[1:3]:
                 self._solution.set_lamps(dict(params.lamp_scales), params.tolerance, params.max_iterations)
-            self.display.load(leaf_mesh(self._solution.hierarchy, self._solution.links, self._solution.exitance(), smooth=params.show != "mesh"))
+            self.display.load(leaf_mesh(self._solution.hierarchy, self._solution.links, self._solution.display_exitance(),
+                                        smooth=params.show != "mesh"))
             self._state = state
         return self._solution
 

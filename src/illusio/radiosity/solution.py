@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.errors import InputError, did_you_mean
+from .clusters import ClusteredGather, ClusterLinks, ClusterTree, refine_nodes, transfer_bound
 from .hierarchy import Hierarchy
 from .links import Links
 from .params import HierarchyParams
@@ -36,6 +37,9 @@ class Stats:
     elements: int = 0
     leaves: int = 0
     links: int = 0
+    #: of the links, those with a cluster at one end or both
+    cluster_links: int = 0
+    clusters: int = 0
     rays: int = 0
     iterations: int = 0
     #: the last iteration's largest change of B relative to the reflected light (below the tolerance
@@ -48,7 +52,8 @@ class Stats:
 
     def lines(self) -> list[str]:
         times = ", ".join(f"{k} {v * 1000:.0f} ms" for k, v in self.seconds.items())
-        return [f"elements {self.elements} ({self.leaves} leaves), links {self.links}, rays {self.rays}, "
+        return [f"elements {self.elements} ({self.leaves} leaves), links {self.links} ({self.cluster_links} through "
+                f"{self.clusters} clusters), rays {self.rays}, "
                 f"iterations {self.iterations} (residual {self.residual:.2g})", f"time: {times}"]
 
 
@@ -56,17 +61,20 @@ class Radiosity:
     """Hierarchical radiosity over ``polygons`` with ``params`` (HierarchyParams)."""
 
     def __init__(self, polygons: Polygons, params: HierarchyParams = HierarchyParams()):
-        if len(polygons) > MAX_POLYGONS:
+        if len(polygons) > MAX_POLYGONS and not params.clusters:
             counts = np.bincount(polygons.group, minlength=len(polygons.names))
             worst = int(counts.argmax())
-            raise InputError(f"radiosity takes at most {MAX_POLYGONS} input polygons (it does not cluster small ones); "
-                             f"this scene has {len(polygons)}, {counts[worst]} of them in {polygons.names[worst]!r}: "
-                             "use coarser meshes for curved objects")
+            raise InputError(f"without clusters radiosity takes at most {MAX_POLYGONS} input polygons; this scene has "
+                             f"{len(polygons)}, {counts[worst]} of them in {polygons.names[worst]!r}: link through "
+                             "clusters (--clusters) or use coarser meshes")
         self.polygons = polygons
         self.params = params
         self.hierarchy = Hierarchy(polygons)
         self.visibility = Visibility(self.hierarchy, params.visibility_samples, params.seed)
         self.links = Links()
+        #: the clusters over the input polygons (None without ``params.clusters``) and their links
+        self.tree = ClusterTree.build(self.hierarchy) if params.clusters else None
+        self.cluster_links = ClusterLinks()
         self.lamp_scale = np.ones(len(polygons.names))     # per group
         self.stats = Stats()
         self.result: SolveResult | None = None
@@ -77,11 +85,14 @@ class Radiosity:
     def from_state(cls, polygons: Polygons, params: HierarchyParams, hierarchy: Hierarchy, links: Links,
                    lamp_scale: np.ndarray) -> "Radiosity":
         """A built solution from its saved parts (the ray-casting scene is made again; its jitter
-        starts over from ``params.seed``)."""
+        starts over from ``params.seed``). Only solutions without clusters are saved."""
+        if params.clusters:
+            raise InputError("a saved solution holds no cluster links: it must have been built with clusters=False")
         sol = cls.__new__(cls)
         sol.polygons, sol.params, sol.hierarchy, sol.links = polygons, params, hierarchy, links
         sol.visibility = Visibility(hierarchy, params.visibility_samples, params.seed)
         sol.lamp_scale = np.asarray(lamp_scale, np.float64)
+        sol.tree, sol.cluster_links = None, ClusterLinks()
         sol.stats, sol.result, sol._matrix, sol.built = Stats(), None, None, True
         sol._update_stats()
         return sol
@@ -141,12 +152,15 @@ class Radiosity:
 
     def _link_from_roots(self, tolerance: float, max_iterations: int) -> None:
         h = self.hierarchy
-        roots = h.roots[h.active[h.roots]]
-        recv, src = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
         t = time.perf_counter()
         h.radiosity[:] = self._ambient_estimate()      # children inherit it as they are made
-        refine(h, self.visibility, recv, src, self.threshold, self.min_area, self.params.criterion,
-               links=self.links)
+        if self.tree is not None:
+            self._refine_nodes([self.tree.top], [self.tree.top])
+        else:
+            roots = h.roots[h.active[h.roots]]
+            recv, src = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
+            refine(h, self.visibility, recv, src, self.threshold, self.min_area, self.params.criterion,
+                   links=self.links)
         self.stats.add_time("refine", time.perf_counter() - t)
         self.solve(tolerance, max_iterations)
         for _ in range(self.params.refinements - 1):
@@ -159,6 +173,7 @@ class Radiosity:
         reused, new ones made where the criterion asks), then solve: the second pass of Loscos
         4.3.3, links where the criterion puts them instead of at the leaves."""
         self.links = Links()
+        self.cluster_links = ClusterLinks()
         self._matrix = None
         self._link_from_roots(tolerance, max_iterations)
 
@@ -179,7 +194,27 @@ class Radiosity:
             # the pairs re-enter refinement one level down, so an accepted pair is not re-accepted as is
             self._split_and_refine(gone.receiver, gone.source)
             self._matrix = None
+        redone = len(gone)
+        if links is None and len(self.cluster_links):
+            redone += self._rerefine_clusters()
         self.stats.add_time("refine", time.perf_counter() - t)
+        return redone
+
+    def _refine_nodes(self, receivers, sources) -> None:
+        refine_nodes(self.hierarchy, self.tree, self.visibility, np.asarray(receivers, np.int64),
+                     np.asarray(sources, np.int64), self.threshold, self.min_area, self.params.criterion,
+                     self.links, self.cluster_links)
+        self._matrix = None
+
+    def _rerefine_clusters(self) -> int:
+        """Cluster links whose bound fails with the current B go back to refinement (which splits
+        them, their bound being above the threshold)."""
+        h, tree, C = self.hierarchy, self.tree, self.cluster_links
+        b = np.max(h.radiosity, axis=1)
+        bound = transfer_bound(h, tree, C.receiver, C.source, b, tree.member_max(b) if len(tree) else b[:0])
+        gone = C.remove(bound > self.threshold)
+        if len(gone):
+            self._refine_nodes(gone.receiver, gone.source)
         return len(gone)
 
     def _split_and_refine(self, recv, src) -> None:
@@ -217,10 +252,27 @@ class Radiosity:
 
     # --- solving
     def matrix(self):
-        """The gather operator K (``K @ B``: :meth:`Links.gather_operator`), kept until the links change."""
+        """The gather operator K (``K @ B``: :meth:`Links.gather_operator`, with the cluster links'
+        :class:`clusters.ClusteredGather` around it), kept until the links change."""
         if self._matrix is None:
             self._matrix = self.links.gather_operator(len(self.hierarchy))
+            if len(self.cluster_links):
+                self._matrix = ClusteredGather(self._matrix, self.cluster_links, self.tree, self.hierarchy)
         return self._matrix
+
+    def display_exitance(self) -> np.ndarray:
+        """What the smooth display's corner gather adds to the element links' light (n, 3), W/m²:
+        E (lamp scales applied) plus ρ times the irradiance the cluster links bring, pushed down to
+        every element below its receiver (uniform below a root, as the solve has it)."""
+        exitance = self.exitance()
+        if not len(self.cluster_links):
+            return exitance
+        h = self.hierarchy
+        element, moments = self.matrix().cluster_irradiance(h.radiosity)
+        self.tree.push(moments, h.normal, element)
+        for level in h.by_level()[1:]:
+            element[level] += element[h.parent[level]]
+        return exitance + h.reflectance * element
 
     def solve(self, tolerance: float = 1e-4, max_iterations: int = 200) -> SolveResult:
         t = time.perf_counter()
@@ -281,7 +333,9 @@ class Radiosity:
         h = self.hierarchy
         self.stats.elements = int(h.active.sum())
         self.stats.leaves = int((h.leaf & h.active).sum())
-        self.stats.links = len(self.links)
+        self.stats.links = len(self.links) + len(self.cluster_links)
+        self.stats.cluster_links = len(self.cluster_links)
+        self.stats.clusters = len(self.tree) if self.tree is not None else 0
         self.stats.rays = self.visibility.rays
         self.stats.iterations = self.result.iterations if self.result else 0
         self.stats.residual = self.result.change if self.result else 0.0

@@ -23,7 +23,10 @@ METHODS = ("baseline", "loscos", "per-pixel")
 
 #: the initial solution of 4.2.1: "la subdivision initiale, obtenue avec un critère de raffinement BF,
 #: est grossière" (Figure 4.6a) — BF, at a coarser ε than a radiosity frame's default
-INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3)
+INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3, clusters=False)
+#: relighting reads element links (a lamp's shadow masks, the frontier, the corner gather): its
+#: solutions link every pair of polygons, without clusters
+FINAL_HIERARCHY = HierarchyParams(clusters=False)
 
 
 #: metres on a side of a virtual lamp added by the CLI, the viewer or ``RelightSession.add_lamp``
@@ -55,11 +58,14 @@ class RelightParams:
     hierarchy: HierarchyParams = param(default_factory=lambda: INITIAL_HIERARCHY,
                                        help="the initial radiosity solution (BF at a coarse ε)")
     fresh_solution: bool = param(False, help="loscos: end with a fresh BFV solution over the final textures (4.3.3)")
-    final_hierarchy: HierarchyParams = param(default_factory=HierarchyParams, panel=False)
+    final_hierarchy: HierarchyParams = param(default_factory=lambda: FINAL_HIERARCHY, panel=False)
     lamp_scales: tuple = param((), panel=False)
     exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="factor on the displayed radiance")
 
     def __post_init__(self):
         check_ranges(self)
+        if self.hierarchy.clusters or self.final_hierarchy.clusters:
+            raise InputError("relighting reads element links (shadow masks, frontier): its solutions take "
+                             "clusters=False (--no-clusters)")
         if self.fresh_solution and self.method != "loscos":
             raise InputError(f"the fresh solution of 4.3.3 follows the loscos textures; method is {self.method!r}")

@@ -165,8 +165,8 @@ def load_session(path) -> dict:
             raise InputError(f"{path}: saved as {record.get('format')!r}, this illusio reads {FORMAT!r}")
         _check_arrays(path, arrays, record)
         p = dict(record["params"])
-        params = RelightParams(**{**p, "hierarchy": HierarchyParams(**p["hierarchy"]),
-                                  "final_hierarchy": HierarchyParams(**p["final_hierarchy"]),
+        params = RelightParams(**{**p, "hierarchy": HierarchyParams(**{"clusters": False, **p["hierarchy"]}),
+                                  "final_hierarchy": HierarchyParams(**{"clusters": False, **p["final_hierarchy"]}),
                                   "lamp_scales": tuple(tuple(x) for x in p["lamp_scales"])})
         v = record["view"]
         view = View(Pose(**v["pose"]), Camera(**{**v["camera"], "shift": tuple(v["camera"]["shift"])}))
@@ -177,7 +177,7 @@ def load_session(path) -> dict:
         links = Links(*(np.asarray(arrays[f"links.{n}"]) for n in ("receiver", "source", "form_factor", "visibility")))
         if len(links) and (links.receiver.max() >= len(hierarchy) or links.source.max() >= len(hierarchy)):
             raise InputError(f"{path}: a link names an element the saved hierarchy does not have")
-        sol = Radiosity.from_state(solution_polygons, HierarchyParams(**record["solution_params"]), hierarchy, links,
+        sol = Radiosity.from_state(solution_polygons, HierarchyParams(**{"clusters": False, **record["solution_params"]}), hierarchy, links,
                                    arrays["lamp_scale"])
         if "visibility_rng" in record:
             sol.visibility.rng.bit_generator.state = record["visibility_rng"]
