@@ -6,7 +6,17 @@ region the references cover; PSNR and SSIM against the rasteriser's render of th
 or nearest reference depth, with the 2D or 3D distance, with the speed run's settings. Speed: at
 1024×768, an IBR frame of a 1M-triangle scene from 3 references (at the output's size, and at twice
 it; speed_params) against rasterising the scene itself, camera moving (the reconstruction redone
-every frame) and still (only the selection and the lighting)."""
+every frame) and still (only the selection and the lighting).
+
+Real captures (issue 30): an RGB-D capture generated along a path in the office (9 frames through
+off-centre intrinsics, f_x ≠ f_y, depth with 0.4 % noise and 3 % dropped pixels), frames 0, 4 and 8
+imported as references (captures.frames_to_references), the other six rendered at their own poses
+and scored against their photos over the pixels with depth; beside it, in the same run, the two
+baselines: a plain z-buffered point splat of the same references (every reference pixel projected
+to its nearest target pixel, the nearest depth kept) and the photo of the nearest reference.
+
+Growth (issue 30): the frame time of IBR (camera moving) and of rasterising the scene itself as the
+scene grows to 1M, 4M and 16M triangles, the references captured once per scene."""
 
 from __future__ import annotations
 
@@ -17,6 +27,8 @@ from skimage.metrics import structural_similarity
 
 from illusio.core.context import Context
 from illusio.core.renderer import Frame
+from illusio.ibr.captures import CaptureFrame, Intrinsics, frames_to_references
+from illusio.ibr.reconstruction import unproject
 from illusio.gallery.ibr import showcase_path
 from illusio.ibr.params import IbrParams
 from illusio.ibr.references import capture, orbit_views
@@ -62,7 +74,137 @@ def seam_errors(images, truths, sources, depths) -> tuple[float, float]:
     return float(errors.mean()), float(np.percentile(errors, 99))
 
 
+#: GL camera axes (y up, looking down −z) ↔ a capture's (y down, z forward)
+_FLIP = np.diag([1.0, -1.0, -1.0, 1.0])
+
+
+def point_splat(references, view, size) -> np.ndarray:
+    """The baseline: every pixel of every reference with depth, unprojected to the world and
+    projected into ``view`` at the nearest pixel; the nearest depth wins (z-buffer). Black where
+    nothing lands. (H, W, 3)."""
+    w, h = size
+    colour = np.zeros((h * w, 3), np.float32)
+    best = np.full(h * w, np.inf)
+    for ref in references.views:
+        rw, rh = ref.size
+        ys, xs = np.mgrid[0:rh, 0:rw] + 0.5
+        valid = ref.depth > 0
+        world = unproject(ref.view, (rw, rh), xs[valid], ys[valid], ref.depth[valid])
+        px, depth = view.project(world, size)
+        col, row = np.floor(px[:, 0]).astype(int), np.floor(px[:, 1]).astype(int)
+        inside = (col >= 0) & (col < w) & (row >= 0) & (row < h) & (depth > 0)
+        pixel = row[inside] * w + col[inside]
+        order = np.lexsort((depth[inside], pixel))
+        first = np.r_[True, pixel[order][1:] != pixel[order][:-1]]
+        take, near = pixel[order][first], depth[inside][order][first]
+        closer = near < best[take]
+        best[take[closer]] = near[closer]
+        colour[take[closer]] = ref.colour[valid][inside][order][first][closer]
+    return colour.reshape(h, w, 3)
+
+
+def _masked_psnr(image, photo, mask) -> float:
+    return 10 * np.log10(1.0 / max(float(np.mean((image[mask] - photo[mask]) ** 2)), 1e-12))
+
+
+def rgbd_quality(ctx: Context, quick: bool, ratios: dict) -> None:
+    """The real-capture rows of the module docstring."""
+    size = (160, 120) if quick else (320, 240)
+    w, h = size
+    intrinsics = Intrinsics(w, h, 0.78 * w, 0.84 * w, 0.52 * w, 0.47 * h)
+    scene = builtin_scene("office")
+    base = scene.camera()
+    eye, target = np.array(base.pose.position), np.array(base.pose.target)
+    ahead = target - eye
+    right = np.cross(ahead / np.linalg.norm(ahead), (0, 1, 0))
+    lens = intrinsics.camera(0.05, 30.0)
+    views = [View(Pose(tuple(eye + 0.25 * ahead + (k - 4) * 0.08 * right), tuple(target)), lens) for k in range(9)]
+    recorded = capture(scene, views, size, ctx)
+    rng = np.random.default_rng(3)
+    frames = []
+    for k, (v, ref) in enumerate(zip(views, recorded.views)):
+        d = ref.depth * (1 + rng.normal(0, 0.004, ref.depth.shape))
+        d[rng.random(d.shape) < 0.03] = 0.0
+        pose = np.linalg.inv(v.view_matrix().astype(np.float64)) @ _FLIP
+        frames.append(CaptureFrame(f"frame {k}", np.clip(ref.colour, 0, 1).astype(np.float32),
+                                   np.where(ref.depth > 0, d, 0.0).astype(np.float32), intrinsics, pose))
+    chosen = [0, 4, 8]
+    refs = frames_to_references(frames, chosen)
+    renderer = IbrRenderer(ctx)
+    renderer.prepare(refs)
+    scores = {"ibr": [], "point splat": [], "nearest reference's photo": []}
+    for k in (k for k in range(9) if k not in chosen):
+        view, photo = refs.frames[k]
+        mask = frames[k].depth > 0
+        image = renderer.render(Frame(view, size), IbrParams(relight=False))[..., :3]   # drawn as recorded
+        scores["ibr"].append(_masked_psnr(image, photo, mask))
+        scores["point splat"].append(_masked_psnr(point_splat(refs, view, size), photo, mask))
+        nearest = min(chosen, key=lambda j: abs(j - k))        # along the path, the nearest camera
+        scores["nearest reference's photo"].append(_masked_psnr(frames[nearest].colour, photo, mask))
+    renderer.release()
+    for label, values in scores.items():
+        ratios[f"rgbd capture, held-out frames: {label}: PSNR dB (mean of 6)"] = float(np.mean(values))
+    ibr = float(np.mean(scores["ibr"]))
+    ratios["rgbd capture: ibr - point splat, dB (goal >= 3)"] = ibr - float(np.mean(scores["point splat"]))
+    ratios["rgbd capture: ibr - nearest reference's photo, dB (goal >= 8)"] = ibr - float(np.mean(scores["nearest reference's photo"]))
+
+
+def growth(ctx: Context, repeat: int, quick: bool, timings: list, ratios: dict) -> None:
+    """The growth rows of the module docstring."""
+    size = (256, 192) if quick else SPEED_SIZE
+    counts = {"62k": (176, 177)} if quick else {"1M": (1000, 501), "4M": (2000, 1001), "16M": (4000, 2001)}
+    by = {}
+    for label, (segments, rings) in counts.items():
+        big = turntable(shapes.sphere(1.0, segments, rings))
+        raster, ibr = SceneRenderer(ctx), IbrRenderer(ctx)
+        raster.prepare(big)
+        ibr.prepare(capture(big, orbit_views(big, 3, 0.8), size, ctx))
+        base = big.camera()
+        right = base.pose.axes()[0]
+        step = [0]
+
+        def view_at(k):
+            return View(Pose(tuple(np.asarray(base.pose.position) + right * 0.02 * (k % 20 - 10)), base.pose.target),
+                        base.camera)
+
+        def moving():
+            step[0] += 1
+            ctx.release(ibr.render_texture(Frame(view_at(step[0]), size), speed_params(1)))
+            ctx.finish()
+
+        def rasterise():
+            ctx.release(raster.render_texture(Frame(view_at(0), size), RenderSettings(shadows=False)))
+            ctx.finish()
+
+        triangles = len(big.nodes[0].mesh.faces) + sum(len(n.mesh.faces) for n in big.nodes[1:])
+        note = f"{size[0]}x{size[1]}, {triangles:,} triangles, 3 references"
+        cases = {f"growth/raster {label}": (rasterise, note), f"growth/ibr camera moving {label}": (moving, note)}
+        got = time_interleaved(cases, max(1, min(repeat, 5 if label != "16M" else 3)))
+        timings += got
+        t = {x.name: x.median_ms for x in got}
+        by[label] = (t[f"growth/raster {label}"], t[f"growth/ibr camera moving {label}"])
+        ratios[f"growth, {label} triangles: raster / ibr frame time"] = by[label][0] / by[label][1]
+        raster.release()
+        ibr.release()
+        del big
+    labels = list(by)
+    if len(labels) > 1:
+        first, last = by[labels[0]], by[labels[-1]]
+        ratios[f"growth: raster time {labels[-1]} / {labels[0]}"] = last[0] / first[0]
+        ratios[f"growth: ibr time {labels[-1]} / {labels[0]} (flat: ~1)"] = last[1] / first[1]
+        ratios[f"growth: raster / ibr at {labels[-1]} (goal >= 5 on llvmpipe)"] = last[0] / last[1]
+
+
 def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], dict[str, float]]:
+    timings: list[Timing] = []
+    ratios: dict[str, float] = {}
+    rgbd_quality(ctx, quick, ratios)
+    growth(ctx, repeat, quick, timings, ratios)
+    t, r = _office_and_speed(ctx, repeat, quick)
+    return timings + t, {**ratios, **r}
+
+
+def _office_and_speed(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], dict[str, float]]:
     size = (160, 120) if quick else QUALITY_SIZE
     timings: list[Timing] = []
     ratios: dict[str, float] = {}

@@ -9,12 +9,24 @@ reported beside (an error below it cannot be measured).
 Scale, in one run on the office: the build at the default parameters (elements, links, seconds; the
 ratio to RenderPark's 5.4k elements / 42k links in 0.34 s), a lamp-intensity change re-solved with the
 links kept, the chair moved by the dynamic update and the moved office rebuilt from scratch; then the
-build time over ε from ~2k to ~50k elements, with the exponent of time against elements."""
+build time over ε from ~2k to ~50k elements, with the exponent of time against elements.
+
+Polygon growth (issue 31, clusters): the Cornell box (no blocks) with a scanned mesh from
+../shared/data/models on its floor, from the cow (5.8k triangles) to the Stanford dragon (202k),
+plus the office, the living room, the museum and office3 (MGF): build seconds, peak memory,
+elements and links against the input polygons, at the default ε, each build in a fresh process;
+the exponent of time against polygons, and the scan rooms against n log n. Accuracy against
+Mitsuba adds the living room and a scan room."""
 
 from __future__ import annotations
 
 import dataclasses
+import json
+import os
+import subprocess
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -27,6 +39,30 @@ from illusio.scene import load_scene
 from .runner import Timing
 
 RENDERPARK = {"elements": 5400, "links": 42000, "seconds": 0.34}
+_DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
+MODELS = Path(os.environ.get("ILLUSIO_MODELS", _DATA / "models"))
+MGF = Path(os.environ.get("ILLUSIO_MGF", _DATA / "scenes" / "mgf"))
+#: scanned meshes for the growth table, by triangle count
+SCANS = ("cow.obj", "bunny.off", "rocker-arm.obj", "dragon_vrip_res3.ply", "stanford-bunny.obj", "armadillo.obj",
+         "dragon_vrip_res2.ply")
+
+
+def scan_room(model: str):
+    """The Cornell box without its blocks, ``model`` (a file of MODELS) 0.3 m tall on its floor."""
+    import warnings
+
+    from illusio.scene.mesh import load_mesh
+    from illusio.scene.scene import Node
+    from illusio.scene.transforms import translate
+
+    scene = load_scene("cornell-box")
+    material = scene.nodes[0].material
+    scene.nodes[:] = [n for n in scene.nodes if "block" not in n.name]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")            # the scans' own repairs (unreferenced vertices)
+        mesh = load_mesh(MODELS / model).normalised(0.3)
+    scene.nodes.append(Node("scan", mesh, translate((0.278, 0.0, 0.28)), material))
+    return scene
 
 
 def _seconds(fn) -> tuple[float, object]:
@@ -37,10 +73,12 @@ def _seconds(fn) -> tuple[float, object]:
 
 def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
     cases = {"cornell-box": ((48, 48), 128) if quick else ((128, 128), 4096),
-             "office": ((64, 48), 64) if quick else ((160, 120), 4096)}
+             "office": ((64, 48), 64) if quick else ((160, 120), 4096),
+             "living-room": ((64, 36), 64) if quick else ((160, 90), 2048),
+             "scan room, stanford-bunny (69k triangles)": ((48, 48), 64) if quick else ((128, 128), 2048)}
     renderer = RadiosityRenderer(ctx)
     for name, (size, spp) in cases.items():
-        scene = load_scene(name)
+        scene = scan_room("stanford-bunny.obj") if name.startswith("scan room") else load_scene(name)
         renderer.prepare(scene)
         view = scene.camera("main")
         halves = [render_mitsuba(renderer.polygons, view, size, spp // 2, seed=s) for s in (1, 2)]
@@ -53,10 +91,13 @@ def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
             mask = ~emitter
             s = score(image, reference, mask)
             st = renderer.result().stats
-            ratios[f"{name}, {label} ({st.elements} elements, {st.links} links): mean relative error vs Mitsuba (goal <= 0.05)"] = s.mean_relative_error
+            ratios[f"{name}, {label} ({st.elements} elements, {st.links} links): mean relative error vs Mitsuba"] = s.mean_relative_error
+            ratios[f"{name}, {label}: mean relative error vs Mitsuba over 4x4 blocks (goal <= 0.05)"] = score(
+                image, reference, mask, block=4).mean_relative_error
             ratios[f"{name}, {label}: PSNR dB vs Mitsuba"] = s.psnr
         noise = score(halves[0], halves[1], mask).mean_relative_error / 2
         ratios[f"{name}: the reference's own noise, mean relative ({spp} paths per pixel, {size[0]}x{size[1]})"] = noise
+        ratios[f"{name}: the reference's own noise over 4x4 blocks"] = score(halves[0], halves[1], mask, block=4).mean_relative_error / 2
     renderer.release()
 
 
@@ -107,9 +148,56 @@ def scale(quick: bool, timings: list, ratios: dict) -> None:
     ratios["growth: exponent of build time against elements"] = float(slope)
 
 
+_BUILD_ONE = """
+import json, resource, sys, time
+sys.path.insert(0, {root!r})
+from benchmarks.radiosity import scan_room
+from illusio.radiosity import Radiosity, scene_polygons
+from illusio.scene import load_scene
+label, what = {label!r}, {what!r}
+p = scene_polygons(scan_room(what) if label.startswith("scan") else load_scene(what or label))
+Radiosity(scene_polygons(load_scene("cornell-box"))).build()      # numba's kernels loaded before the clock starts
+t = time.perf_counter()
+sol = Radiosity(p).build()
+s = time.perf_counter() - t
+print(json.dumps(dict(polygons=len(p), seconds=s, elements=sol.stats.elements, links=sol.stats.links,
+                      cluster_links=sol.stats.cluster_links,
+                      gb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6)))
+"""
+
+
+def polygon_growth(quick: bool, timings: list, ratios: dict) -> None:
+    """Each build in a fresh process, so each peak memory is its own (numba compiles from its cache)."""
+    cases = [("office", None), ("office3 (MGF)", str(MGF / "office3.mgf")), ("living-room", None), ("museum", None)]
+    cases += [(f"scan {m}", m) for m in (SCANS[:2] if quick else SCANS)]
+    rows = []
+    root = str(Path(__file__).resolve().parents[1])
+    for label, what in cases:
+        out = subprocess.run([sys.executable, "-c", _BUILD_ONE.format(root=root, label=label, what=what)],
+                             capture_output=True, text=True, check=True)
+        row = json.loads(out.stdout.strip().splitlines()[-1])
+        rows.append((label, row))
+        timings.append(Timing(f"radiosity growth/{label}", 1, row["seconds"] * 1000, row["seconds"] * 1000,
+                              row["seconds"] * 1000, f"{row['polygons']} polygons, {row['elements']} elements, "
+                              f"{row['links']} links ({row['cluster_links']} through clusters), {row['gb']:.2f} GB peak"))
+        for key in ("polygons", "seconds", "elements", "links", "gb"):
+            ratios[f"polygon growth: {label}: {key}"] = row[key]
+    scans = [r for label, r in rows if label.startswith("scan")]
+    n = np.array([r["polygons"] for r in scans], float)
+    t = np.array([r["seconds"] for r in scans])
+    ratios["polygon growth: exponent of build time against polygons (scan rooms)"] = float(np.polyfit(np.log(n), np.log(t), 1)[0])
+    for label, r in rows:
+        if label.startswith("scan"):
+            ratios[f"polygon growth: {label}: seconds / (n log2 n) x 1e6"] = r["seconds"] / (r["polygons"] * np.log2(r["polygons"])) * 1e6
+    biggest = max(scans, key=lambda r: r["polygons"])
+    ratios[f"polygon growth: largest scan room ({biggest['polygons']} polygons): seconds (goal <= 120 on 2 cores)"] = biggest["seconds"]
+    ratios["polygon growth: largest scan room: peak GB (goal <= 8)"] = biggest["gb"]
+
+
 def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], dict[str, float]]:
     timings: list[Timing] = []
     ratios: dict[str, float] = {}
+    polygon_growth(quick, timings, ratios)
     scale(quick, timings, ratios)
     accuracy(ctx, quick, ratios)
     return timings, ratios

@@ -38,7 +38,7 @@ EDITS = {"back lamps off": {"lamp-0": 0.0, "lamp-1": 0.0},
 #: Figure 4.18a: a virtual lamp (centre m, side m, exitance in the session's estimated units) with the
 #: real ones off
 VIRTUAL_LAMP = ((1.0, 2.55, 2.5), 0.5, 40.0)
-FINE = HierarchyParams()                       # the radiosity engine's default: BFV, ε 6e-5
+FINE = HierarchyParams(clusters=False)         # the radiosity engine's default, BFV at ε 6e-5 (relight links all pairs)
 METHODS = {"baseline": RelightParams(method="baseline"),
            "loscos": RelightParams(method="loscos"),
            "loscos without 4.3.1": RelightParams(method="loscos", texture_refinement=False),
@@ -152,7 +152,7 @@ def speed(ctx, ratios, quick: bool) -> list[Timing]:
 
     size, spp = ((80, 60), 8) if quick else ((320, 240), 32)
     real = builtin_real_scene("office", size, spp)
-    params = RelightParams(method="loscos", hierarchy=HierarchyParams(criterion="bf", epsilon=4e-5))
+    params = RelightParams(method="loscos", hierarchy=HierarchyParams(criterion="bf", epsilon=4e-5, clusters=False))
     session = RelightSession(real, params, ctx)
     leaves = session.solution.stats.leaves
     prepare = session.times["prepare"]

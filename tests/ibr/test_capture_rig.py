@@ -65,6 +65,18 @@ def test_camera_indices_and_t_are_checked_and_files_stay_in_the_folder(ctx, tmp_
         code, cap = call_cli(["ibr", "render", str(folder), "-o", str(tmp_path / "x.png"), "--camera", camera], capsys)
         assert code == 2 and message in cap.err and cap.err.count("\n") == 1, (camera, cap.err)
     assert not (tmp_path / "x.png").exists()
+    # --extrapolate lets T leave the pair: the camera on the line through the two, 0.5 past reference 1
+    from illusio.cli.ibr import parse_camera
+
+    a, b = (np.asarray(v.view.pose.position) for v in refs.views)
+    beyond = parse_camera("between:0,1,1.5", refs, extrapolate=True)
+    assert np.allclose(beyond.pose.position, a + 1.5 * (b - a))
+    code, cap = call_cli(["ibr", "render", str(folder), "-o", str(tmp_path / "x.png"), "--camera", "between:0,1,1.5",
+                          "--extrapolate"], capsys)
+    assert code == 0, cap.err
+    code, cap = call_cli(["ibr", "render", str(folder), "-o", str(tmp_path / "y.png"), "--camera", "between:0,1,nan",
+                          "--extrapolate"], capsys)
+    assert code == 2 and "T must be in [0, 1]" in cap.err
     index = folder / "references.json"
     doc = json.loads(index.read_text())
     (tmp_path / "x.npz").write_bytes((folder / "view-0.npz").read_bytes())

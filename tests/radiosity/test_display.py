@@ -116,6 +116,7 @@ def test_command(tmp_path, capsys):
 @pytest.mark.parametrize("args, message", [
     (["--set-lamp", "lamp-9=1"], "no lamp named"),
     (["--set-lamp", "lamp"], "NAME=SCALE"),
+    (["--set-lamp", "lamp=inf"], "finite SCALE"),          # not "image holds NaN values" later
     (["--criterion", "bff"], "criterion"),
     (["--epsilon", "0"], "--epsilon = 0 is out of range"),
     (["--show", "wires"], "show"),
@@ -241,3 +242,19 @@ def test_a_solution_with_no_leaf_shown_draws_black(ctx):
     finally:
         ctx.release(colour, element)
         display.release()
+
+
+def test_block_score_averages_pixel_noise_out(rng):
+    """score(block=4): a 30 % bias reads 0.3 at any block size; 20 % per-pixel noise reads ~0.16
+    per pixel and under 0.05 over 4×4 blocks; a square partly outside the mask is not scored."""
+    from illusio.radiosity.mitsuba import score
+
+    truth = np.full((64, 64, 3), 0.5)
+    noisy = truth * (1 + 0.2 * rng.standard_normal((64, 64, 1)))
+    assert score(truth * 1.3, truth).mean_relative_error == pytest.approx(0.3)
+    assert score(truth * 1.3, truth, block=4).mean_relative_error == pytest.approx(0.3)
+    assert score(noisy, truth).mean_relative_error > 0.14
+    assert score(noisy, truth, block=4).mean_relative_error < 0.05
+    mask = np.ones((64, 64), bool)
+    mask[0, 0] = False
+    assert score(noisy, truth, mask, block=4).pixels == 16 * 16 - 1

@@ -1,6 +1,8 @@
 """Relighting, first landing (Loscos 4.2.1–4.2.2): the estimates of eqs. (4.1) and (4.2), the
 display of eq. (4.3) reproducing the photograph, and the baseline's limitation measured."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -9,7 +11,7 @@ from illusio.core.images import read_image
 from illusio.relight import RealScene, RelightSession
 from illusio.relight import estimate
 from tests.conftest import call_cli
-from tests.relight.conftest import prepared
+from tests.relight.conftest import COARSE, prepared
 
 
 
@@ -78,6 +80,10 @@ def test_a_bad_real_scene_is_refused():
         RealScene(p, view, np.zeros((4, 4, 3)))
     with pytest.raises(InputError, match="non-finite"):
         RealScene(p, view, np.full((16, 16, 3), np.nan))
+    negative = np.full((16, 16, 3), 0.5, np.float32)
+    negative[3, 5, 1] = -0.01
+    with pytest.raises(InputError, match="negative values .first at pixel x=5, y=3"):
+        RealScene(p, view, negative)
 
 
 def test_command(tmp_path, capsys):
@@ -91,6 +97,8 @@ def test_command(tmp_path, capsys):
     assert relit.mean() < photo.mean()                       # lamp-0 off: darker than the photograph
     code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--set", "lamp-7=0"], capsys)
     assert code == 2 and "no lamp named" in cap.err
+    code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--set", "lamp-0=inf"], capsys)
+    assert code == 2 and "--set takes NAME=SCALE with a finite SCALE" in cap.err     # refused when parsed
     # prepare once, then edit from the saved session: the same image as preparing in the same command
     saved = tmp_path / "office.npz"
     code, cap = call_cli(["relight", "prepare", "office", "-o", str(saved), "--size", "64x48", "--samples", "8",
@@ -232,3 +240,42 @@ def test_session_image_matches_its_reference(ctx, photograph, method, rng):
     assert inner.mean() > 0.1
     np.testing.assert_allclose(got[inner], want[inner], rtol=5e-3, atol=1e-4)   # rasterised vs ray-cast points
     s.release()
+
+
+def _triangulated(polygons):
+    """Every quad of ``polygons`` cut along its 0–2 diagonal into two triangles."""
+    from illusio.radiosity import Polygons
+
+    c, quad = polygons.corners, ~polygons.triangle
+    first = np.stack([c[:, 0], c[:, 1], c[:, 2], c[:, 2]], axis=1)
+    second = np.stack([c[:, 0], c[:, 2], c[:, 3], c[:, 3]], axis=1)[quad]
+    rows = np.r_[np.arange(len(polygons)), np.flatnonzero(quad)]
+    return Polygons(np.concatenate([np.where(quad[:, None, None], first, c), second]), np.ones(len(rows), bool),
+                    polygons.reflectance[rows], polygons.exitance[rows], polygons.group[rows], polygons.names,
+                    polygons.lamps)
+
+
+def test_relighting_the_triangulated_office_matches_the_quad_office(ctx, photograph):
+    """The office with every quad split in two, relit (lamp-0 off), scored against the path-traced
+    truth over 4×4 blocks (the 16-path photograph's noise averaged out): the baseline as the quads
+    (measured 0.082 against 0.083); loscos at most 25 % above the quads (measured 0.122–0.145
+    against 0.120–0.126 over seeds 0–2: the loscos gap on triangles is open, issue 33's rework)."""
+    from illusio.radiosity.mitsuba import render_mitsuba, score
+
+    p = photograph.polygons
+    off = np.array([0.0 if n == "lamp-0" else 1.0 for n in p.names])[p.group]
+    truth = render_mitsuba(dataclasses.replace(p, exitance=p.exitance * off[:, None]), photograph.view, (96, 72), 256,
+                           seed=5)
+    blocks = lambda a: a.reshape(18, 4, 24, 4, -1).mean(axis=(1, 3))      # noqa: E731
+    triangles = RealScene(_triangulated(p), photograph.view, photograph.photograph)
+    error = {}
+    for method in ("baseline", "loscos"):
+        for label, real in (("quads", photograph), ("triangles", triangles)):
+            s = RelightSession(real, dataclasses.replace(COARSE, method=method), ctx)
+            try:
+                whole = blocks((s.pixel_polygon >= 0).astype(float)[..., None])[..., 0] == 1
+                error[method, label] = score(blocks(s.image({"lamp-0": 0.0})), blocks(truth), whole).mean_relative_error
+            finally:
+                s.release()
+    assert error["baseline", "triangles"] < 1.03 * error["baseline", "quads"], error
+    assert error["loscos", "triangles"] < 1.25 * error["loscos", "quads"], error

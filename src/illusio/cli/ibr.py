@@ -3,6 +3,8 @@ from them."""
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import replace
 from pathlib import Path
 
@@ -112,8 +114,9 @@ def import_command(
     typer.echo(f"wrote {output} ({len(chosen)} references of {count} frames, {w}×{h}: frames {','.join(map(str, chosen))})")
 
 
-def parse_camera(text: str, refs):
-    """``ref:K``, ``between:I,J[,T]`` or ``x,y,z:x,y,z`` → a View (the lens of the first reference)."""
+def parse_camera(text: str, refs, extrapolate: bool = False):
+    """``ref:K``, ``frame:K``, ``between:I,J[,T]`` or ``x,y,z:x,y,z`` → a View (the lens of the first
+    reference). T is in [0, 1] unless ``extrapolate`` (beyond the pair, on the line through it)."""
     from ..scene.camera import Pose, View
 
     lens = refs.views[0].view.camera
@@ -140,8 +143,9 @@ def parse_camera(text: str, refs):
             if len(parts) not in (2, 3):
                 raise ValueError
             i, j, t = index(parts[0]), index(parts[1]), (float(parts[2]) if len(parts) > 2 else 0.5)
-            if not 0.0 <= t <= 1.0:       # beyond the pair is extrapolation, not "between"
-                raise InputError(f"--camera {text}: T must be in [0, 1] (0 at reference {i}, 1 at {j}), got {t:g}")
+            if not (0.0 <= t <= 1.0 or extrapolate and math.isfinite(t)):   # beyond the pair is extrapolation
+                raise InputError(f"--camera {text}: T must be in [0, 1] (0 at reference {i}, 1 at {j}), got {t:g}; "
+                                 "--extrapolate allows a T outside")
             a, b = refs.views[i].view.pose, refs.views[j].view.pose
             mix = lambda p, q: tuple((1 - t) * np.asarray(p) + t * np.asarray(q))  # noqa: E731
             return View(Pose(mix(a.position, b.position), mix(a.target, b.target), a.up), refs.views[i].view.camera)
@@ -170,6 +174,8 @@ def render_command(
     fps: float = typer.Option(12.0, "--fps", help="frames a second along --path"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT (default: the references')"),
     ground_truth: str = typer.Option(None, "--ground-truth", help="render this scene from the same camera instead"),
+    extrapolate: bool = typer.Option(False, "--extrapolate/--no-extrapolate", help="between:I,J,T may take T outside [0, 1] (a "
+                                     "camera beyond the pair: what the references did not see is left black)"),
     *,
     params: IbrParams,
 ) -> None:
@@ -200,7 +206,7 @@ def render_command(
         lens = refs.views[0].view.camera
         views = [walk.view(k / fps, lens) for k in range(int(walk.duration * fps) + 1)]
     else:
-        views = [parse_camera(camera, refs)]
+        views = [parse_camera(camera, refs, extrapolate)]
     w, h = parse_size(size) if size else refs.views[0].size
     ctx = Context()
     if ground_truth:

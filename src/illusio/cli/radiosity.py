@@ -16,8 +16,8 @@ from .params_options import params_options
 
 
 
-def parse_lamps(values: list[str]) -> tuple:
-    """['lamp-0=0.5', ...] -> (('lamp-0', 0.5), ...)."""
+def parse_lamps(values: list[str], flag: str = "--set-lamp") -> tuple:
+    """['lamp-0=0.5', ...] -> (('lamp-0', 0.5), ...); a scale must be finite and ≥ 0."""
     out = []
     for text in values or ():
         name, sep, value = text.partition("=")
@@ -25,8 +25,8 @@ def parse_lamps(values: list[str]) -> tuple:
             scale = float(value)
         except ValueError:
             scale = -1.0
-        if not sep or not name or not scale >= 0:
-            raise InputError(f"--set-lamp takes NAME=SCALE with SCALE ≥ 0, got {text!r}")
+        if not sep or not name or not 0 <= scale < float("inf"):
+            raise InputError(f"{flag} takes NAME=SCALE with a finite SCALE ≥ 0, got {text!r}")
         out.append((name, scale))
     return tuple(out)
 

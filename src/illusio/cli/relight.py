@@ -113,7 +113,7 @@ def relight(
         raise InputError(f"--samples must be in 1..65536, got {samples}")
     if show not in SHOW:
         raise InputError(f"--show must be one of {', '.join(SHOW)}, got {show!r}{did_you_mean(show, SHOW)}")
-    scales = dict(parse_lamps(set_lamp))
+    scales = dict(parse_lamps(set_lamp, "--set"))
     lamps = [_parse_lamp(t) for t in add_lamp or ()]           # every option checked before the photograph
     objects = [_parse_object(t) for t in add_object or ()]
     if saved:

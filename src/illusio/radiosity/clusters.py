@@ -9,22 +9,26 @@ or a cluster (encoded −1 − c); links with a cluster at either end are :class
 What a cluster carries (the isotropic-cluster model of Sillion 1995, with the mean normal of
 Smits et al.): its area A (the members' total), box, centre, and the area-weighted mean normal
 N̄ = Σ A_k n_k / A (|N̄| = 1 for a flat cluster, 0 for a closed object). Toward a unit direction d a
-node's mean cosine is taken as
+source node's mean cosine is taken as
 
     c(d) = max(N̄·d, 0) + (1 − |N̄|)/4
 
 exact for a flat cluster (and for an element, c = max(n·d, 0)) and for a sphere (1/4, the mean of
-max(cos, 0) over all directions). A link from node j to node i with centres r apart carries
+max(cos, 0) over all directions). A link from node j to node i with centres r apart, d the unit
+vector from i toward j, carries the irradiance normal to d
 
-    H_i = G_ij · V_ij · P_j,   G_ij = c_i(d) · c_j(−d) / (π r² + A_j),   P_j = Σ_{k ∈ j} A_k B_k
+    E_ij = G_ij · V_ij · P_j,   G_ij = c_j(−d) / (π r² + A_j),   P_j = Σ_{k ∈ j} A_k B_k
 
-the irradiance (W/m²) a member of i receives from j's power P_j (W) radiating as c_j/π per unit
-area and solid angle (the point-to-disk factor of formfactor.point_to_disk with A_j·cos θ_j replaced
-by A_j·c_j). A receiving cluster's irradiance goes to each of its members alike (the push); a
-source cluster's power is pulled from its members' B at every gather, so a member taken out of its
+(W/m²; j's power P_j radiating c_j/π per unit area and solid angle: the point-to-disk factor of
+formfactor.point_to_disk with A_j·cos θ_j replaced by A_j·c_j). An element receiver gains
+max(n_i·d, 0)·E_ij (folded into its G). A cluster receiver keeps, per channel, the moments of what
+arrives — Σ E, Σ E·d, Σ E·d dᵀ — and each member k gains Σ E_l·f(n_k·d_l) over the links of every
+cluster above it, f(x) = 3/32 + x/2 + 15/32·x² the clamped cosine to order 2 (exact for light from
+one hemisphere or from all around, linear in the light: :func:`member_irradiance`). A source
+cluster's power is pulled from its members' B at every gather, so a member taken out of its
 cluster (an object moved or removed) stops counting at once. V_ij is the clear fraction of rays
-between random points of the two nodes (area-weighted over a cluster's members), counting only rays
-that leave the front of one surface and reach the front of the other.
+between random points of the two nodes (area-weighted over a cluster's members), counting only
+rays that leave the front of one surface and reach the front of the other.
 
 Refinement (:func:`refine_nodes`), with the conservative bound on what a link can carry,
 

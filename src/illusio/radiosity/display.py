@@ -5,7 +5,7 @@ and the links an element receives as lines (shaders/links.glsl). The reference i
 Smooth display (the chapter's, radiosity interpolated from the vertices): the radiosity at each leaf
 corner is gathered at that point, B(x) = E + ρ·Σ F_x→j·V_ij·B_j over the links the leaf and its
 ancestors receive, with the exact point-to-polygon form factor at x and the link's visibility; the
-values of the leaves of one polygon meeting at a point are averaged, leaves that see nothing (under a
+values of the leaves of one surface (Polygons.surfaces: polygons sharing edges in one plane) meeting at a point are averaged, leaves that see nothing (under a
 block, behind a door) all but left out so their black does not bleed out. (The usual mean of the
 neighbouring elements' B flattens every gradient toward a polygon's border: on the Cornell box's
 back wall it renders the direct light 2.8 % too dark where the element values themselves are within
@@ -135,15 +135,15 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
                      exitance: np.ndarray | None = None, gather=None, shown: np.ndarray | None = None) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3): gathered at the corners (with ``links`` and
     ``exitance``; by ``gather``, a CornerGather that keeps its form factors between calls, when
-    given) or each leaf's own B, then averaged over the leaves of the same polygon sharing that
-    corner point. ``shown`` (mask over the elements, optional): the leaves whose pixels will be
+    given) or each leaf's own B, then averaged over the leaves of the same surface sharing that
+    corner point (``Polygons.surfaces``: a wall cut into triangles is smoothed as one). ``shown`` (mask over the elements, optional): the leaves whose pixels will be
     displayed; only they and the leaves sharing a corner point with them are gathered (every corner
     of a shown leaf is then exact), the others keep their own B: a view that sees part of a room
     pays for that part."""
     corners = h.corners[leaves]                                     # (n, 4, 3)
     extent = max(float(np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max()), 1e-9)
     q = np.round(corners / (1e-7 * extent)).astype(np.int64)
-    key = np.c_[np.repeat(h.polygon[leaves], 4), q.reshape(-1, 3)]
+    key = np.c_[np.repeat(h.polygons.surfaces()[h.polygon[leaves]], 4), q.reshape(-1, 3)]
     corner_of_tri = np.tile([True, True, True, False], len(leaves)) | ~np.repeat(h.triangle[leaves], 4)
     vertex = corner_ids(key)
     if links is not None and gather is None:

@@ -73,10 +73,22 @@ class Score:
     pixels: int
 
 
-def score(render: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None, floor: float = 0.01) -> Score:
+def score(render: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None, floor: float = 0.01,
+          block: int = 1) -> Score:
     """Score ``render`` against ``reference`` (both radiance, same exposure) over ``mask`` (e.g. the
     non-emitter geometry), leaving out pixels darker than ``floor`` × the reference's mean (a
-    relative error of near-black is noise)."""
+    relative error of near-black is noise). ``block``: both images first averaged over block×block
+    pixel squares (a square scored when wholly inside the mask), so a path tracer's per-pixel noise
+    mostly averages out (the image is cropped to whole squares)."""
+    if block > 1:
+        h, w = (np.shape(reference)[0] // block) * block, (np.shape(reference)[1] // block) * block
+
+        def squares(a):
+            a = np.asarray(a, np.float64)[:h, :w]
+            return a.reshape(h // block, block, w // block, block, *a.shape[2:]).mean(axis=(1, 3))
+
+        whole = None if mask is None else squares(np.asarray(mask, np.float64)) == 1.0
+        return score(squares(np.asarray(render)[..., :3]), squares(np.asarray(reference)[..., :3]), whole, floor)
     r = np.asarray(render, np.float64)[..., :3].mean(axis=2)
     m = np.asarray(reference, np.float64)[..., :3].mean(axis=2)
     keep = np.ones(m.shape, bool) if mask is None else np.asarray(mask, bool)

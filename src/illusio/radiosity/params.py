@@ -69,8 +69,8 @@ class RadiosityParams:
     def __post_init__(self):
         check_ranges(self)
         for pair in self.lamp_scales:
-            if len(pair) != 2 or not isinstance(pair[0], str) or not float(pair[1]) >= 0:
-                raise InputError(f"lamp_scales takes (name, factor ≥ 0) pairs, got {pair!r}")
+            if len(pair) != 2 or not isinstance(pair[0], str) or not 0 <= float(pair[1]) < float("inf"):
+                raise InputError(f"lamp_scales takes (name, finite factor ≥ 0) pairs, got {pair!r}")
 
     def scale_of(self, name: str) -> float:
         return float(dict(self.lamp_scales).get(name, 1.0))

@@ -100,6 +100,50 @@ class Polygons:
     def emitters(self) -> np.ndarray:
         return np.flatnonzero(self.exitance.max(axis=1) > 0)
 
+    def normals(self) -> np.ndarray:
+        """Unit front normals (n, 3): the diagonals' cross product of a quad, the edges' of a triangle."""
+        c = self.corners
+        n = np.where(self.triangle[:, None], np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]),
+                     np.cross(c[:, 2] - c[:, 0], c[:, 3] - c[:, 1]))
+        return n / np.linalg.norm(n, axis=1, keepdims=True)
+
+    def surfaces(self, degrees: float = 1.0) -> np.ndarray:
+        """A surface id per polygon (n,) int: polygons joined by a shared edge (both end points equal
+        within 10⁻⁷ of the scene's extent) whose normals agree within ``degrees`` are one surface — a
+        wall cut into triangles, a quad split in two. What relighting calls neighbours and the display
+        smooths over is a surface, so a triangulated model behaves as its quads would. (A T-junction, an edge meeting another's
+        middle, does not join.) Kept once computed: the polygons do not change."""
+        cached = getattr(self, "_surfaces", None)
+        if cached is not None and cached[0] == degrees:
+            return cached[1]
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import connected_components
+
+        n = len(self)
+        extent = max(float(np.ptp(self.corners.reshape(-1, 3), axis=0).max()), 1e-9) if n else 1.0
+        q = np.round(self.corners / (1e-7 * extent)).astype(np.int64)               # (n, 4, 3)
+        edges, owner = [], []
+        for k in range(4):                  # a triangle's corner 3 repeats corner 2: its edge 2–3 is a point
+            a, b = q[:, k], q[:, (k + 1) % 4]
+            diff = a - b
+            real = np.flatnonzero(np.any(diff != 0, axis=1))
+            first = np.argmax(diff[real] != 0, axis=1)
+            swap = (diff[real, first] > 0)[:, None]          # each edge with its lexicographically smaller end first
+            edges.append(np.c_[np.where(swap, b[real], a[real]), np.where(swap, a[real], b[real])])
+            owner.append(real)
+        edges, owner = np.concatenate(edges), np.concatenate(owner)
+        order = np.lexsort(edges.T[::-1])
+        edges, owner = edges[order], owner[order]
+        same = np.all(edges[1:] == edges[:-1], axis=1)
+        a, b = owner[:-1][same], owner[1:][same]
+        normal = self.normals()
+        # sharing an edge, two polygons whose normals agree lie in one plane (the edge is in both)
+        flat = np.einsum("ij,ij->i", normal[a], normal[b]) > np.cos(np.radians(degrees))
+        graph = coo_matrix((np.ones(int(flat.sum())), (a[flat], b[flat])), shape=(n, n))
+        surface = connected_components(graph, directed=False)[1] if n else np.zeros(0, np.int64)
+        self._surfaces = (degrees, surface)
+        return surface
+
     def triangles(self) -> tuple[np.ndarray, np.ndarray]:
         """(vertices (m, 3) float32, faces (k, 3) int32): every polygon as one or two triangles."""
         quads = ~self.triangle

@@ -303,6 +303,8 @@ class Radiosity:
                              f"lamps: {', '.join(self.lamp_names) or 'none'}")
         new = np.ones(len(self.polygons.names))
         for name, value in scales.items():
+            if not 0 <= float(value) < float("inf"):
+                raise InputError(f"lamp {name!r}: a scale must be finite and ≥ 0, got {value!r}")
             new[self.polygons.names.index(name)] = float(value)
         return new
 

@@ -67,5 +67,8 @@ class RelightParams:
         if self.hierarchy.clusters or self.final_hierarchy.clusters:
             raise InputError("relighting reads element links (shadow masks, frontier): its solutions take "
                              "clusters=False (--no-clusters)")
+        for pair in self.lamp_scales:
+            if len(pair) != 2 or not isinstance(pair[0], str) or not 0 <= float(pair[1]) < float("inf"):
+                raise InputError(f"lamp_scales takes (name, finite factor ≥ 0) pairs, got {pair!r}")
         if self.fresh_solution and self.method != "loscos":
             raise InputError(f"the fresh solution of 4.3.3 follows the loscos textures; method is {self.method!r}")

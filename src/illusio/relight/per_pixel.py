@@ -3,6 +3,10 @@ element). At the surface point x seen through each pixel, with normal n_x:
 
     H_s(x) = F_x→s · V_x→s · B_s          direct irradiance from lamp s (exact point-to-polygon F,
                                           V from rays to the lamp, B_s its radiosity)
+
+A lamp is one-sided: x in the half-space behind its plane receives nothing from it, and V counts
+only the rays to lamp points above x's tangent plane (the contour integral is taken in absolute
+value, so without the first test the ceiling was lit by the backs of lamps facing down).
     I(x)                                  the indirect irradiance of the radiosity solution (per leaf)
 
 and the relit image is the photograph scaled by the change of the irradiance at x,
@@ -39,11 +43,7 @@ def surface_points(polygons, view, size):
     prim = np.asarray(hit["primID"])
     polygon = np.where(prim >= 0, face_polygon[np.maximum(prim, 0)], -1)
     points = origin + directions * np.where(prim >= 0, np.asarray(hit["tfar"], np.float64), 0)[:, None]
-    c = polygons.corners
-    n = np.cross(c[:, 2] - c[:, 0], c[:, 3] - c[:, 1])
-    n_tri = np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0])
-    n = np.where(polygons.triangle[:, None], n_tri, n)
-    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    n = polygons.normals()
     normals = np.where(polygon[:, None] >= 0, n[np.maximum(polygon, 0)], 0.0)
     return points.reshape(h, w, 3), normals.reshape(h, w, 3), polygon.reshape(h, w)
 
@@ -66,9 +66,11 @@ def lamp_irradiance(polygons, lamp_rows: np.ndarray, exitance: np.ndarray, point
     start = x + n * 1e-5 * extent
     out = np.zeros((len(x), len(lamp_rows), 3))
     free = np.zeros_like(out)
+    lamp_normal = polygons.normals()[lamp_rows]
     for k, row in enumerate(lamp_rows):
         corners = np.repeat(polygons.corners[row][None], len(x), axis=0)
-        f = point_polygon(x[:, None], n, corners, np.repeat(polygons.triangle[row], len(x)))
+        in_front = (x - polygons.corners[row].mean(axis=0)) @ lamp_normal[k] > 0
+        f = point_polygon(x[:, None], n, corners, np.repeat(polygons.triangle[row], len(x))) * in_front
         uv = rng.random((len(x), samples, 2))
         c = polygons.corners[row]
         u, v = uv[..., :1], uv[..., 1:]
@@ -78,7 +80,8 @@ def lamp_irradiance(polygons, lamp_rows: np.ndarray, exitance: np.ndarray, point
         hit = scene.run(np.repeat(start, samples, axis=0).astype(np.float32),
                         (d / length[..., None]).reshape(-1, 3).astype(np.float32),
                         dists=(length.reshape(-1) * (1 - 1e-4)).astype(np.float32), query="OCCLUDED")
-        visible = (np.asarray(hit).reshape(len(x), samples) < 0).mean(axis=1)
+        above = (d * n[:, None]).sum(axis=2) > 0
+        visible = ((np.asarray(hit).reshape(len(x), samples) < 0) & above).mean(axis=1)
         out[:, k] = (f * visible)[:, None] * exitance[k]
         free[:, k] = f[:, None] * exitance[k]
     return (out, free) if unoccluded else out

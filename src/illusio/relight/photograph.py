@@ -38,6 +38,10 @@ class RealScene:
             raise InputError(f"the photograph must be an H×W×3 image of at least 8×8 pixels, got shape {photo.shape}")
         if not np.isfinite(photo).all():
             raise InputError("the photograph has non-finite pixels")
+        if (photo[..., :3] < 0).any():
+            y, x = np.argwhere((photo[..., :3] < 0).any(axis=2))[0]
+            raise InputError(f"the photograph has negative values (first at pixel x={x}, y={y}): it must be "
+                             "radiance ≥ 0, linear")
         self.photograph = photo[..., :3]
         if not self.polygons.lamps:
             raise InputError("the real scene has no lamp: relighting estimates the lamps' exitance")

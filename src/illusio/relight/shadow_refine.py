@@ -4,7 +4,7 @@ The initial mesh (a coarse BF refinement, Figure 4.6a) does not follow the shado
 shows; the texture work of 4.3.2 is per leaf, so a leaf that straddles a shadow edge keeps half a
 shadow. This pass splits leaves where the photograph's colours and the lamps' visibility disagree:
 
-for each leaf i seen by the photograph and each touching leaf n of the same polygon,
+for each leaf i seen by the photograph and each touching leaf n of the same surface (textures.neighbours),
 - colours similar (eq. 4.4 distance < ``colour_threshold``) but visibility from the lamps different
   → split i (case 1: a shadow edge the mesh does not follow yet);
 - colours different but visibility similar → split i (case 2: the rays may have missed it);

@@ -5,7 +5,8 @@ Per leaf (every link from a lamp ends at a leaf, ``lights_to_leaves``):
 - eq. (4.5): the blocked irradiance Ē_i = Σ_s F_is (1 − V_is) B_s over the lamps s;
 - eq. (4.6): T_inter = (B_i + ρ_i Ē_i) / D_i^orig × T_orig, D_i^orig = B_i;
 - the frontier: leaves lit by every lamp (all lamp links VISIBLE), seen by the camera, next to a
-  leaf in shadow (a lamp link PARTIAL or INVISIBLE) of the same polygon;
+  leaf in shadow (a lamp link PARTIAL or INVISIBLE) of the same surface (input polygons joined by
+  shared edges in one plane: a triangulated model's neighbourhoods cross its triangles);
 - Figure 4.11: each shadowed leaf's reference is the nearest frontier leaf of the same object whose
   colour (its reflectance in CIE L*a*b*, eq. 4.4) is within ``colour_threshold``; without one, the
   nearest frontier leaf of the object (the chapter asks the user for a default element); without
@@ -56,14 +57,15 @@ def lamp_transfer(h, links, leaves: np.ndarray):
 
 
 def neighbours(h, leaves: np.ndarray) -> list[np.ndarray]:
-    """For each leaf, the rows of the leaves of the same polygon that touch it (their boxes meet
-    within 10⁻⁶ of the scene's extent): edge and corner neighbours, a small leaf beside a large one
-    included (a T-junction shares no corner point)."""
+    """For each leaf, the rows of the leaves of the same surface (``Polygons.surfaces``: input
+    polygons joined by shared edges in one plane, so a triangulated wall is one) that touch it (their
+    boxes meet within 10⁻⁶ of the scene's extent): edge and corner neighbours, a small leaf beside a
+    large one included (a T-junction shares no corner point)."""
     extent = max(float(np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max()), 1e-9)
     tol = 1e-6 * extent
     c = h.corners[leaves]
     lo, hi = c.min(axis=1) - tol, c.max(axis=1) + tol
-    polygon = h.polygon[leaves]
+    polygon = h.polygons.surfaces()[h.polygon[leaves]]
     out: list[np.ndarray] = [np.zeros(0, np.int64)] * len(leaves)
     order = np.argsort(polygon, kind="stable")
     starts = np.flatnonzero(np.r_[True, polygon[order][1:] != polygon[order][:-1]])

@@ -1,0 +1,53 @@
+"""Surfaces: input polygons joined across shared edges in one plane (Polygons.surfaces), what
+relighting's neighbourhoods and the display's smoothing run over, so a triangulated model behaves
+as its quads would."""
+
+import numpy as np
+
+from illusio.radiosity import Polygons, scene_polygons
+from illusio.radiosity.hierarchy import Hierarchy
+from illusio.relight.textures import neighbours
+from illusio.scene import load_scene
+from tests.relight.test_relight import _triangulated
+
+
+def test_a_triangulated_model_has_the_surfaces_of_its_quads():
+    quads = scene_polygons(load_scene("office"))
+    tris = _triangulated(quads)
+    assert len(tris) > len(quads)
+    s = tris.surfaces()
+    assert len(np.unique(s)) == len(np.unique(quads.surfaces())) == len(quads)
+    quad = ~quads.triangle
+    assert np.array_equal(s[:len(quads)][quad], s[len(quads):])          # the two halves of each quad
+
+
+def test_only_flat_neighbours_join():
+    def fold(degrees):
+        a = np.radians(degrees)
+        flat = [[0, 0, 0], [1, 0, 0], [1, 0, -1], [0, 0, -1]]                   # facing +y
+        bent = [[1, 0, 0], [2, np.sin(a), 0], [2, np.sin(a), -1], [1, 0, -1]]   # shares the edge x = 1
+        return Polygons(np.array([flat, bent], float), np.zeros(2, bool), np.full((2, 3), 0.5), np.zeros((2, 3)),
+                        [0, 0], ["sheet"])
+    assert len(np.unique(fold(0.5).surfaces())) == 1
+    assert len(np.unique(fold(2.0).surfaces())) == 2
+    apart = fold(0.0)
+    apart.corners[1] += (0.001, 0, 0)                                          # no shared edge
+    assert len(np.unique(Polygons(apart.corners, apart.triangle, apart.reflectance, apart.exitance, apart.group,
+                                  apart.names).surfaces())) == 2
+
+
+def test_neighbours_cross_the_diagonal_of_a_split_quad():
+    """A leaf touching the cut of a split wall has neighbours in the other triangle."""
+    quads = scene_polygons(load_scene("cornell-box"))
+    tris = _triangulated(quads)
+    h = Hierarchy(tris)
+    wall = quads.names.index("back-wall")
+    halves = np.flatnonzero(tris.group == wall)
+    assert len(halves) == 2
+    h.subdivide(halves)
+    leaves = h.leaves()
+    near = neighbours(h, leaves)
+    row = {int(e): k for k, e in enumerate(leaves)}
+    first = [e for e in leaves if h.polygon[e] == halves[0]]
+    crossing = [e for e in first if any(h.polygon[leaves[n]] == halves[1] for n in near[row[int(e)]])]
+    assert len(crossing) >= 2                                            # the leaves along the cut
