@@ -34,6 +34,21 @@ def test_readme_lists_commands():
     assert len(readme_commands()) >= 25
 
 
+#: commands whose first argument is a folder they write
+FOLDER_WRITERS = (("relight", "example"),)
+
+
+def folders_written(argv) -> set:
+    """The folders earlier README lines write as their first argument (FOLDER_WRITERS)."""
+    out = set()
+    for line in readme_commands():
+        if line == argv:
+            break
+        if tuple(line[:2]) in FOLDER_WRITERS:
+            out.add(line[2])
+    return out
+
+
 @pytest.mark.parametrize("argv", readme_commands(), ids=lambda a: " ".join(a)[:60])
 def test_readme_command_parses(argv):
     command, name, rest = resolve(expand(argv))
@@ -45,7 +60,8 @@ def test_readme_command_parses(argv):
         written |= {line[k + 1] for k, w in enumerate(line[:-1]) if w in OUTPUTS}
     words = expand(argv)
     for k, word in enumerate(words):
-        if word.endswith(SUFFIXES) and not (k and words[k - 1] in OUTPUTS) and word not in written:
+        inside_written = any(word.startswith(w.rstrip("/") + "/") for w in written | folders_written(argv))
+        if word.endswith(SUFFIXES) and not (k and words[k - 1] in OUTPUTS) and word not in written and not inside_written:
             assert (ROOT / word).exists(), f"{' '.join(argv)}: {word} does not exist"
 
 
@@ -69,12 +85,36 @@ def test_readme_command_runs_as_written(argv, tmp_path, monkeypatch, capsys):
         pytest.importorskip("mitsuba", reason="path-traced by Mitsuba (photo extra)")
     (tmp_path / "examples").symlink_to(ROOT / "examples")
     monkeypatch.chdir(tmp_path)
+    for earlier in prerequisites(argv):           # the lines that write what this one reads, first
+        code, out = call_cli(earlier, capsys)
+        assert code == 0, (earlier, out.err)
     code, out = call_cli(argv, capsys)
     assert code == 0, out.err
     words = expand(argv)
     for k, word in enumerate(words[:-1]):
         if word in ("-o", "--output", "--out"):
             assert (tmp_path / words[k + 1]).exists()
+
+
+def _writes(line) -> set:
+    words = expand(line)
+    out = {words[k + 1] for k, w in enumerate(words[:-1]) if w in OUTPUTS}
+    return out | ({line[2]} if tuple(line[:2]) in FOLDER_WRITERS else set())
+
+
+def prerequisites(argv) -> list:
+    """The earlier README lines whose outputs ``argv`` reads (and theirs), in README order."""
+    lines = readme_commands()
+    before = lines[:lines.index(argv)]
+    needed, wanted = [], set(expand(argv))
+    for line in reversed(before):
+        made = _writes(line)
+        # a file it reads, one inside a folder it reads, or in a folder a line wrote
+        if any(w == m or w.startswith(m.rstrip("/") + "/") or m.startswith(w.rstrip("/") + "/")
+               for w in wanted for m in made):
+            needed.append(line)
+            wanted |= set(expand(line))
+    return needed[::-1]
 
 
 def test_readme_names_the_system_packages_setup_installs():

@@ -48,6 +48,8 @@ app.command("radiosity")(radiosity.radiosity)
 app.command("batch")(batch.batch)
 app.command("relight")(relight.relight)
 app.command("relight-prepare", hidden=True)(relight.relight_prepare)
+app.command("relight-calibrate", hidden=True)(relight.relight_calibrate)
+app.command("relight-example", hidden=True)(relight.relight_example)
 
 
 
@@ -89,8 +91,10 @@ def _tidy(typer_app: typer.Typer) -> None:
 
 _tidy(app)
 
-#: two-word commands that are not groups: ``illusio relight prepare`` runs ``relight-prepare``
-ALIASES = {("relight", "prepare"): "relight-prepare"}
+#: two-word commands that are not groups: ``illusio relight prepare`` runs ``relight-prepare``,
+#: ``illusio relight calibrate`` ``relight-calibrate``, ``illusio relight example`` ``relight-example``
+ALIASES = {("relight", "prepare"): "relight-prepare", ("relight", "calibrate"): "relight-calibrate",
+           ("relight", "example"): "relight-example"}
 
 
 def expand(argv: list[str]) -> list[str]:

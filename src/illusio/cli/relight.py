@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import typer
 
 from ..core.errors import InputError, did_you_mean
@@ -137,3 +138,62 @@ def relight(
         write_image(photo_out, real.photograph)
     start = f"loaded in {session.times['load']:.2f} s" if saved else f"prepared in {session.times['prepare']:.1f} s"
     typer.echo(f"wrote {out}: {start}, the edit in {session.times['edit']:.2f} s")
+
+
+def relight_calibrate(
+    photo: Path = typer.Argument(..., help="the photograph (its size is the camera's)"),
+    points: Path = typer.Option(..., "--points", help="u v x y z per line: a pixel and the model point it shows "
+                                "(see illusio.relight.calibrate; at least 6, not on one plane)"),
+    output: Path = typer.Option(..., "-o", "--output", help="camera.json to write (beside scene.yaml and the photograph)"),
+    max_error: float = typer.Option(2.0, "--max-error", help="refuse a fit whose RMS reprojection error is above this "
+                                    "many pixels"),
+) -> None:
+    """The photograph's camera (intrinsics f_x, f_y, c_x, c_y, k1, k2 and pose) from points picked on it
+    and on the model (OpenCV's calibrateCamera), written as camera.json; the reprojection error printed."""
+    from ..core.images import read_image
+    from ..relight.calibrate import calibrate, read_points, write_camera
+
+    if not max_error > 0:
+        raise InputError(f"--max-error must be positive, got {max_error:g}")
+    check_output_path(output, (photo, points))
+    if output.suffix.lower() != ".json":
+        raise InputError(f"{output}: the camera is written as .json (camera.json beside the photograph)")
+    image = read_image(photo)
+    uv, xyz = read_points(points)
+    size = (image.shape[1], image.shape[0])
+    outside = ~((uv >= -0.5) & (uv <= np.array(size) - 0.5)).all(axis=1)
+    if outside.any():
+        k = int(np.flatnonzero(outside)[0])
+        raise InputError(f"{points}: point {k + 1} (u, v = {uv[k, 0]:g}, {uv[k, 1]:g}) is outside the "
+                         f"{size[0]}×{size[1]} photograph")
+    result = calibrate(uv, xyz, size)
+    worst = int(np.argmax(result.errors))
+    i = result.intrinsics
+    summary = (f"reprojection error {result.rms:.2f} px RMS over {len(uv)} points (worst: point {worst + 1}, "
+               f"{result.errors[worst]:.2f} px)")
+    if result.rms > max_error:
+        raise InputError(f"{summary}: above --max-error {max_error:g} px; check that each u, v is paired with its "
+                         "x, y, z")
+    write_camera(output, result)
+    typer.echo(f"wrote {output}: fx {i.fx:.1f}, fy {i.fy:.1f}, cx {i.cx:.1f}, cy {i.cy:.1f} px, k1 {i.distortion[0]:.4f}, "
+               f"k2 {i.distortion[1]:.4f}; {summary}")
+
+
+def relight_example(
+    folder: Path = typer.Argument(..., help="the folder to write (scene.yaml, photograph.png, points.txt, true-camera.json)"),
+    size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph"),
+    samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph (denoised when pyoidn is installed)"),
+    seed: int = typer.Option(0, "--seed", help="the path tracer's and the picked points' randomness"),
+) -> None:
+    """The worked example of relighting your own photograph: a room's model, a photograph of it
+    path-traced through a camera with its own intrinsics and lens distortion, and points picked on
+    both. Then: `illusio relight calibrate`, `illusio relight prepare`, `illusio relight` (README)."""
+    from ..relight.example import make_example
+
+    if not 1 <= samples <= 4096:
+        raise InputError(f"--samples must be in [1, 4096], got {samples}")
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{folder}: exists and is not a folder")
+    w, h = parse_size(size)
+    paths = make_example(folder, (w, h), samples, seed)
+    typer.echo(f"wrote {folder}: {', '.join(p.name for p in paths.values())} ({w}×{h}, {samples} paths a pixel)")

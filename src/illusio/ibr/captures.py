@@ -23,7 +23,8 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.files import read_text
 from ..core.images import read_image
-from ..scene.camera import Camera, Pose, View
+from ..scene.camera import Pose, View
+from ..scene.intrinsics import Intrinsics, undistort_image
 from .references import ReferenceSet, ReferenceView
 
 __all__ = ["Intrinsics", "CaptureFrame", "read_rgbd_folder", "read_tum", "read_colmap", "read_intrinsics",
@@ -31,29 +32,6 @@ __all__ = ["Intrinsics", "CaptureFrame", "read_rgbd_folder", "read_tum", "read_c
            "TUM_DEFAULT", "KINDS"]
 
 KINDS = ("rgbd", "tum", "colmap")
-
-
-@dataclass(frozen=True)
-class Intrinsics:
-    """A pinhole in pixels, OpenCV's convention (the top-left pixel's centre at (0, 0)). model and
-    distortion: "PINHOLE" (none), or "OPENCV" with (k1, k2, p1, p2)."""
-
-    width: int
-    height: int
-    fx: float
-    fy: float
-    cx: float
-    cy: float
-    model: str = "PINHOLE"
-    distortion: tuple[float, ...] = ()
-
-    def __post_init__(self):
-        values = (self.width, self.height, self.fx, self.fy, self.cx, self.cy) + tuple(self.distortion)
-        if not all(math.isfinite(v) for v in values) or min(self.width, self.height, self.fx, self.fy) <= 0:
-            raise InputError(f"intrinsics must be finite with positive size and focal lengths, got {self}")
-
-    def camera(self, near: float = 0.05, far: float = 100.0) -> Camera:
-        return Camera.from_intrinsics(self.width, self.height, self.fx, self.fy, self.cx, self.cy, near, far)
 
 
 #: TUM RGB-D's default intrinsics (its "ROS default" calibration of the Kinect, 640×480)
@@ -356,26 +334,14 @@ def read_colmap(src) -> list[CaptureFrame]:
 # --- to references --------------------------------------------------------------------------------
 
 def undistort(frame: CaptureFrame) -> CaptureFrame:
-    """The frame as a pinhole would have seen it: OPENCV's radial (k1, k2) and tangential (p1, p2)
-    distortion undone by sampling the recorded images where each undistorted ray landed (colour
-    bilinear, depth nearest: a depth is not blended across an edge)."""
+    """The frame as a pinhole would have seen it (scene.intrinsics.undistort_image: colour bilinear,
+    depth nearest and 0 outside the recorded image — a depth is not blended across an edge)."""
     intr = frame.intrinsics
-    if intr.model == "PINHOLE" or not any(intr.distortion):
-        return replace(frame, intrinsics=replace(intr, model="PINHOLE", distortion=()))
-    from scipy import ndimage
-
-    k1, k2, p1, p2 = intr.distortion
-    v, u = np.mgrid[0:intr.height, 0:intr.width].astype(np.float64)
-    x, y = (u - intr.cx) / intr.fx, (v - intr.cy) / intr.fy
-    r2 = x * x + y * y
-    radial = 1 + k1 * r2 + k2 * r2 * r2
-    xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x)
-    yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y
-    coords = np.stack([yd * intr.fy + intr.cy, xd * intr.fx + intr.cx])
-    colour = np.stack([ndimage.map_coordinates(frame.colour[..., c], coords, order=1, mode="nearest")
-                       for c in range(3)], axis=-1).astype(np.float32)
-    depth = ndimage.map_coordinates(frame.depth, coords, order=0, mode="constant", cval=0.0).astype(np.float32)
-    return replace(frame, colour=colour, depth=depth, intrinsics=replace(intr, model="PINHOLE", distortion=()))
+    if not intr.distorted:
+        return replace(frame, intrinsics=intr.pinhole)
+    return replace(frame, colour=undistort_image(frame.colour, intr).astype(np.float32),
+                   depth=undistort_image(frame.depth, intr, order=0, cval=0.0).astype(np.float32),
+                   intrinsics=intr.pinhole)
 
 
 def normals_from_depth(depth: np.ndarray, intrinsics: Intrinsics, max_jump: float = 0.05) -> np.ndarray:

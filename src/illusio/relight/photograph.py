@@ -65,14 +65,16 @@ def load_real_scene(folder) -> RealScene:
     """A real scene from a folder: ``scene.yaml`` (the model in illusio's scene schema: the lamps are
     its lights, a surface with an emission is self-luminous), a photograph (PHOTOGRAPH_NAMES; PNG and
     JPEG decoded from sRGB to linear, EXR and .npy as stored) and its camera — ``camera.json``
-    ({"position", "target", "up", "fov", "width", "height"}: metres, degrees, pixels) or else the
-    scene's ``main`` camera. The photograph must be the camera's size when camera.json gives one."""
-    import json
+    (relight.calibrate: a pose and either full intrinsics with OpenCV's distortion, as
+    ``illusio relight calibrate`` writes it, or a vertical fov) or else the scene's ``main`` camera.
+    The photograph must be the camera's size when camera.json gives one; a distorted lens's
+    photograph is undistorted here, so every pass sees a pinhole's image."""
     from pathlib import Path
 
     from ..core.images import read_image
     from ..scene import load_scene
-    from ..scene.camera import Camera, Pose
+    from ..scene.intrinsics import undistort_image
+    from .calibrate import read_camera
 
     root = Path(folder)
     if not root.is_dir():
@@ -89,16 +91,12 @@ def load_real_scene(folder) -> RealScene:
         raise InputError(f"{photo_file}: the photograph must have three colour channels, got shape {photograph.shape}")
     camera_file = root / "camera.json"
     if camera_file.is_file():
-        try:
-            c = json.loads(camera_file.read_text())
-            view = View(Pose(tuple(c["position"]), tuple(c["target"]), tuple(c.get("up", (0.0, 1.0, 0.0)))),
-                        Camera(fov_y=float(c["fov"])))
-            size = (int(c["width"]), int(c["height"])) if "width" in c or "height" in c else None
-        except (ValueError, KeyError, TypeError) as exc:
-            raise InputError(f"{camera_file}: a camera needs position, target, fov (and width, height): {exc}") from None
+        view, intrinsics, size = read_camera(camera_file)
         if size is not None and size != (photograph.shape[1], photograph.shape[0]):
             raise InputError(f"{photo_file} is {photograph.shape[1]}x{photograph.shape[0]} pixels but {camera_file.name} "
                              f"says {size[0]}x{size[1]}")
+        if intrinsics is not None and intrinsics.distorted:
+            photograph = undistort_image(np.asarray(photograph[..., :3], np.float32), intrinsics)
     else:
         view = scene.camera("main")
     return RealScene(scene_polygons(scene), view, photograph)
