@@ -175,7 +175,9 @@ def test_per_pixel_method(per_pixel):
     screen = (s.pixel_polygon >= 0) & np.isin(m.group[polygon], [m.names.index(n) for n in ("monitor-0-screen", "monitor-1-screen")])
     lamp = (s.pixel_polygon >= 0) & np.isin(m.group[polygon], m.lamps)
     assert screen.any() and np.allclose(dark[screen], s.real.photograph[screen])
-    assert dark[lamp].max() == 0 and np.median(dark[s.pixel_seen]) < 0.02 * np.median(same[s.pixel_seen])
+    whole = s._rims.coverage.sum(axis=-1) >= 1            # a pixel the lamps cover wholly: black with them
+    assert dark[lamp & whole].max() == 0 and dark[lamp].max() < 0.02 * same[s.pixel_seen].max()   # edges: the ceiling's share
+    assert np.median(dark[s.pixel_seen]) < 0.02 * np.median(same[s.pixel_seen])
     one = s.image({n: (1.0 if n == "lamp-3" else 0.0) for n in s.lamp_names})
     share = s.pixel_lamp[:, list(s.lamp_rows).index(int(np.flatnonzero(s.model.group == s.model.names.index("lamp-3"))[0]))]
     lit_by_it = share.sum(axis=1) > 0
@@ -279,3 +281,23 @@ def test_relighting_the_triangulated_office_matches_the_quad_office(ctx, photogr
                 s.release()
     assert error["baseline", "triangles"] < 1.03 * error["baseline", "quads"], error
     assert error["loscos", "triangles"] < 1.25 * error["loscos", "quads"], error
+
+
+@pytest.mark.parametrize("method", ["baseline", "loscos", "per-pixel"])
+def test_a_switched_off_lamp_leaves_no_bright_rim(sessions, method):
+    """Lamp 0 off: the pixels its outline crosses keep only the surface's share (relight.lamp_rims),
+    none brighter than the brightest lamp-free pixel around the lamp; they held the lamp's glow (a
+    ring of its light around the black panel) when relit by what their centre saw."""
+    from scipy import ndimage
+
+    s = sessions(method)
+    m = s.model
+    lamp = m.names.index("lamp-0")
+    relit = s.image({"lamp-0": 0.0}).mean(axis=-1)
+    rims = s._rims
+    cover = rims.coverage[..., list(rims.groups).index(lamp)]
+    rim = (cover > 0) & (cover < 1)
+    assert rim.sum() >= 4
+    around = ndimage.binary_dilation(cover > 0, iterations=3) & (rims.coverage.sum(axis=-1) == 0)
+    assert relit[rim].max() <= 1.05 * relit[around].max()
+    assert s.real.photograph.mean(axis=-1)[rim].max() > 1.5 * relit[around].max()   # the photograph had the glow

@@ -5,8 +5,10 @@ and a distorted lens's photograph undistorted on loading."""
 import json
 
 import numpy as np
+import pytest
 
-from illusio.core.images import write_image
+from illusio.core.errors import InputError
+from illusio.core.images import linear_to_srgb, write_image
 from illusio.relight import RelightSession
 from illusio.relight.photograph import load_real_scene, polygon_ids
 from illusio.scene.intrinsics import Intrinsics
@@ -75,3 +77,88 @@ def test_a_distorted_photograph_is_undistorted_on_loading(tmp_path):
     error = np.abs(real.photograph[inner] - pinhole[inner]).mean()
     assert error < 0.012                                        # measured 0.0077 (nearest-pixel distortion)
     assert np.abs(distorted[inner] - pinhole[inner]).mean() > 0.02    # the lens did change it: 0.027
+
+
+def _written_by_other_tools(tmp_path, linear: np.ndarray):
+    """The photograph as other software writes it: (file, what loading it must give)."""
+    import cv2
+    import OpenEXR
+    from PIL import Image
+
+    from illusio.core.images import srgb_to_linear
+
+    out = []
+    exr = tmp_path / "exr"
+    exr.mkdir()
+    with OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
+                      {"RGB": linear.astype(np.float32)}) as f:          # OpenEXR's own writer
+        f.write(str(exr / "photograph.exr"))
+    out.append((exr, linear, 1e-6))
+    hdr = tmp_path / "hdr"
+    hdr.mkdir()
+    cv2.imwrite(str(hdr / "photograph.hdr"), np.ascontiguousarray(linear[..., ::-1], np.float32))   # RGBE: 1 % steps
+    out.append((hdr, linear, 0.01 * linear.max()))
+    png16 = tmp_path / "png16"
+    png16.mkdir()
+    encoded16 = np.round(linear_to_srgb(linear) * 65535).astype(np.uint16)
+    cv2.imwrite(str(png16 / "photograph.png"), np.ascontiguousarray(encoded16[..., ::-1]))
+    out.append((png16, srgb_to_linear(encoded16 / 65535.0), 1e-4))
+    jpg = tmp_path / "jpg"
+    jpg.mkdir()
+    encoded8 = np.round(linear_to_srgb(linear) * 255).astype(np.uint8)
+    Image.fromarray(encoded8).save(jpg / "photograph.jpg", quality=98)
+    out.append((jpg, srgb_to_linear(encoded8 / 255.0), 0.02))
+    return out
+
+
+def test_photographs_written_by_other_tools_read_as_linear_radiance(tmp_path):
+    """EXR by OpenEXR's writer, Radiance HDR and a 16-bit PNG by OpenCV's, a JPEG by Pillow's: each
+    read back as the linear radiance it encodes (sRGB decoded for the PNG and the JPEG)."""
+    pytest.importorskip("cv2")
+    yy, xx = np.mgrid[0:H, 0:W]
+    linear = np.stack([0.05 + 0.9 * xx / W, 0.05 + 0.9 * yy / H, np.full((H, W), 0.3)], axis=-1).astype(np.float32)
+    for folder, expected, tolerance in _written_by_other_tools(tmp_path, linear):
+        real = load_real_scene(_with_model(folder))
+        assert np.abs(real.photograph - expected).mean() < tolerance, folder.name
+    # a response named: the 16-bit PNG read as linear, and as gamma 2.2
+    png16 = tmp_path / "png16"
+    raw = load_real_scene(png16, "linear").photograph
+    assert np.abs(raw - linear_encoded(linear)).mean() < 1e-4
+    assert np.abs(load_real_scene(png16, "gamma:2.2").photograph - raw ** 2.2).max() < 1e-5
+    with pytest.raises(InputError, match="--response must be one of"):
+        load_real_scene(png16, "log")
+
+
+def linear_encoded(linear):
+    return np.round(linear_to_srgb(linear) * 65535) / 65535.0
+
+
+def _with_model(folder):
+    (folder / "scene.yaml").write_text(ROOM)
+    doc = {"position": [0.2, 1.2, 2.6], "target": [0.0, 0.6, -1.0], "width": W, "height": H, "fx": 118.0,
+           "fy": 126.0, "cx": 91.3, "cy": 52.7}
+    (folder / "camera.json").write_text(json.dumps(doc))
+    return folder
+
+
+def test_the_viewer_opens_a_users_folder(tmp_path, capsys):
+    """`illusio view FOLDER -t relight` shows that folder's photograph (as photographed: no lamp
+    changed at opening), not the built-in office's."""
+    from illusio.core.images import read_image
+    from tests.conftest import call_cli
+
+    yy, xx = np.mgrid[0:H, 0:W]
+    photo = np.stack([0.1 + 0.6 * xx / W, 0.1 + 0.6 * yy / H, np.full((H, W), 0.25)], axis=-1).astype(np.float32)
+    (tmp_path / "room").mkdir()
+    folder = _folder(tmp_path / "room", OFF_CENTRE, photo)
+    walk = tmp_path / "walk.json"
+    walk.write_text('[{"t": 0, "eye": [0, 1, 0], "target": [0, 1, -1]}, {"t": 0.1, "eye": [0, 1, 0], "target": [0, 1, -1]}]')
+    shot = tmp_path / "shot.png"
+    code, cap = call_cli(["view", str(folder), "-t", "relight", "--view", "baseline", "--path", str(walk), "-o",
+                          str(tmp_path / "v.gif"), "--screenshot", str(shot), "--size", f"{W}x{H}"], capsys)
+    assert code == 0, cap.err
+    shown = read_image(shot)[..., :3]
+    real = load_real_scene(folder)
+    model = polygon_ids(real.polygons, real.view, real.size) >= 0    # where the model is (black elsewhere)
+    assert model.mean() > 0.5
+    assert np.abs(shown - real.photograph)[model].mean() < 0.03    # the folder's gradient, not the office

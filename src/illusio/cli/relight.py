@@ -50,12 +50,16 @@ def _parse_object(text: str):
     return mesh, (at[0], at[1] - float(lo[1]), at[2])
 
 
-def _real_scene(scene: str, size: str, samples: int):
+RESPONSE_HELP = ("how a folder's photograph becomes linear: auto (PNG, JPEG, TIFF from sRGB; EXR, HDR, .npy as "
+                 "stored), srgb, linear or gamma:G")
+
+
+def _real_scene(scene: str, size: str, samples: int, response: str = "auto"):
     """A folder (scene.yaml, photograph, camera.json) or a built-in scene photographed by Mitsuba."""
     from ..relight import builtin_real_scene, load_real_scene
 
     if Path(scene).is_dir():
-        return load_real_scene(scene)
+        return load_real_scene(scene, response)
     if not 1 <= samples <= 1 << 16:
         raise InputError(f"--samples must be in 1..65536, got {samples}")
     return builtin_real_scene(scene, parse_size(size), samples)
@@ -68,6 +72,7 @@ def relight_prepare(
     output: Path = typer.Option(..., "-o", "--output", help="the prepared session (.npz)"),
     size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
+    response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
     *,
     params: RelightParams,
 ) -> None:
@@ -78,7 +83,7 @@ def relight_prepare(
     out = check_output_path(output, [str(p) for p in Path(scene).iterdir()] if Path(scene).is_dir() else [])
     if out.suffix.lower() != ".npz":
         raise InputError(f"-o: a prepared session is saved as .npz, got {out.name}")
-    session = RelightSession(_real_scene(scene, size, samples), params)
+    session = RelightSession(_real_scene(scene, size, samples, response), params)
     session.save(out)
     typer.echo(f"wrote {out}: {session.solution.stats.leaves} leaves, prepared in {session.times['prepare']:.1f} s")
 
@@ -97,6 +102,7 @@ def relight(
     add_object: list[str] = typer.Option(None, "--add-object", help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)"),
     photograph: Path = typer.Option(None, "--photograph", help="also write the photograph used"),
     show: str = typer.Option("image", "--show", help="image, textures (what the method displays), mesh (leaf outlines) or display-factor"),
+    response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
     *,
     params: RelightParams,
 ) -> None:
@@ -120,7 +126,7 @@ def relight(
     if saved:
         session = RelightSession.load(scene)
     else:
-        session = RelightSession(_real_scene(scene, size, samples), params)
+        session = RelightSession(_real_scene(scene, size, samples, response), params)
     real = session.real
     unknown = sorted(set(scales) - set(session.lamp_names))
     if unknown:

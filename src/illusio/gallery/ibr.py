@@ -12,7 +12,7 @@ from ..core.context import Context
 from ..core.images import VideoWriter, write_image
 from ..core.renderer import Frame
 from ..ibr.params import IbrParams
-from ..ibr.references import capture, orbit_views
+from ..ibr.references import capture, orbit_views, rig_placement
 from ..ibr.renderer import IbrRenderer
 from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.builtin import builtin_scene
@@ -22,15 +22,17 @@ from .html import Item, Section
 __all__ = ["ibr_showcase", "showcase_path"]
 
 
-def showcase_path(scene) -> CameraPath:
-    """A walk across the references' baseline, a little forward of it, looking at the main target."""
+def showcase_path(scene, baseline: float = 1.6) -> CameraPath:
+    """A walk across the references' baseline (the rig of ``orbit_views(scene, n, baseline)``, where
+    ``rig_placement`` puts it), a little forward of it, looking at the main target."""
     base = scene.camera()
     right, _, _ = base.pose.axes()
-    eye = np.asarray(base.pose.position, np.float64)
+    eye, width = rig_placement(scene, baseline)
     forward = np.asarray(base.pose.target, np.float64) - eye
     forward /= np.linalg.norm(forward)
     target = tuple(float(v) for v in base.pose.target)
-    points = [eye - right * 0.7 + forward * 0.3, eye + forward * 0.6, eye + right * 0.7 + forward * 0.3]
+    side = 0.4375 * width                      # 0.7 m of a 1.6 m rig: inside the outer references
+    points = [eye - right * side + forward * 0.3, eye + forward * 0.6, eye + right * side + forward * 0.3]
     return CameraPath([Keyframe(2.0 * k, tuple(float(v) for v in p), target) for k, p in enumerate(points)])
 
 

@@ -16,11 +16,67 @@ from ..radiosity import Polygons, scene_polygons
 from ..scene.builtin import builtin_scene
 from ..scene.camera import View
 
-__all__ = ["RealScene", "builtin_real_scene", "load_real_scene", "polygon_ids", "PHOTOGRAPH_NAMES"]
+__all__ = ["RealScene", "builtin_real_scene", "load_real_scene", "read_photograph", "polygon_ids", "PHOTOGRAPH_NAMES",
+           "RESPONSES"]
 
 #: the photograph of a real-scene folder, by the first of these names found
-PHOTOGRAPH_NAMES = ("photograph.exr", "photograph.png", "photograph.npy", "photograph.tif", "photograph.tiff",
-                    "photograph.jpg")
+PHOTOGRAPH_NAMES = ("photograph.exr", "photograph.hdr", "photograph.png", "photograph.npy", "photograph.tif",
+                    "photograph.tiff", "photograph.jpg", "photograph.jpeg")
+#: how a photograph's stored values map to linear radiance: auto (8- and 16-bit PNG, JPEG, TIFF
+#: decoded from sRGB, as cameras and editors write them; EXR, Radiance HDR and .npy linear as
+#: stored), srgb, linear, or gamma:G (value^G, a camera's plain power-law response)
+RESPONSES = ("auto", "srgb", "linear", "gamma:G")
+_FLOAT_FORMATS = (".exr", ".hdr", ".npy")
+
+
+def _response(response: str):
+    """The decoding function of a RESPONSES value (values in [0, 1] → linear)."""
+    from ..core.images import srgb_to_linear
+
+    if response == "srgb":
+        return srgb_to_linear
+    if response == "linear":
+        return lambda v: v
+    if response.startswith("gamma:"):
+        try:
+            g = float(response[6:])
+        except ValueError:
+            g = float("nan")
+        if not 0.1 <= g <= 10:
+            raise InputError(f"--response gamma:G takes G in [0.1, 10], got {response[6:]!r}")
+        return lambda v: np.power(np.clip(v, 0, None), g)
+    raise InputError(f"--response must be one of {', '.join(RESPONSES)}, got {response!r}")
+
+
+def read_photograph(path, response: str = "auto") -> np.ndarray:
+    """A photograph file as linear radiance (H, W, 3) float32, row 0 at the top: PNG (8 or 16 bits),
+    JPEG and TIFF through ``response`` (RESPONSES; auto: sRGB), OpenEXR, Radiance HDR (.hdr, read by
+    OpenCV) and .npy as stored (auto; another response is applied to their values as well)."""
+    from pathlib import Path
+
+    from ..core.images import read_image
+
+    p = Path(path)
+    ext = p.suffix.lower()
+    if ext == ".hdr":
+        if not p.is_file():
+            raise InputError(f"{p}: no such file")
+        try:
+            import cv2
+        except ImportError:
+            raise InputError(f"{p}: Radiance HDR is read by OpenCV: pip install 'illusio[photo]'") from None
+        bgr = cv2.imread(str(p), cv2.IMREAD_UNCHANGED)
+        if bgr is None or bgr.ndim != 3 or bgr.shape[2] < 3:
+            raise InputError(f"{p}: not a Radiance HDR image OpenCV can read")
+        image = np.ascontiguousarray(bgr[..., 2::-1], np.float32)
+    else:
+        image = read_image(p, srgb=False)
+        if image.ndim != 3 or image.shape[2] < 3:
+            raise InputError(f"{p}: the photograph must have three colour channels, got shape {image.shape}")
+        image = image[..., :3]
+    if response == "auto":
+        return image if ext in _FLOAT_FORMATS else _response("srgb")(image).astype(np.float32)
+    return np.asarray(_response(response)(image), np.float32)
 
 
 @dataclass(eq=False)
@@ -61,17 +117,16 @@ def builtin_real_scene(name: str = "office", size: tuple[int, int] = (320, 240),
     return RealScene(polygons, view, render_mitsuba(polygons, view, size, samples, seed))
 
 
-def load_real_scene(folder) -> RealScene:
+def load_real_scene(folder, response: str = "auto") -> RealScene:
     """A real scene from a folder: ``scene.yaml`` (the model in illusio's scene schema: the lamps are
-    its lights, a surface with an emission is self-luminous), a photograph (PHOTOGRAPH_NAMES; PNG and
-    JPEG decoded from sRGB to linear, EXR and .npy as stored) and its camera — ``camera.json``
+    its lights, a surface with an emission is self-luminous), a photograph (PHOTOGRAPH_NAMES, read by
+    read_photograph) and its camera — ``camera.json``
     (relight.calibrate: a pose and either full intrinsics with OpenCV's distortion, as
     ``illusio relight calibrate`` writes it, or a vertical fov) or else the scene's ``main`` camera.
     The photograph must be the camera's size when camera.json gives one; a distorted lens's
     photograph is undistorted here, so every pass sees a pinhole's image."""
     from pathlib import Path
 
-    from ..core.images import read_image
     from ..scene import load_scene
     from ..scene.intrinsics import undistort_image
     from .calibrate import read_camera
@@ -86,9 +141,8 @@ def load_real_scene(folder) -> RealScene:
     if photo_file is None:
         raise InputError(f"{root}: no photograph ({', '.join(PHOTOGRAPH_NAMES)})")
     scene = load_scene(scene_file)
-    photograph = read_image(photo_file)
-    if photograph.ndim != 3 or photograph.shape[2] < 3:
-        raise InputError(f"{photo_file}: the photograph must have three colour channels, got shape {photograph.shape}")
+    _response(response) if response != "auto" else None          # a bad response named before any reading
+    photograph = read_photograph(photo_file, response)
     camera_file = root / "camera.json"
     if camera_file.is_file():
         view, intrinsics, size = read_camera(camera_file)
@@ -96,7 +150,7 @@ def load_real_scene(folder) -> RealScene:
             raise InputError(f"{photo_file} is {photograph.shape[1]}x{photograph.shape[0]} pixels but {camera_file.name} "
                              f"says {size[0]}x{size[1]}")
         if intrinsics is not None and intrinsics.distorted:
-            photograph = undistort_image(np.asarray(photograph[..., :3], np.float32), intrinsics)
+            photograph = undistort_image(photograph, intrinsics)
     else:
         view = scene.camera("main")
     return RealScene(scene_polygons(scene), view, photograph)

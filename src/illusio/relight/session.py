@@ -367,7 +367,7 @@ class RelightSession:
             raise InputError(f"no lamp named {unknown[0]!r}; lamps: {', '.join(self.lamp_names) or 'none'}")
         if self.params.method == "per-pixel":
             sol.set_lamps(self.scales)
-            image = self._per_pixel_image() * self.params.exposure
+            image = self._lamp_rims(self._per_pixel_image()) * self.params.exposure
             self.times["edit"] = time.perf_counter() - start
             return image.astype(np.float32)
         self.inherit_display_factor()
@@ -391,9 +391,23 @@ class RelightSession:
         self.ctx.release(colour)
         own = out[..., :1] < 0
         # eq. (4.3) with the ratio B/D already at the corners: the displayed ratio times the texture
-        image = np.where(own, -out, out.astype(np.float64) * self.texture) * self.params.exposure
+        relit = self._lamp_rims(out.astype(np.float64) * self.texture)
+        image = np.where(own, -out, relit) * self.params.exposure
         self.times["edit"] = time.perf_counter() - start
         return image.astype(np.float32)
+
+    def _lamp_rims(self, relit: np.ndarray) -> np.ndarray:
+        """``relit`` (photograph scale) with the pixels on the real lamps' outlines recomposed
+        (relight.lamp_rims): each lamp's share of such a pixel scaled as the lamp, the surface's as
+        the surface."""
+        from .lamp_rims import LampRims
+
+        m = self.model
+        if getattr(self, "_rims", None) is None:
+            self._rims = LampRims.prepare(self.real.polygons, self.real.view, self.real.photograph, m.lamps)
+        scales = np.array([self.scales.get(m.names[g], 1.0) for g in self._rims.groups])
+        centre = (self.pixel_polygon >= 0) & np.isin(m.group[np.maximum(self.pixel_polygon, 0)], m.lamps)
+        return self._rims.apply(relit, self.real.photograph, scales, centre)
 
     def show(self, what: str = "image", scale: int = 1) -> np.ndarray:
         """One of SHOW under the session's lamps, float32 (scale·H, scale·W, 3), × exposure: ``image``

@@ -1,4 +1,4 @@
-"""The relighting mode: the office's photograph relit live — a slider per real lamp, the method
+"""The relighting mode: the office's photograph (or a user's real-scene folder) relit live — a slider per real lamp, the method
 (per-pixel, the chapter's, or the baseline of 4.2) as the view, so the three compare on the same
 edits; it opens with the back lamps off. L puts a virtual lamp under the ceiling above the floor
 point under the pointer, O a crate on the floor there, and a drag moves the crate along the floor
@@ -8,12 +8,13 @@ process (Mitsuba: the photo extra)."""
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
 from ...core.renderer import Frame
 from ...relight.params import VIRTUAL_LAMP_SIZE, RelightParams
-from ...relight.photograph import builtin_real_scene
+from ...relight.photograph import builtin_real_scene, load_real_scene
 from ...relight.renderer import RelightRenderer
 from ..navigation import FixedCamera
 from .base import Mode
@@ -30,21 +31,25 @@ _PHOTOGRAPHS: dict = {}
 class RelightMode(Mode):
     name = "relight"
     variants = ("per-pixel", "loscos", "baseline")
-    source_help = "the built-in real scene whose photograph is relit (office)"
+    source_help = ("the real scene whose photograph is relit: the built-in office, or your own folder (scene.yaml, "
+                   "photograph, camera.json: illusio relight calibrate)")
     source_label = "scene"
     source_choices = ("office",)
     shares_params = True
 
     def __init__(self, ctx, source=None, variant=None):
         super().__init__(ctx, source or "office", variant)
+        folder = Path(self.source).is_dir()
         key = (self.source,) + PHOTOGRAPH
-        if key not in _PHOTOGRAPHS:
-            _PHOTOGRAPHS[key] = builtin_real_scene(self.source, *PHOTOGRAPH)
+        if key not in _PHOTOGRAPHS:          # a user's folder is read as it is; the office photographed once
+            _PHOTOGRAPHS[key] = load_real_scene(self.source) if folder else builtin_real_scene(self.source, *PHOTOGRAPH)
         self.real = _PHOTOGRAPHS[key]
         self.renderer = RelightRenderer(ctx)
         self.renderer.prepare(self.real)
-        # it opens on Figure 4.17b (the back lamps off), so the three methods show their difference
-        self.params = RelightParams(method=self.variant, lamp_scales=(("lamp-0", 0.0), ("lamp-1", 0.0)))
+        # the office opens on Figure 4.17b (the back lamps off), so the three methods show their
+        # difference; a user's scene as photographed
+        opening = () if folder else (("lamp-0", 0.0), ("lamp-1", 0.0))
+        self.params = RelightParams(method=self.variant, lamp_scales=opening)
         corners = self.real.polygons.corners.reshape(-1, 3)
         self.floor, self.ceiling = float(corners[:, 1].min()), float(corners[:, 1].max())
         self.lamps: list[tuple[float, float, float]] = []      # virtual lamps asked for
