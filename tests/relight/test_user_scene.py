@@ -162,3 +162,41 @@ def test_the_viewer_opens_a_users_folder(tmp_path, capsys):
     model = polygon_ids(real.polygons, real.view, real.size) >= 0    # where the model is (black elsewhere)
     assert model.mean() > 0.5
     assert np.abs(shown - real.photograph)[model].mean() < 0.03    # the folder's gradient, not the office
+
+
+def test_registration_scores_a_camera_that_lines_up_above_one_that_does_not(tmp_path, capsys):
+    """The model's edges against the photograph's (relight.registration): the photograph of the
+    model through its own camera scores high, the same camera turned by 3° is warned
+    of, and --show registration draws the model's edges in red."""
+    from illusio.core.images import read_image
+    from illusio.radiosity import scene_polygons
+    from illusio.relight.registration import POOR, registration
+    from illusio.scene import load_scene
+    from illusio.scene.camera import Pose, View
+    from tests.conftest import call_cli
+
+    folder = tmp_path / "room"
+    folder.mkdir()
+    (folder / "scene.yaml").write_text(ROOM)
+    polygons = scene_polygons(load_scene(folder / "scene.yaml"))
+    view = View(Pose((0.2, 1.2, 2.6), (0.0, 0.6, -1.0)), OFF_CENTRE.camera(0.05, 100.0))
+    # a "photograph": each surface its own flat grey (what Canny finds are the model's outlines)
+    ids = polygon_ids(polygons, view, (W, H))
+    shade = np.where(ids >= 0, 0.15 + 0.7 * ((polygons.surfaces()[np.maximum(ids, 0)] * 0.37) % 1), 0.02)
+    photo = np.repeat(shade[..., None], 3, axis=2).astype(np.float32)
+    good = registration(polygons, view, photo)
+    turned = View(Pose(view.pose.position, (0.2, 0.6, -1.0)), view.camera)      # ~3° to the right
+    bad = registration(polygons, turned, photo)
+    assert good.score > 0.8 and bad.score < POOR <= good.score
+    _folder(folder, OFF_CENTRE, photo)
+    out = tmp_path / "reg.png"
+    code, cap = call_cli(["relight", str(folder), "-o", str(out), "--show", "registration"], capsys)
+    assert code == 0, cap.err
+    assert "registration:" in cap.out and "warning" not in cap.err
+    red = read_image(out)
+    assert ((red[..., 0] > 0.9) & (red[..., 1] < 0.2)).sum() > 100        # the model's edges drawn
+    doc = json.loads((folder / "camera.json").read_text())
+    doc["target"] = [0.2, 0.6, -1.0]
+    (folder / "camera.json").write_text(json.dumps(doc))
+    code, cap = call_cli(["relight", str(folder), "-o", str(tmp_path / "x.png")], capsys)
+    assert code == 0 and "do not line up well" in cap.err

@@ -86,6 +86,7 @@ def relight_prepare(
     session = RelightSession(_real_scene(scene, size, samples, response), params)
     session.save(out)
     typer.echo(f"wrote {out}: {session.solution.stats.leaves} leaves, prepared in {session.times['prepare']:.1f} s")
+    _report_registration(session)
 
 
 @params_options(params=RelightParams)
@@ -101,7 +102,8 @@ def relight(
     add_lamp: list[str] = typer.Option(None, "--add-lamp", help=f"X,Y,Z:EXITANCE — a virtual {VIRTUAL_LAMP_SIZE * 100:g} cm lamp facing down at X,Y,Z (m), W/m² (repeatable)"),
     add_object: list[str] = typer.Option(None, "--add-object", help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)"),
     photograph: Path = typer.Option(None, "--photograph", help="also write the photograph used"),
-    show: str = typer.Option("image", "--show", help="image, textures (what the method displays), mesh (leaf outlines) or display-factor"),
+    show: str = typer.Option("image", "--show", help="image, textures (what the method displays), mesh (leaf outlines), display-factor "
+                              "or registration (the model's edges over the photograph's)"),
     response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
     *,
     params: RelightParams,
@@ -144,6 +146,18 @@ def relight(
         write_image(photo_out, real.photograph)
     start = f"loaded in {session.times['load']:.2f} s" if saved else f"prepared in {session.times['prepare']:.1f} s"
     typer.echo(f"wrote {out}: {start}, the edit in {session.times['edit']:.2f} s")
+    _report_registration(session)
+
+
+def _report_registration(session) -> None:
+    """Print how well the model lines up with the photograph; warn when poorly."""
+    import warnings
+
+    result = session.registration()
+    typer.echo(result.line())
+    if result.poor:
+        warnings.warn(f"{result.line()}: the model and the photograph do not line up well; check camera.json "
+                      "(illusio relight calibrate) or the model (--show registration draws both)")
 
 
 def relight_calibrate(

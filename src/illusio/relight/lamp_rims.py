@@ -70,25 +70,40 @@ class LampRims:
                 radiance[s] = np.median(photograph[pick][..., :3], axis=0)
         return cls(groups, coverage, radiance)
 
+    def _rim_pixels(self) -> np.ndarray:
+        if getattr(self, "_rim", None) is None:
+            self._rim = self.rim
+        return self._rim
+
+    def _nearest(self, centre_on_lamp: np.ndarray):
+        """(rows, cols) of the nearest lamp-free pixel, and of the nearest pixel whose centre sees no
+        lamp, for every pixel (distance transforms, kept: the camera and the lamps do not move)."""
+        from scipy import ndimage
+
+        key = centre_on_lamp.tobytes()
+        if getattr(self, "_nearest_key", None) != key:
+            _, free = ndimage.distance_transform_edt(self.coverage.sum(axis=-1) > 0, return_indices=True)
+            if (~centre_on_lamp).any():
+                _, surface = ndimage.distance_transform_edt(centre_on_lamp, return_indices=True)
+            else:
+                surface = np.indices(centre_on_lamp.shape)
+            self._nearest_key, self._nearest_indices = key, (tuple(free), tuple(surface))
+        return self._nearest_indices
+
     def apply(self, relit: np.ndarray, photograph: np.ndarray, scales: np.ndarray, centre_on_lamp: np.ndarray) -> np.ndarray:
         """The relit image with its rim pixels recomposed (the module docstring). ``relit`` and
         ``photograph`` (H, W, 3) at the same exposure; ``scales`` (L,) the lamps' k_s;
         ``centre_on_lamp`` (H, W): the pixels whose centre sees a lamp."""
-        rim = self.rim
+        rim = self._rim_pixels()
         if not rim.any():
             return relit
-        from scipy import ndimage
-
         photo = photograph[..., :3].astype(np.float64)
-        _, (sy, sx) = ndimage.distance_transform_edt(self.coverage.sum(axis=-1) > 0, return_indices=True)
+        (sy, sx), (iy, ix) = self._nearest(centre_on_lamp)
         surface = photo[sy, sx]                      # S: the nearest pixel no lamp covers
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.where(photo > 0, relit / np.where(photo > 0, photo, 1), 1.0)
         # the surface's own ratio where the centre saw it, else the nearest such pixel's
-        source = ~centre_on_lamp
-        if source.any():
-            _, (iy, ix) = ndimage.distance_transform_edt(~source, return_indices=True)
-            ratio = np.where((~source)[..., None], ratio[iy, ix], ratio)
+        ratio = ratio[iy, ix]
         # the lamp's share c of each rim pixel read from the photograph itself, P = c·L + (1 − c)·S in
         # luminance, with L the lamp covering most of it: the geometric coverage says where the
         # rims are, but the photograph's filter spreads a lamp's glow differently

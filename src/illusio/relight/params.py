@@ -11,7 +11,7 @@ from ..radiosity.params import HierarchyParams
 __all__ = ["RelightParams", "METHODS", "SHOW", "INITIAL_HIERARCHY"]
 
 #: what RelightSession.show draws (``illusio relight --show``)
-SHOW = ("image", "textures", "mesh", "display-factor")
+SHOW = ("image", "textures", "mesh", "display-factor", "registration")
 
 #: baseline: the system as initialised in 4.2.1 (textures of the photograph modulated by B/D, eq. 4.3):
 #: a lamp switched off leaves its photographed shadows (the limitation of 4.2.2). loscos: the mesh

@@ -30,6 +30,7 @@ from . import estimate, textures
 from .shadow_refine import refine_by_texture
 from .params import SHOW, VIRTUAL_LAMP_SIZE, RelightParams
 from .photograph import RealScene, polygon_ids
+from .registration import overlay, registration
 from .state import load_session, save_session
 
 __all__ = ["RelightSession"]
@@ -68,6 +69,7 @@ class RelightSession:
         if params.method != "per-pixel":
             self._geometry_key = (len(self.solution.hierarchy), len(self.solution.links), tuple(self.lamp_names))
             self._corner_radiosity()        # the lamps' basis: part of the preparation
+        self._prepare_rims()
         self.times["prepare"] = time.perf_counter() - start
 
     # --- preparation ---------------------------------------------------------------------------
@@ -396,15 +398,24 @@ class RelightSession:
         self.times["edit"] = time.perf_counter() - start
         return image.astype(np.float32)
 
+    def _prepare_rims(self) -> None:
+        from .lamp_rims import LampRims
+
+        self._rims = LampRims.prepare(self.real.polygons, self.real.view, self.real.photograph, self.model.lamps)
+
+    def registration(self):
+        """How well the model lines up with the photograph (relight.registration), computed once."""
+        if getattr(self, "_registration", None) is None:
+            self._registration = registration(self.real.polygons, self.real.view, self.real.photograph)
+        return self._registration
+
     def _lamp_rims(self, relit: np.ndarray) -> np.ndarray:
         """``relit`` (photograph scale) with the pixels on the real lamps' outlines recomposed
         (relight.lamp_rims): each lamp's share of such a pixel scaled as the lamp, the surface's as
         the surface."""
-        from .lamp_rims import LampRims
-
         m = self.model
         if getattr(self, "_rims", None) is None:
-            self._rims = LampRims.prepare(self.real.polygons, self.real.view, self.real.photograph, m.lamps)
+            self._prepare_rims()
         scales = np.array([self.scales.get(m.names[g], 1.0) for g in self._rims.groups])
         centre = (self.pixel_polygon >= 0) & np.isin(m.group[np.maximum(self.pixel_polygon, 0)], m.lamps)
         return self._rims.apply(relit, self.real.photograph, scales, centre)
@@ -414,7 +425,9 @@ class RelightSession:
         the relit photograph; ``textures`` the textures the method displays (the photograph for
         baseline and per-pixel, T_final of eq. 4.9 for loscos); ``mesh`` the relit image with the
         leaves' outlines (Figure 4.8b); ``display-factor`` D/π at the leaves' corners (Figure 4.13b).
-        ``scale``: the photograph's pixels repeated, the outlines and D drawn at that size."""
+        ``registration`` the photograph with the model's edges (red) over its own (cyan),
+        relight.registration. ``scale``: the photograph's pixels repeated, the outlines and D drawn
+        at that size."""
         if what not in SHOW:
             raise InputError(f"show must be one of {', '.join(SHOW)}, got {what!r}")
         if not 1 <= scale <= 8:
@@ -425,6 +438,8 @@ class RelightSession:
 
         if what in ("image", "textures"):
             return larger(self.image() if what == "image" else (self.texture * self.params.exposure).astype(np.float32))
+        if what == "registration":
+            return larger(overlay(self.real.photograph, self.registration()) * self.params.exposure)
         image = larger(self.image()) if what == "mesh" else None
         h = self.solution.hierarchy
         mesh = leaf_mesh(h, smooth=False)
@@ -517,6 +532,7 @@ class RelightSession:
         s._geometry_key = (len(sol.hierarchy), len(sol.links), tuple(sol.lamp_names))
         if basis is not None:
             s._basis_key, s._basis, s._basis_mesh = basis
+        s._prepare_rims()                    # not saved: made again from the photograph and the model
         return s
 
     def lamp_basis(self):
