@@ -107,14 +107,20 @@ class RealScene:
         return self.photograph.shape[1], self.photograph.shape[0]
 
 
-def builtin_real_scene(name: str = "office", size: tuple[int, int] = (320, 240), samples: int = 64, seed: int = 0) -> RealScene:
-    """The built-in case: ``name``'s polygons photographed by Mitsuba from its main camera."""
+def builtin_real_scene(name: str = "office", size: tuple[int, int] = (320, 240), samples: int = 64, seed: int = 0,
+                       denoise: bool | None = None) -> RealScene:
+    """The built-in case: ``name``'s polygons photographed by Mitsuba from its main camera, at
+    ``samples`` paths a pixel and, with ``denoise`` (default: when pyoidn is installed), through Open
+    Image Denoise guided by the first hit's albedo and normal — a camera's clean photograph, where
+    the raw path tracer's grain would be carried into every relit image."""
+    from ..passes.denoise import denoiser_available
     from ..radiosity.mitsuba import render_mitsuba
 
     scene = builtin_scene(name)
     polygons = scene_polygons(scene)
     view = scene.camera("main")
-    return RealScene(polygons, view, render_mitsuba(polygons, view, size, samples, seed))
+    denoise = denoiser_available() if denoise is None else bool(denoise)
+    return RealScene(polygons, view, render_mitsuba(polygons, view, size, samples, seed, denoise=denoise))
 
 
 def load_real_scene(folder, response: str = "auto") -> RealScene:
