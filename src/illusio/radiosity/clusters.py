@@ -28,7 +28,8 @@ one hemisphere or from all around, linear in the light: :func:`member_irradiance
 cluster's power is pulled from its members' B at every gather, so a member taken out of its
 cluster (an object moved or removed) stops counting at once. V_ij is the clear fraction of rays
 between random points of the two nodes (area-weighted over a cluster's members), counting only
-rays that leave the front of one surface and reach the front of the other.
+rays that leave the front of one surface and reach the front of the other, from a receiving point
+that is exposed (Visibility.exposed: not in contact with another face, not inside an object).
 
 Refinement (:func:`refine_nodes`), with the conservative bound on what a link can carry,
 
@@ -437,6 +438,12 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     length = np.linalg.norm(d, axis=2)
     unit = d / np.maximum(length, 1e-300)[..., None]
     counted = va & vb & ((na * unit).sum(axis=2) > 0) & ((nb * unit).sum(axis=2) < 0) & (length > 2 * offset)
+    if counted.any():
+        # a receiving point in contact with something (a face against another, inside a closed
+        # object) is not part of a visible surface: left out, as the element links' V leaves it
+        exposed = np.zeros((n, k), bool)
+        exposed[counted] = visibility.exposed(origin[counted], na[counted])
+        counted &= exposed
     clear = np.zeros((n, k), bool)
     if counted.any():
         if visibility.empty:

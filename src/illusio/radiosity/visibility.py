@@ -295,6 +295,17 @@ class Visibility:
         visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False)
         return form_factor, visibility
 
+    def exposed(self, origins: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """Per point (lifted off its surface) with its unit normal: does a probe along the normal meet
+        nothing within ``contact`` and no back of a face — is the point part of a visible surface?
+        (The test the links' V makes of their receiver's samples, for callers with their own points.)"""
+        if self.empty or not len(origins):
+            return np.ones(len(origins), bool)
+        up = np.ascontiguousarray(normals, np.float32)
+        probe = self.scene.run(np.ascontiguousarray(origins, np.float32), up, output=1)
+        self.rays += len(origins)
+        return _exposed(np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact)
+
     def recast(self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray,
                boxes: list) -> tuple[np.ndarray, np.ndarray]:
         """(V_ij, rays) for pairs whose ends did not move, cast again after something moved inside
