@@ -59,16 +59,41 @@ def test_the_estimates_are_near_the_truth(session):
     assert session.mean_reflectance.shape == (3,) and 0.2 < session.mean_reflectance.mean() < 0.8
 
 
-def test_baseline_keeps_the_photographed_shadows(session):
-    """Loscos 4.2.2: switch lamps off and the image darkens, but where the photograph was in shadow it
-    stays darker than its lit neighbours in proportion — the ratio of the new image to the photograph
-    is nearly the same inside and outside the shadows."""
-    off = session.image({"lamp-0": 0.0, "lamp-1": 0.0})
-    seen = session.pixel_polygon >= 0
-    ratio = off[seen].mean(axis=-1) / np.maximum(session.real.photograph[seen].mean(axis=-1), 1e-6)
-    assert 0.2 < np.median(ratio) < 0.95
+def _shadow_and_light(real):
+    """(photographed shadows, fully lit pixels) (H, W): where under 60 % and over 95 % of the direct
+    light the lamps send reaches (the true lamps, per-pixel rays)."""
+    from illusio.relight.per_pixel import lamp_irradiance, surface_points
+
+    p = real.polygons
+    points, normals, polygon = surface_points(p, real.view, real.size)
+    geometry = (polygon >= 0) & ~(p.exitance.max(axis=1) > 0)[np.maximum(polygon, 0)]
+    rows = np.flatnonzero(np.isin(p.group, p.lamps))
+    seen, free = lamp_irradiance(p, rows, p.exitance[rows], points, normals, geometry, 64, unoccluded=True)
+    fraction, reachable = np.zeros(geometry.shape), np.zeros(geometry.shape, bool)
+    unblocked = free.sum(axis=1).max(axis=-1)
+    fraction[geometry] = seen.sum(axis=1).max(axis=-1) / np.maximum(unblocked, 1e-12)
+    reachable[geometry] = unblocked > 0           # a surface no lamp faces (the ceiling) is in no shadow
+    return reachable & (fraction < 0.6), reachable & (fraction > 0.95)
+
+
+def test_baseline_keeps_the_photographed_shadows_and_loscos_removes_them(sessions, photograph):
+    """Loscos 4.2.2 against 4.3: an edit scales the baseline's photographed shadows as their lit
+    surroundings (the median ratio new/photograph inside the shadows within 10 % of outside:
+    measured 0.94 and 0.98), so the shadows stay; loscos's textures are shadow-free, so the shadows
+    change otherwise (measured 0.76 and 0.86) — by twice the baseline's departure at least."""
+    shadow, lit = _shadow_and_light(photograph)
+    assert shadow.sum() > 100 and lit.sum() > 1000
+
+    def inside_over_outside(method, edit):
+        ratio = sessions(method).image(edit).mean(axis=-1) / np.maximum(photograph.photograph.mean(axis=-1), 1e-6)
+        return np.median(ratio[shadow]) / np.median(ratio[lit])
+
+    for edit in ({"lamp-0": 0.0, "lamp-1": 0.0}, {"lamp-2": 2.0, "lamp-3": 2.0}):
+        kept = abs(1 - inside_over_outside("baseline", edit))
+        removed = abs(1 - inside_over_outside("loscos", edit))
+        assert kept < 0.1 and removed > 0.1 and removed > 2 * kept, (edit, kept, removed)
     with pytest.raises(InputError, match="no lamp named"):
-        session.image({"lamp-9": 1.0})
+        sessions("baseline").image({"lamp-9": 1.0})
 
 
 def test_a_bad_real_scene_is_refused():
