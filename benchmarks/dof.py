@@ -24,7 +24,8 @@ SIZE = (1024, 768)
 #: (scene, what the focus is on: an object or metres, aperture mm): views where blur is strong, the
 #: unblurred image ≤ 30 dB against the converged reference (the issue's measurement: museum 3 m, 150 mm)
 CASES = (("museum", 3.0, 150.0), ("living-room", "coffee-table-top", 300.0))
-METHODS = ("gather", "mipmap", "planes", "sharp")
+#: gather: the sampled gather at its default points; gather-exact: every pixel of its kernel
+METHODS = ("gather", "gather-exact", "mipmap", "planes", "sharp")
 #: lens positions of the accumulation ladder: the baseline at each quality
 LADDER = (1, 2, 4, 8, 16, 32, 64, 128)
 
@@ -75,7 +76,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         focus = focus_on if isinstance(focus_on, float) else object_distance(scene, focus_on, view)
         base = DofParams(focus_distance=focus, aperture_mm=aperture, eye_separation=0.065)
         frame = Frame(view, size)
-        variants = {"gather": base, "mipmap": replace(base, method="mipmap"), "planes": replace(base, method="planes"),
+        variants = {"gather": base, "gather-exact": replace(base, gather_taps=0), "mipmap": replace(base, method="mipmap"), "planes": replace(base, method="planes"),
                     "sharp": replace(base, method="mipmap", aperture_mm=0.0)}
         for eye in eyes:
             key = f"{scene_name}/{eye}"

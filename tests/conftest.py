@@ -38,12 +38,19 @@ TOLERANCES = {
     # texture coordinates of a projected host, interpolated by the rasteriser (perspective-correct
     # in float32) against NumPy's exact projection
     "projected depth": {"rtol": 0.0, "atol": 1e-3},
+    # the sampled gather (dof.gather.SampledGatherPass) against reference.gather_taps: a point on a
+    # pixel's edge may fall on either side in float32, so a few pixels take another texel; bounds on
+    # the 99th percentile and the mean of |GPU − NumPy|
+    "sampled gather": {"p99": 1e-4, "mean": 1e-3},
     # a whole depth-of-field renderer against a 128-sample accumulation on a strongly blurred view
     # (tests/dof/test_renderer.py): the least PSNR gain over the unblurred image, dB. The gather is
-    # a depth-aware disk convolution, close to the lens model; mipmap and planes take a box-filtered
-    # level (a square, not the lens's disk) and the planes blur a surface by the plane behind it,
-    # not its own depth (the paper's approximation), so theirs are smaller. Measured 6.7, 3.2, 2.2.
-    "dof gain gather": {"min_db": 4.0},
+    # a depth-aware disk convolution, close to the lens model (sampled by gather_taps points, the
+    # default, or exact over every pixel of its kernel); mipmap and planes take a box-filtered level
+    # (a square, not the lens's disk) and the planes blur a surface by the plane behind it, not its
+    # own depth (the paper's approximation), so theirs are smaller. Measured: gather 6.9 (32
+    # points; with half its disk radius 5.1), exact 8.6, mipmap 3.2, planes 2.2.
+    "dof gain gather": {"min_db": 6.0},
+    "dof gain gather-exact": {"min_db": 5.5},
     "dof gain mipmap": {"min_db": 2.0},
     "dof gain planes": {"min_db": 1.2},
 }

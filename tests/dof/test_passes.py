@@ -6,7 +6,8 @@ import pytest
 from illusio.dof import reference
 from illusio.dof.accumulation import AccumulatePass
 from illusio.dof.coc import CocPass
-from illusio.dof.gather import GatherPass
+from illusio.dof.gather import CocTilesPass, GatherPass, SampledGatherPass
+from illusio.dof.mipmap import mipmapped
 from tests.conftest import tolerance
 
 
@@ -41,6 +42,62 @@ def test_gather_pass_matches_reference(ctx, rng, max_coc):
         t.release()
     want = reference.gather(image, coc, depth, int(np.ceil(max_coc / 2)))
     np.testing.assert_allclose(got, want, **tolerance("float32"))
+
+
+@pytest.mark.parametrize("max_coc", [5.0, 14.0])
+def test_coc_tiles_pass_matches_reference(ctx, rng, max_coc):
+    h, w = 37, 45                                   # not a whole number of tiles
+    coc = (rng.random((h, w)) ** 4 * max_coc).astype(np.float32)  # mostly small, a few large
+    tex = ctx.upload(coc, filter="nearest")
+    out = CocTilesPass(ctx)(tex, max_coc)
+    got = ctx.readback(out)[..., 0]
+    ctx.release(out)
+    tex.release()
+    want = reference.coc_tiles(coc, max_coc)
+    assert got.shape == want.shape == (-(-h // reference.tile_size(max_coc)), -(-w // reference.tile_size(max_coc)))
+    np.testing.assert_allclose(got, want, **tolerance("float32"))
+
+
+def _sampled_gather(ctx, image, coc, depth, max_coc, taps):
+    textures = [ctx.upload(a, filter="nearest") for a in (image, coc, depth)]
+    mip = mipmapped(ctx, textures[0])
+    tiles = CocTilesPass(ctx)(textures[1], max_coc)
+    out = SampledGatherPass(ctx)(mip, textures[1], textures[2], tiles, max_coc, taps)
+    got = ctx.readback(out, 3)
+    for t in (out, mip, tiles):
+        ctx.release(t)
+    for t in textures:
+        t.release()
+    return got
+
+
+@pytest.mark.parametrize("taps", [8, 32])
+def test_sampled_gather_pass_matches_reference(ctx, rng, taps):
+    """Power-of-two sizes (the reference pyramid's); tolerance table: "sampled gather"."""
+    h, w, max_coc = 32, 64, 12.0
+    image = rng.random((h, w, 3)).astype(np.float32)
+    depth = random_depth(rng, h, w)
+    coc = (rng.random((h, w)) * max_coc).astype(np.float32)
+    got = _sampled_gather(ctx, image, coc, depth, max_coc, taps)
+    want = reference.gather_taps(image, coc, depth, max_coc, taps)
+    error, bound = np.abs(got - want), tolerance("sampled gather")
+    assert np.percentile(error, 99) < bound["p99"] and error.mean() < bound["mean"], (np.percentile(error, 99), error.mean())
+
+
+def test_sampled_gather_estimates_the_gather(rng):
+    """The sampled gather is an estimate of the exact one: on a smooth image behind a sharp edge its
+    error falls as the points grow, and in focus (CoC 0) it is the image itself."""
+    h, w, max_coc = 32, 32, 12.0
+    ys, xs = np.mgrid[0:h, 0:w]
+    image = np.stack([np.sin(xs / 3.0), np.cos(ys / 4.0), (xs + ys) / (h + w)], -1) * 0.5 + 0.5
+    image = image.astype(np.float32)
+    depth = np.where(xs < 12, 1.0, 6.0).astype(np.float32)
+    coc = np.where(xs < 12, 0.0, 10.0).astype(np.float32)
+    exact = reference.gather(image, coc, depth, 6)
+    errors = [np.abs(reference.gather_taps(image, coc, depth, max_coc, n) - exact).mean() for n in (4, 16, 64)]
+    assert errors[0] > errors[1] > errors[2] and errors[2] < 0.02, errors
+    np.testing.assert_allclose(reference.gather_taps(image, np.zeros((h, w), np.float32), depth, max_coc, 16), image,
+                               atol=1e-6)
 
 
 def test_gather_keeps_focus_sharp_and_a_sharp_foreground_out_of_the_background(rng):

@@ -13,7 +13,8 @@ from ..passes.settings import COMPOSITES
 __all__ = ["DofParams", "METHODS", "STEREO_OUTPUTS"]
 
 #: accumulation: the reference (the eye moved over the lens, renders averaged); gather: per-pixel
-#: convolution with CoC-sized disks, depth aware (the paper's "convolution" method, section 2.2.2);
+#: convolution with CoC-sized disks, depth aware (the paper's "convolution" method, section 2.2.2),
+#: estimated from ``gather_taps`` points of each disk (0: every pixel of the kernel);
 #: mipmap: each pixel at the mipmap level of its circle (2.2.3); planes: the paper's method (3.1–3.2).
 #: (A layered "planes-improved" variant was dropped in issue 32: slower than the planes and, at strong
 #: blur, farther from the accumulation than the unblurred image; seams at its slab boundaries.)
@@ -31,7 +32,8 @@ class DofParams:
     of view; else the field of view of that lens on a 24 mm high frame. samples: lens positions the
     accumulation method averages. planes_behind, planes_front: m and n of the planes method, spread by
     ``distribution`` between the focal plane and the camera's far and near planes. max_coc: the largest circle of confusion drawn, pixels (the gather
-    kernel's diameter). stereo: the output (STEREO_OUTPUTS). eye_separation: metres between the eyes.
+    kernel's diameter). gather_taps: points per pixel of the sampled gather (0: the exact
+    gather over every pixel of the kernel). stereo: the output (STEREO_OUTPUTS). eye_separation: metres between the eyes.
     screen_distance: metres to the zero-parallax plane, the screen
     the eyes converge on while they accommodate at the focus (the paper's premise: that conflict is
     what the blur softens); default the physical screen's viewing distance (core Screen, 1 m);
@@ -52,6 +54,9 @@ class DofParams:
     distribution: str = param("exponential", choices=("exponential", "linear"), help="how the planes are spread")
     plane_scale: float = param(0.0, range=(0.0, 1000.0), unit="m", label="z0",
                                help="scale of the planes' law e^(−x/z0)/z0 (Piranda & de Sorbier 3.1); 0: the focus distance")
+    gather_taps: int = param(32, range=(0, 128), step=1, label="gather points",
+                             help="points per pixel of the gather's disk (each read at the mipmap level of its "
+                                  "share); 0: every pixel of the kernel's square, exact and slow")
     max_coc: float = param(24.0, range=(1.0, 64.0), unit="px", label="largest circle of confusion")
     stereo: str = param("none", choices=STEREO_OUTPUTS)
     eye_separation: float = param(0.065, range=(0.0, 1.0), unit="m")

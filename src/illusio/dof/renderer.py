@@ -19,7 +19,7 @@ from ..scene.scene import Scene
 from .accumulation import AccumulatePass, lens_offsets, lens_view
 from .coc import CocPass
 from .focus import gaze_focus, largest_focus, nearest_exhibit_focus, speed_focus
-from .gather import GatherPass
+from .gather import CocTilesPass, GatherPass, SampledGatherPass
 from .lens import fov_for_focal_length
 from .mipmap import MipmapPass, mipmapped
 from .planes import PlanesPass, covering, plane_distances, plane_lods
@@ -61,6 +61,8 @@ class DofRenderer(Renderer):
         self.scene_renderer = SceneRenderer(ctx)
         self.coc = CocPass(ctx)
         self.gather = GatherPass(ctx)
+        self.coc_tiles = CocTilesPass(ctx)
+        self.sampled_gather = SampledGatherPass(ctx)
         self.mipmap = MipmapPass(ctx)
         self.planes = PlanesPass(ctx)
         self.accumulate = AccumulatePass(ctx)
@@ -158,11 +160,15 @@ class DofRenderer(Renderer):
         depth = self.scene_renderer.maps()["depth"]
         camera = frame.view.camera
         coc = self.coc(depth, params.focus_distance, params.aperture_m, camera.fov_y, params.max_coc)
-        if params.method == "gather":
+        if params.method == "gather" and params.gather_taps == 0:
             out = self.gather(sharp, coc, depth, params.max_coc)
         else:
             mip = mipmapped(self.ctx, sharp)
-            if params.method == "mipmap":
+            if params.method == "gather":
+                tiles = self.coc_tiles(coc, params.max_coc)
+                out = self.sampled_gather(mip, coc, depth, tiles, params.max_coc, params.gather_taps)
+                self.ctx.release(tiles)
+            elif params.method == "mipmap":
                 out = self.mipmap(mip, coc)
             else:                                   # the paper's planes
                 distances = plane_distances(params.focus_distance, params.planes_behind, params.planes_front,
