@@ -29,7 +29,7 @@ from .links import Links
 from .corner_cache import CornerGather
 from .visibility import INVISIBLE, PARTIAL, VISIBLE, splitmix
 
-__all__ = ["LeafMesh", "leaf_mesh", "DisplayPass", "LINK_COLOURS"]
+__all__ = ["LeafMesh", "leaf_mesh", "corner_average", "DisplayPass", "LINK_COLOURS"]
 
 #: the colour each link type is drawn in (linear RGB)
 LINK_COLOURS = {VISIBLE: (0.1, 0.9, 0.1), PARTIAL: (1.0, 0.8, 0.0), INVISIBLE: (0.9, 0.1, 0.1)}
@@ -140,30 +140,50 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
     displayed; only they and the leaves sharing a corner point with them are gathered (every corner
     of a shown leaf is then exact), the others keep their own B: a view that sees part of a room
     pays for that part."""
-    corners = h.corners[leaves]                                     # (n, 4, 3)
-    extent = max(float(np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max()), 1e-9)
-    q = np.round(corners / (1e-7 * extent)).astype(np.int64)
-    key = np.c_[np.repeat(h.polygons.surfaces()[h.polygon[leaves]], 4), q.reshape(-1, 3)]
-    corner_of_tri = np.tile([True, True, True, False], len(leaves)) | ~np.repeat(h.triangle[leaves], 4)
-    vertex = corner_ids(key)
+    vertex, corner_of_tri = _corner_points(h, leaves)
     if links is not None and gather is None:
         gather = CornerGather()
     b = np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
     if links is not None:
         needed = np.ones(len(leaves), bool)
         if shown is not None:
-            near = np.zeros(len(key), bool)
+            near = np.zeros(len(vertex), bool)
             near[np.repeat(shown[leaves], 4)] = True
             touched = np.zeros(int(vertex.max()) + 1, bool)
             touched[vertex[near]] = True
             needed = touched[vertex].reshape(-1, 4).any(axis=1)
         b[needed] = gather(h, links, leaves[needed], exitance)
-    b = b.reshape(-1, 3)
-    w = np.repeat(exposure_weights(h, links, leaves) if links is not None else np.ones(len(leaves)), 4)
+    weight = exposure_weights(h, links, leaves) if links is not None else None
+    return _average_at(vertex, corner_of_tri, b, weight)
+
+
+def _corner_points(h: Hierarchy, leaves: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(the id of each corner's point on its surface (4n,), whether the corner is a real one (a
+    triangle's fourth is a repeat)): corners of leaves of one surface at one point share an id."""
+    corners = h.corners[leaves]                                     # (n, 4, 3)
+    extent = max(float(np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max()), 1e-9)
+    q = np.round(corners / (1e-7 * extent)).astype(np.int64)
+    key = np.c_[np.repeat(h.polygons.surfaces()[h.polygon[leaves]], 4), q.reshape(-1, 3)]
+    corner_of_tri = np.tile([True, True, True, False], len(leaves)) | ~np.repeat(h.triangle[leaves], 4)
+    return corner_ids(key), corner_of_tri
+
+
+def _average_at(vertex, corner_of_tri, values, weight=None) -> np.ndarray:
+    """(n, 4, 3) corner values → each replaced by the (weighted by leaf) mean at its point."""
+    b = np.asarray(values, np.float64).reshape(-1, 3)
+    w = np.repeat(np.ones(len(b) // 4) if weight is None else weight, 4)
     at, weight, size = vertex[corner_of_tri], w[corner_of_tri], int(vertex.max()) + 1
     total = np.stack([np.bincount(at, weight * b[corner_of_tri, c], size) for c in range(3)], axis=1)
     count = np.bincount(at, weight, size)
     return (total / np.maximum(count, 1e-300)[:, None])[vertex].reshape(-1, 4, 3)
+
+
+def corner_average(h: Hierarchy, leaves: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """Per-leaf ``values`` (n, 3) → (n, 4, 3) at the leaves' corners: at each corner point the mean
+    over the leaves of the same surface meeting there (as the display smooths B without links), so
+    a value interpolated across the leaves from their corners has no step at their edges."""
+    vertex, corner_of_tri = _corner_points(h, leaves)
+    return _average_at(vertex, corner_of_tri, np.repeat(np.asarray(values, np.float64)[:, None], 4, axis=1))
 
 
 def leaf_mesh(h: Hierarchy, links: Links | None = None, exitance: np.ndarray | None = None,

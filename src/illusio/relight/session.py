@@ -26,6 +26,7 @@ from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..radiosity import DisplayPass, Polygons, RadiosityParams, RadiosityRenderer, leaf_mesh
 from ..radiosity.corner_cache import CornerGather
+from ..radiosity.display import corner_average
 from . import estimate, textures
 from .shadow_refine import refine_by_texture
 from .params import SHOW, VIRTUAL_LAMP_SIZE, RelightParams
@@ -250,13 +251,27 @@ class RelightSession:
         self.lamp_rows = lamp_rows
         self.pixel_lamp = lamp_irradiance(m, lamp_rows, m.exitance[lamp_rows], points, normals, self.pixel_seen,
                                           seed=self.params.hierarchy.seed)
-        self.pixel_indirect = self._indirect()[self.pixel_element[self.pixel_seen]]
+        self.pixel_indirect = self._pixel_indirect()
+
+    def _pixel_indirect(self) -> np.ndarray:
+        """I at the pixels the per-pixel method relights (n, 3): each leaf's indirect irradiance
+        averaged at the corner points of its surface and interpolated across the leaf by the display
+        (a flat value per leaf drew the leaves' edges as seams across the ceiling)."""
+        h = self.solution.hierarchy
+        leaves = h.leaves()
+        mesh = leaf_mesh(h, smooth=False)
+        mesh.radiance = corner_average(h, leaves, self._indirect()[leaves]).reshape(-1, 3).astype(np.float32)
+        self.display.load(mesh)
+        colour, _ = self.display(self.real.view, self.real.size, elements=False)
+        out = self.ctx.readback_image(colour, 3, clip=False)
+        self.ctx.release(colour)
+        return out[self.pixel_seen].astype(np.float64)
 
     def _per_pixel_image(self) -> np.ndarray:
         m = self.model
         scale = np.array([self.scales.get(m.names[m.group[r]], 1.0) for r in self.lamp_rows])
         before = self.pixel_lamp.sum(axis=1) + self.pixel_indirect
-        after = (self.pixel_lamp * scale[None, :, None]).sum(axis=1) + self._indirect()[self.pixel_element[self.pixel_seen]]
+        after = (self.pixel_lamp * scale[None, :, None]).sum(axis=1) + self._pixel_indirect()
         image = self.real.photograph.astype(np.float64).copy()
         image[self.pixel_seen] *= np.where(before > 0, after / np.where(before > 0, before, 1), 0)
         lamps = (self.pixel_polygon >= 0) & np.isin(m.group[np.maximum(self.pixel_polygon, 0)], m.lamps)
