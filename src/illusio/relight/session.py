@@ -61,7 +61,7 @@ class RelightSession:
             self._visibility_independent_textures()
         if params.method == "per-pixel":
             self._per_pixel_prepare()
-        self.texture = (self.real.photograph * self.texture_factor[np.maximum(self.pixel_element, 0)]).astype(np.float32)
+        self.texture = (self.real.photograph * self._pixel_texture_factor()).astype(np.float32)
         self._store_display_factor()
         if params.method == "loscos" and params.fresh_solution:
             self._fresh_solution()
@@ -253,19 +253,36 @@ class RelightSession:
                                           seed=self.params.hierarchy.seed)
         self.pixel_indirect = self._pixel_indirect()
 
-    def _pixel_indirect(self) -> np.ndarray:
-        """I at the pixels the per-pixel method relights (n, 3): each leaf's indirect irradiance
-        averaged at the corner points of its surface and interpolated across the leaf by the display
-        (a flat value per leaf drew the leaves' edges as seams across the ceiling)."""
+    def _corner_image(self, values: np.ndarray) -> np.ndarray:
+        """Per-leaf ``values`` (n_leaves, 3) averaged at the corner points of each surface
+        (radiosity.display.corner_average) and interpolated across the leaves by the display: (H, W,
+        3) at the photograph's pixels, 0 off the geometry. No step at a leaf's edge."""
         h = self.solution.hierarchy
-        leaves = h.leaves()
         mesh = leaf_mesh(h, smooth=False)
-        mesh.radiance = corner_average(h, leaves, self._indirect()[leaves]).reshape(-1, 3).astype(np.float32)
+        mesh.radiance = corner_average(h, h.leaves(), values).reshape(-1, 3).astype(np.float32)
         self.display.load(mesh)
         colour, _ = self.display(self.real.view, self.real.size, elements=False)
         out = self.ctx.readback_image(colour, 3, clip=False)
         self.ctx.release(colour)
-        return out[self.pixel_seen].astype(np.float64)
+        return out.astype(np.float64)
+
+    def _pixel_texture_factor(self) -> np.ndarray:
+        """The texture factor at each pixel (H, W, 3): modulated at the leaves' vertices, as the
+        chapter does (4.3.2), not flat over each leaf (which drew the leaves as patches); 1 off the
+        geometry and on self-luminous leaves (their texture is the photograph)."""
+        h = self.solution.hierarchy
+        leaves = h.leaves()
+        factor = self._corner_image(self.texture_factor[leaves])
+        element = self.pixel_element
+        keep = (element < 0) | (h.exitance[np.maximum(element, 0)].max(axis=-1) > 0)
+        factor[keep] = 1.0
+        return factor
+
+    def _pixel_indirect(self) -> np.ndarray:
+        """I at the pixels the per-pixel method relights (n, 3): each leaf's indirect irradiance
+        averaged at the corner points of its surface and interpolated across the leaf by the display
+        (a flat value per leaf drew the leaves' edges as seams across the ceiling)."""
+        return self._corner_image(self._indirect()[self.solution.hierarchy.leaves()])[self.pixel_seen]
 
     def _per_pixel_image(self) -> np.ndarray:
         m = self.model
