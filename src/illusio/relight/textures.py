@@ -13,8 +13,10 @@ Per leaf (every link from a lamp ends at a leaf, ``lights_to_leaves``):
   any, the leaf keeps T_inter;
 - eq. (4.8): ρ_corr = ρ_r · Σ_s F_is B_s / Σ_s F_rs B_s (the lamps weighted by their radiosity, so
   lamps of different power count as they light), and eq. (4.9): T_final = ρ_corr / ρ_inter · T_inter.
-The textures are kept as one factor per leaf on the photograph (T = factor × photograph), flat over
-the leaf.
+The textures are kept as one factor per leaf on the photograph (T = factor × photograph), modulated
+at the leaves' vertices as the chapter does: each surface's corner points take the mean factor of
+the leaves meeting there and the display interpolates across each leaf (``RelightSession``), so no
+leaf shows as a patch.
 """
 
 from __future__ import annotations
