@@ -42,6 +42,7 @@ FINE = HierarchyParams(clusters=False)         # the radiosity engine's default,
 METHODS = {"baseline": RelightParams(method="baseline"),
            "loscos": RelightParams(method="loscos"),
            "loscos without 4.3.1": RelightParams(method="loscos", texture_refinement=False),
+           "loscos without 4.8/4.9 (T_inter alone)": RelightParams(method="loscos", reference_correction=False),
            "loscos, fresh BFV solution (4.3.3)": RelightParams(method="loscos", fresh_solution=True),
            "per-pixel": RelightParams(method="per-pixel"),
            "baseline, fine BFV mesh": RelightParams(method="baseline", hierarchy=FINE)}

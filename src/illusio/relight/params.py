@@ -40,7 +40,9 @@ class RelightParams:
     CIE L*a*b* distance (eq. 4.4) between two colours called similar — neighbours in Figure 4.7, a
     shadowed element and its reference in Figure 4.11. visibility_threshold: the largest difference of
     a lamp's visibility V between two elements called similar (Figure 4.7; the types must match too).
-    texture_refinement: loscos runs 4.3.1 (off: the initial mesh is kept, for comparison). min_pixels:
+    texture_refinement: loscos runs 4.3.1 (off: the initial mesh is kept, for comparison).
+    reference_correction: loscos corrects each shadowed leaf by its reference (eqs. 4.8/4.9; off:
+    T_inter of eq. 4.6 alone, for comparison). min_pixels:
     4.3.1 splits only elements covering at least this many photograph pixels. hierarchy: the initial
     radiosity solution (default: BF at ε 3e-3, the chapter's coarse start, Figure 4.6a; with loscos the
     lamps' links are pushed to the leaves). fresh_solution: loscos ends as the chapter mostly does
@@ -54,6 +56,8 @@ class RelightParams:
     colour_threshold: float = param(20.0, range=(0.0, 200.0), label="colour similarity ε (CIE L*a*b*, Fig. 4.7, 4.11)")
     visibility_threshold: float = param(0.3, range=(0.0, 1.0), label="visibility similarity (Fig. 4.7)")
     texture_refinement: bool = param(True, help="loscos: split leaves along the photographed shadows (4.3.1)")
+    reference_correction: bool = param(True, help="loscos: correct each shadowed leaf's texture by its reference "
+                                                  "leaf's (eqs. 4.8, 4.9); off: the blocked light added alone (4.6)")
     min_pixels: int = param(4, range=(1, 10000), step=1, help="4.3.1 splits only leaves covering this many pixels")
     hierarchy: HierarchyParams = param(default_factory=lambda: INITIAL_HIERARCHY,
                                        help="the initial radiosity solution (BF at a coarse ε)")

@@ -172,7 +172,9 @@ class RelightSession:
         group = self.model.group[h.polygon[leaves]]
         ref = textures.references(h, leaves, shadowed, frontier, group, rho_inter, self.params.colour_threshold)
         factor = inter.copy()
-        fix = ref >= 0
+        # where a reference exists, 4.9 replaces T_inter (inter cancels: factor = ρ_corr/ρ); eq. 4.6 is
+        # the final texture only of shadowed leaves without one
+        fix = (ref >= 0) & self.params.reference_correction
         r = ref[fix]
         # eq. 4.8 with the indirect irradiance I in both sums: the texture holds indirect light too, and
         # with the lamps' form factors alone a leaf nearer a lamp than its reference came out too bright
