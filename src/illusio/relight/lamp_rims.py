@@ -97,17 +97,20 @@ class LampRims:
         rim = self._rim_pixels()
         if not rim.any():
             return relit
-        photo = photograph[..., :3].astype(np.float64)
         (sy, sx), (iy, ix) = self._nearest(centre_on_lamp)
-        surface = photo[sy, sx]                      # S: the nearest pixel no lamp covers
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.where(photo > 0, relit / np.where(photo > 0, photo, 1), 1.0)
+        ry, rx = np.nonzero(rim)                     # only the rim pixels are worked on
+        photograph = photograph[..., :3]
+        photo = photograph[ry, rx].astype(np.float64)
+        surface = photograph[sy[ry, rx], sx[ry, rx]].astype(np.float64)   # S: the nearest pixel no lamp covers
         # the surface's own ratio where the centre saw it, else the nearest such pixel's
-        ratio = ratio[iy, ix]
+        at = (iy[ry, rx], ix[ry, rx])
+        seen, now = photograph[at].astype(np.float64), relit[..., :3][at].astype(np.float64)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.where(seen > 0, now / np.where(seen > 0, seen, 1), 1.0)
         # the lamp's share c of each rim pixel read from the photograph itself, P = c·L + (1 − c)·S in
         # luminance, with L the lamp covering most of it: the geometric coverage says where the
         # rims are, but the photograph's filter spreads a lamp's glow differently
-        lamp = np.argmax(self.coverage, axis=-1)
+        lamp = np.argmax(self.coverage[ry, rx], axis=-1)
         glow = self.radiance[lamp]
         lum = lambda a: a.mean(axis=-1)                                              # noqa: E731
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -116,9 +119,8 @@ class LampRims:
         k = np.asarray(scales, np.float64)[lamp]
         # the lamp's part of P is what the surface's is not (all of P where c reached 1: a pixel
         # brighter than the lamp's median is lamp through and through)
-        own = np.clip(photo - (1 - share)[..., None] * surface, 0, None)
+        own = np.clip(photo - (1 - share)[:, None] * surface, 0, None)
         out = relit.astype(np.float64).copy()
         # written as a change of the photograph, so that nothing changed gives it back exactly
-        out[rim] = (photo[rim] + (k[rim] - 1)[:, None] * own[rim]
-                    + (1 - share[rim])[:, None] * surface[rim] * (ratio[rim] - 1))
+        out[ry, rx] = photo + (k - 1)[:, None] * own + (1 - share)[:, None] * surface * (ratio - 1)
         return out
