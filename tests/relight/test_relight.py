@@ -163,7 +163,7 @@ def loscos(sessions):
 
 def test_loscos_textures(loscos):
     """Eq. (4.6)/(4.9): the shadowed leaves' textures are brightened (the blocked light added), the
-    fully lit ones are left as they were; every reference is a lit frontier leaf of the same object;
+    lit ones are left as they were, up to the little blocked light a leaf in no shadow has; every reference is a lit frontier leaf of the same object;
     with nothing changed the shadows are re-projected: the photograph comes back within a few per cent
     (Loscos 4.3.3, Figure 4.14)."""
     s = loscos
@@ -171,7 +171,10 @@ def test_loscos_textures(loscos):
     leaves, ref = s.references
     factor = s.texture_factor[leaves].mean(axis=1)
     assert s.shadowed.any() and (~s.shadowed).any()
-    assert np.median(factor[s.shadowed]) > 1.0 and np.allclose(factor[~s.shadowed], 1.0, atol=0.02)
+    # a leaf that is not shadowed has under BLOCKED_SHARE of its light blocked: eq. 4.6 adds at most that
+    from illusio.relight.textures import BLOCKED_SHARE
+    unchanged = BLOCKED_SHARE / (1 - BLOCKED_SHARE) + 0.01
+    assert np.median(factor[s.shadowed]) > 1.0 and np.allclose(factor[~s.shadowed], 1.0, atol=unchanged)
     chosen = ref[ref >= 0]
     assert len(chosen) and not s.shadowed[chosen].any()
     group = s.model.group[h.polygon[leaves]]
@@ -387,10 +390,11 @@ def _triangulated(polygons):
 
 def test_relighting_the_triangulated_office_matches_the_quad_office(ctx, photograph):
     """The office with every quad split in two, relit (lamp-0 off), scored against the path-traced
-    truth over 4×4 blocks: the baseline as the quads (measured 0.050 against 0.052 with the denoised
-    16-path photograph); loscos at most 40 % above the quads — a guard, not the goal: measured 27 %
-    above (0.085 against 0.067; with the raw photograph 0.122–0.145 against 0.120–0.126 over seeds
-    0–2). The loscos gap on triangles is open (design notes, surfaces)."""
+    truth over 4×4 blocks: each method as on the quads, within 5 % (measured: baseline 0.050 against
+    0.052, loscos 0.051 against 0.052). Loscos was 32 % above the quads until a leaf counted as
+    shadowed only when its blocked light is a real share of its light (textures.BLOCKED_SHARE): the
+    monitors' light grazing the ceiling made 105 of the triangulated ceiling's 182 leaves
+    "shadowed", each then re-textured from a reference (eq. 4.9)."""
     from illusio.radiosity.mitsuba import render_mitsuba, score
 
     p = photograph.polygons
@@ -408,8 +412,8 @@ def test_relighting_the_triangulated_office_matches_the_quad_office(ctx, photogr
                 error[method, label] = score(blocks(s.image({"lamp-0": 0.0})), blocks(truth), whole).mean_relative_error
             finally:
                 s.release()
-    assert error["baseline", "triangles"] < 1.03 * error["baseline", "quads"], error
-    assert error["loscos", "triangles"] < 1.4 * error["loscos", "quads"], error
+    assert error["baseline", "triangles"] < 1.05 * error["baseline", "quads"], error
+    assert error["loscos", "triangles"] < 1.05 * error["loscos", "quads"], error
 
 
 @pytest.mark.parametrize("method", ["baseline", "loscos", "per-pixel"])

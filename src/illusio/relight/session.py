@@ -163,6 +163,13 @@ class RelightSession:
         rho = h.reflectance[leaves].copy()
         b_orig = h.radiosity[leaves]
         _, blocked, free, lit, shadowed = textures.lamp_transfer(h, sol.links, leaves)
+        indirect = self._indirect()[leaves]
+        # a leaf whose blocked light is a small share of what it would receive is in no shadow worth
+        # the name (a monitor's light grazing the ceiling): its photograph is kept, and it may serve
+        # as a reference
+        significant = blocked.sum(axis=1) > textures.BLOCKED_SHARE * (free + indirect).sum(axis=1)
+        lit = lit | (~significant & (free.sum(axis=1) > 0))
+        shadowed &= significant
         shadowed &= h.exitance[leaves].max(axis=1) == 0          # a self-luminous leaf keeps its texture
         inter = np.where(b_orig > 0, (b_orig + rho * blocked) / np.where(b_orig > 0, b_orig, 1), 1.0)   # eq. 4.6
         rho_inter = np.clip(rho * inter, 0, estimate.MAX_REFLECTANCE)
@@ -178,7 +185,7 @@ class RelightSession:
         r = ref[fix]
         # eq. 4.8 with the indirect irradiance I in both sums: the texture holds indirect light too, and
         # with the lamps' form factors alone a leaf nearer a lamp than its reference came out too bright
-        unoccluded = free + self._indirect()[leaves]
+        unoccluded = free + indirect
         ratio = unoccluded[fix].sum(axis=1) / np.maximum(unoccluded[r].sum(axis=1), 1e-300)
         rho_corr = rho_inter[r] * ratio[:, None]                                                         # eq. 4.8
         factor[fix] = inter[fix] * rho_corr / np.maximum(rho_inter[fix], 1e-6)                          # eq. 4.9

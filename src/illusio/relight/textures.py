@@ -23,7 +23,11 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["srgb_to_lab", "colour_distance", "lamp_transfer", "neighbours", "references"]
+#: the least share of a leaf's unoccluded irradiance (lamps' direct + indirect) that its blocked
+#: light Ē must be for the leaf to count as shadowed (below it the leaf counts as lit)
+BLOCKED_SHARE = 0.05
+
+__all__ = ["BLOCKED_SHARE", "srgb_to_lab", "colour_distance", "lamp_transfer", "neighbours", "references"]
 
 
 def srgb_to_lab(rgb: np.ndarray) -> np.ndarray:
