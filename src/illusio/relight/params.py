@@ -18,7 +18,8 @@ SHOW = ("image", "textures", "mesh", "display-factor", "registration")
 #: refined along the photographed shadows (4.3.1, relight.shadow_refine), then the textures of 4.3.2
 #: (blocked energy added, shadowed elements corrected from a lit reference), shown with D = B + ρĒ.
 #: per-pixel: the photograph scaled at each pixel by the change of its irradiance, lamp by lamp with
-#: per-pixel visibility (the chapter's conclusion; relight.per_pixel).
+#: per-pixel visibility (the chapter's conclusion; relight.per_pixel). loscos is the default: the
+#: least error over the whole image on every edit of Figure 4.17 (benchmarks/RESULTS.md, issue 33).
 METHODS = ("baseline", "loscos", "per-pixel")
 
 #: the initial solution of 4.2.1: "la subdivision initiale, obtenue avec un critère de raffinement BF,
@@ -51,7 +52,7 @@ class RelightParams:
     the links where the criterion puts them. lamp_scales: (lamp name, factor on its estimated
     exitance) pairs. exposure: factor on the displayed radiance."""
 
-    method: str = param("baseline", choices=METHODS)
+    method: str = param("loscos", choices=METHODS)
     mean_reflectance: float = param(0.5, range=(0.01, 0.95), label="mean reflectance ρ̂ (first guess)")
     colour_threshold: float = param(20.0, range=(0.0, 200.0), label="colour similarity ε (CIE L*a*b*, Fig. 4.7, 4.11)")
     visibility_threshold: float = param(0.3, range=(0.0, 1.0), label="visibility similarity (Fig. 4.7)")
