@@ -10,20 +10,14 @@
 #include "common/fullscreen.glsl"
 
 #if defined(FRAGMENT_SHADER)
-uniform sampler2D image;       // linear colour
-uniform sampler2D coc;         // .r: circle of confusion, pixels
-uniform sampler2D depth;       // .r: metres, 0 = nothing (infinitely far)
+#include "gather_rule.glsl"
 uniform int radius;            // pixels: ceil(max_coc / 2)
-uniform float depth_slack;
-out vec4 colour;
-
-float far_depth(float d) { return d > 0.0 ? d : 1e30; }
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     ivec2 size = textureSize(image, 0);
-    float zp = far_depth(texelFetch(depth, p, 0).r);
-    float rp = max(texelFetch(coc, p, 0).r * 0.5, 0.5);
+    float zp = far_depth(p);
+    float rp = covering_radius(p);
     vec3 sum = vec3(0.0);
     float total = 0.0;
     for (int dy = -radius; dy <= radius; ++dy) {
@@ -31,12 +25,11 @@ void main() {
             ivec2 q = p + ivec2(dx, dy);
             if (q.x < 0 || q.y < 0 || q.x >= size.x || q.y >= size.y) continue;
             float dist = length(vec2(dx, dy));
-            float rq = max(texelFetch(coc, q, 0).r * 0.5, 0.5);
+            float rq = covering_radius(q);
             float cover = clamp(rq + 0.5 - dist, 0.0, 1.0);
             if (cover <= 0.0) continue;
-            float zq = far_depth(texelFetch(depth, q, 0).r);
-            if (zq > zp * (1.0 + depth_slack) && dist > rp) continue;
-            float w = cover / (3.14159265 * rq * rq);
+            if (hidden(far_depth(q), zp, dist, rp)) continue;
+            float w = cover / (PI * rq * rq);
             sum += w * texelFetch(image, q, 0).rgb;
             total += w;
         }

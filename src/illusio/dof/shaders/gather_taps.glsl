@@ -10,25 +10,17 @@
 #include "common/fullscreen.glsl"
 
 #if defined(FRAGMENT_SHADER)
-uniform sampler2D image;       // linear colour, with mipmaps
-uniform sampler2D coc;         // .r: circle of confusion, pixels
-uniform sampler2D depth;       // .r: metres, 0 = nothing (infinitely far)
+#include "gather_rule.glsl"
 uniform sampler2D tiles;       // .r: the covering radius R of each tile, pixels
 uniform int tile;              // pixels per tile side
 uniform int taps;
 uniform vec2 spiral[128];      // the unit disk's points (reference.disk_spiral)
-uniform float depth_slack;
-out vec4 colour;
-
-const float PI = 3.14159265;
-
-float far_depth(float d) { return d > 0.0 ? d : 1e30; }
 
 void main() {
     ivec2 p = ivec2(gl_FragCoord.xy);
     ivec2 size = textureSize(image, 0);
-    float zp = far_depth(texelFetch(depth, p, 0).r);
-    float rp = max(texelFetch(coc, p, 0).r * 0.5, 0.5);
+    float zp = far_depth(p);
+    float rp = covering_radius(p);
     float w = 1.0 / (PI * rp * rp);
     vec3 sum = w * texelFetch(image, p, 0).rgb;
     float total = w;
@@ -43,11 +35,10 @@ void main() {
         if (q.x < 0.0 || q.y < 0.0 || q.x >= float(size.x) || q.y >= float(size.y)) continue;
         ivec2 qi = ivec2(q);
         float dist = length(offset);
-        float rq = max(texelFetch(coc, qi, 0).r * 0.5, 0.5);
+        float rq = covering_radius(qi);
         float cover = clamp((rq - dist) / spacing + 0.5, 0.0, 1.0);
         if (cover <= 0.0) continue;
-        float zq = far_depth(texelFetch(depth, qi, 0).r);
-        if (zq > zp * (1.0 + depth_slack) && dist > rp) continue;
+        if (hidden(far_depth(qi), zp, dist, rp)) continue;
         float wq = cover * area / (PI * rq * rq);
         sum += wq * texelFetch(image, min(qi >> level, last), level).rgb;
         total += wq;
