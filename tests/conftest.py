@@ -27,8 +27,10 @@ TOLERANCES = {
     # metres away: float32's 1e-7 relative over that distance, and the interpolation's own rounding
     "position": {"rtol": 0.0, "atol": 2e-4},
     # shading of G-buffer samples: the reference reads the G-buffer's half-float colour and normals,
-    # so its inputs already carry ~1e-3, and a specular power magnifies that
-    "shading half-float inputs": {"rtol": 5e-3, "atol": 2e-3},
+    # so its inputs already carry ~1e-3, and a specular power magnifies that: cos^n's relative error
+    # is n·δcos, n up to 80 in the random scenes, δcos ~1e-4 from a half-float normal (a fresh-clone
+    # CI run met 0.7 % on one highlight pixel under 5e-3)
+    "shading half-float inputs": {"rtol": 1e-2, "atol": 2e-3},
     # a rasterised hit point against a ray-cast one: the two land ~1e-4 of the surface apart, and a
     # radiance interpolated across a leaf moves with them
     "hit point": {"rtol": 2e-3, "atol": 2e-4},
