@@ -95,7 +95,9 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_
     assert np.median(lit[both]) > 0.05 and len(emitters) > 0  # lit, not black
     off = (np.abs(got_radiance - lit) > 1e-3 + 3e-3 * np.abs(lit)).any(-1)  # the G-buffer's half floats
     assert off[both].mean() < 2e-3, f"{off[both].sum()} of {both.sum()} pixels lit differently"
-    np.testing.assert_allclose(got_radiance[want["source"] == 0], np.broadcast_to(refs.background, lit.shape)[want["source"] == 0], atol=1e-6)
+    # background where both find no reference (a pixel at a reference's edge may go either way, as above)
+    empty = agree & (source == 0)
+    np.testing.assert_allclose(got_radiance[empty], np.broadcast_to(refs.background, lit.shape)[empty], atol=1e-6)
 
 
 def test_references_reproduce_their_own_views_and_views_between_them(ctx, room):
