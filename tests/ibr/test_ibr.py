@@ -205,27 +205,38 @@ def test_ibr_commands(tmp_path, capsys):
 
 def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference(ctx, room, rng):
     """The first pass: the reconstruction mesh's depth against passes.reference.gbuffer ray-casting
-    the same mesh; hole filling against renderer.fill_holes on a depth with random holes."""
+    the same mesh, with the points it leaves out drawn as reference.point_depth squares (the nearer
+    wins); hole filling against renderer.fill_holes on a depth with random holes."""
     from illusio.ibr.reconstruct import ReconstructPass
-    from illusio.ibr.reconstruction import reconstruction_mesh
+    from illusio.ibr.reconstruction import reconstruction
     from illusio.ibr.renderer import fill_holes
     from illusio.passes import reference as passes_reference
     from illusio.scene.scene import Node, Scene
 
     scene, refs = room
-    mesh = reconstruction_mesh(refs, step=4)
+    shape = reconstruction(refs, step=4)
+    mesh, points, footprint = shape.mesh, shape.points, shape.footprint
+    assert len(points) > 100
     view = orbit_views(scene, 5)[1]
     size = (48, 36)
     rp = ReconstructPass(ctx)
-    rp.load(mesh)
+    rp.load(shape)
     tex = rp(view, size, 0)
     got = ctx.readback(tex)[..., 0]
     ctx.release(tex)
     want = passes_reference.gbuffer(Scene("m", nodes=[Node("m", mesh)]), view, size).depth
+    want = np.where(np.isfinite(want), want, np.inf)
+    dots = reference.point_depth(points, footprint, view, size)
+    want = np.minimum(want, np.where(dots > 0, dots, np.inf))
     want = np.where(np.isfinite(want), want, 0.0)
     both = (got > 0) & (want > 0)
     assert both.mean() > 0.8 and ((got > 0) != (want > 0)).mean() < 0.02  # edges may rasterise apart
-    np.testing.assert_allclose(got[both], want[both], **tolerance("float32"))
+    # the rasteriser snaps a point's centre to its subpixel grid (llvmpipe: 1/256 pixel), so a pixel
+    # centre within that of a square's edge may take the neighbouring point, on the same surface but
+    # for an edge (measured: 1.1 % of the pixels at step 4, the median of them 0.3 % apart)
+    far = ~np.isclose(got[both], want[both], **tolerance("float32"))
+    assert far.mean() < 0.03, f"{far.sum()} of {both.sum()} depths differ"
+    assert np.median(np.abs(got[both] / want[both] - 1)[far]) < 0.01 if far.any() else True
     holes = rng.uniform(1, 5, (36, 48)).astype(np.float32)
     holes[rng.random((36, 48)) < 0.3] = 0.0
     holes[10:20, 10:20] = 0.0  # a hole wider than the radius stays partly open
@@ -303,3 +314,58 @@ def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ct
     code, cap = call_cli(["ibr", "render", str(tmp_path / "photo"), "-o", str(tmp_path / "p.png"), "--photographic"], capsys)
     assert code == 0, cap.err
     assert read_image(tmp_path / "p.png").shape[:2] == (24, 32) and read_image(tmp_path / "p.png").max() > 0.05
+
+
+def test_the_first_pass_keeps_what_a_reference_saw_at_its_own_view(ctx, room):
+    """Drawn at a reference's own camera, that reference's reconstruction (its mesh and the points
+    the mesh leaves out) has its depth wherever it saw something — thin objects, the pixels along
+    occlusion edges whose triangles were all cut as bridges, and what the grid steps over."""
+    from dataclasses import replace
+
+    from illusio.ibr.reconstruct import ReconstructPass
+    from illusio.ibr.reconstruction import reconstruction
+
+    _, refs = room
+    rp = ReconstructPass(ctx)
+    for ref in refs.views:
+        rp.load(reconstruction(replace(refs, views=[ref])))
+        tex = rp(ref.view, ref.size, 0)
+        got = ctx.readback(tex)[..., 0]
+        ctx.release(tex)
+        seen = ref.depth > 0
+        kept = np.abs(got - ref.depth) <= 0.01 * ref.depth
+        assert kept[seen].mean() > 0.999, f"{(~kept[seen]).sum()} of {seen.sum()} seen pixels lost"
+    rp.release()
+
+
+def test_photographic_colour_is_resampled_bilinearly_like_the_reference(ctx, room, rng):
+    """Drawn as recorded, the chosen reference's colour is read bilinearly everywhere — across
+    silhouettes too, where a camera's pixels blend what they cover — as reference.select(...,
+    photographic=True) states it (the attributes keep the nearest texel there)."""
+    scene, refs = room
+    view = orbit_views(scene, 7)[int(rng.choice([1, 2, 4, 5]))]  # 3 is reference 1's own view
+    truth = SceneRenderer(ctx)
+    truth.prepare(scene)
+    g = truth.gbuffer(Frame(view, SIZE))
+    hit = ctx.readback(g["object_id"])[..., 0] > 0.5
+    depth = (np.where(hit, ctx.readback(g["depth"])[..., 0], 0.0) * rng.uniform(0.995, 1.005, SIZE[::-1])).astype(np.float32)
+    g.release()
+    tex = ctx.upload(depth, filter="nearest")
+    arrays = ReferenceArrays(ctx, refs.views)
+    gbuf = SelectPass(ctx)(tex, view, arrays, photographic=True)
+    source = np.rint(ctx.readback(gbuf["object_id"])[..., 0]).astype(int)
+    got = ctx.readback(gbuf["emission"])[..., :3]
+    gbuf.release()
+    tex.release()
+    arrays.release()
+    want = reference.select(depth, view, refs.views, photographic=True)
+    # the attributes' rule (the nearest texel off one surface) applied to the colour
+    from dataclasses import replace
+
+    nearest = reference.select(depth, view, [replace(r, emission=np.asarray(r.colour)[..., :3]) for r in refs.views])
+    both = (source == want["source"]) & (source > 0)
+    assert both.mean() > 0.8
+    off = (np.abs(got - want["emission"]) > 3e-3).any(-1)  # half floats
+    assert off[both].mean() < 2e-3, f"{off[both].sum()} of {both.sum()} pixels differ"
+    # the rule matters: the nearest texel would differ on a measurable share of the pixels
+    assert (np.abs(nearest["emission"] - want["emission"]) > 3e-3).any(-1)[both].mean() > 0.05

@@ -1,6 +1,6 @@
-"""The first pass on the GPU: the reconstruction mesh drawn into the new view's linear depth
-(shaders/reconstruct.glsl), then its holes filled from the nearest ring around them (shaders/fill.glsl). References:
-passes.reference.gbuffer (ray casting the mesh) and :func:`illusio.ibr.renderer.fill_holes`."""
+"""The first pass on the GPU: the reconstruction mesh and the points it leaves out drawn into the
+new view's linear depth (shaders/reconstruct.glsl), then its holes filled from the nearest ring around them (shaders/fill.glsl). References:
+passes.reference.gbuffer (ray casting the mesh), ibr.reference.point_depth (the points) and :func:`illusio.ibr.renderer.fill_holes`."""
 
 from __future__ import annotations
 
@@ -11,12 +11,13 @@ from ..core.context import Context
 from ..core.gl import set_uniform
 from ..scene.camera import View
 from ..scene.mesh import Mesh
+from .reconstruction import Reconstruction
 
 __all__ = ["ReconstructPass"]
 
 
 class ReconstructPass:
-    """``load(mesh)`` once per reference set; ``(view, size, fill_radius)`` → R32F depth (pooled)."""
+    """``load(reconstruction)`` once per reference set; ``(view, size, fill_radius)`` → R32F depth (pooled)."""
 
     def __init__(self, ctx: Context):
         self.ctx = ctx
@@ -24,7 +25,9 @@ class ReconstructPass:
         self.fill_program = ctx.program("ibr/shaders/fill.glsl")
         self._buffers = None
 
-    def load(self, mesh: Mesh) -> None:
+    def load(self, shape: Reconstruction | Mesh) -> None:
+        """The reconstruction (a bare Mesh: triangles only, no points)."""
+        mesh, points, footprint = (shape.mesh, shape.points, shape.footprint) if isinstance(shape, Reconstruction) else (shape, None, None)
         self.ctx.make_current()          # buffers belong to the context current when they are made
         self.release()
         gl = self.ctx.gl
@@ -32,6 +35,11 @@ class ReconstructPass:
         ibo = gl.buffer(np.ascontiguousarray(mesh.faces, np.int32).tobytes())
         vao = gl.vertex_array(self.program, [(vbo, "3f", "in_position")], ibo)
         self._buffers = (vbo, ibo, vao)
+        if points is not None and len(points):
+            interleaved = np.concatenate([np.asarray(points, np.float32).reshape(-1, 3),
+                                          np.asarray(footprint, np.float32).reshape(-1, 1)], axis=1)
+            pbo = gl.buffer(np.ascontiguousarray(interleaved).tobytes())
+            self._buffers += (pbo, gl.vertex_array(self.program, [(pbo, "3f 1f", "in_position", "in_footprint")]))
 
     def __call__(self, view: View, size: tuple[int, int], fill_radius: int = 0) -> moderngl.Texture:
         ctx = self.ctx
@@ -46,6 +54,11 @@ class ReconstructPass:
         ctx.gl.enable(moderngl.DEPTH_TEST)
         ctx.gl.disable(moderngl.CULL_FACE)
         self._buffers[2].render(moderngl.TRIANGLES)
+        if len(self._buffers) > 3:
+            set_uniform(self.program, "focal_px", float(view.projection_matrix(w / h)[0, 0] * w / 2))
+            ctx.gl.enable(moderngl.PROGRAM_POINT_SIZE)
+            self._buffers[4].render(moderngl.POINTS)
+            ctx.gl.disable(moderngl.PROGRAM_POINT_SIZE)
         ctx.gl.disable(moderngl.DEPTH_TEST)
         return self.fill(depth, fill_radius)
 

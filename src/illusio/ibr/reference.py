@@ -1,6 +1,7 @@
 """Image-based rendering stated plainly in NumPy: the specification the GPU passes are tested
 against. ``select`` for SelectPass (the per-pixel choice of the reference view); the first pass's
-reference is passes.reference.gbuffer ray-casting the reconstruction mesh."""
+reference is passes.reference.gbuffer ray-casting the reconstruction mesh, nearer than
+``point_depth`` of the points the mesh leaves out."""
 
 from __future__ import annotations
 
@@ -8,11 +9,11 @@ import numpy as np
 
 from .reconstruction import unproject
 
-__all__ = ["select"]
+__all__ = ["select", "point_depth"]
 
 
 def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bilinear: bool = True,
-           max_distance: float = 3.0) -> dict[str, np.ndarray]:
+           max_distance: float = 3.0, photographic: bool = False) -> dict[str, np.ndarray]:
     """Per pixel of the new view (row 0 at the top): back-project the pixel centre at its
     reconstructed depth into each reference, read the reference's depth there (bilinear over the
     four texels around the point when all four see something and ``bilinear``, else the nearest),
@@ -22,7 +23,9 @@ def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bi
     point lie on one surface (depths within 1 %), else the nearest texel. Returns source (H, W) int (reference index + 1, 0 =
     hole; a reference whose stored normal faces away from the new eye saw the other side of a thin
     surface and is skipped), depth (the seen point's view depth in the new view), position (H, W, 3), albedo (H, W, 4),
-    normal (H, W, 4), emission (H, W, 3) from the chosen reference's nearest texel."""
+    normal (H, W, 4), emission (H, W, 3) from the chosen reference's nearest texel. ``photographic``:
+    "emission" is the reference's recorded colour, bilinear everywhere (an image of the light, as a
+    camera's pixel blends what it covers; texel indices clamped to the image)."""
     z = np.asarray(reconstructed, np.float64)
     h, w = z.shape
     ys, xs = np.mgrid[0:h, 0:w]
@@ -85,4 +88,26 @@ def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bi
         out["position"][take] = seen[take]
         for name in ("albedo", "normal", "emission"):
             out[name][take] = attribute(getattr(ref, name))[take]
+        if photographic:
+            out["emission"][take] = bilerp(np.asarray(ref.colour)[..., :3])[take]
     return out
+
+
+def point_depth(points: np.ndarray, footprint: np.ndarray, view, size: tuple[int, int]) -> np.ndarray:
+    """The first pass's points (reconstruction.Reconstruction's) as GL draws them: each a square
+    of side max(1, footprint · f_x / z) pixels (f_x the view's focal length in pixels, z its view
+    depth) centred where it projects; every pixel whose centre lies inside takes its depth, the
+    nearest winning. (H, W) metres along the view axis, 0 = no point (row 0 at the top)."""
+    w, h = size
+    out = np.full((h, w), np.inf)
+    if len(points):
+        pixel, z = view.project(np.asarray(points, np.float64), size)
+        focal = view.projection_matrix(w / h)[0, 0] * w / 2
+        half = np.maximum(1.0, np.asarray(footprint, np.float64) * focal / np.maximum(z, 1e-6)) / 2
+        for k in np.flatnonzero(z > view.camera.near):
+            # pixel centres c + 0.5 inside [x − half, x + half)
+            x0, x1 = int(np.ceil(pixel[k, 0] - half[k] - 0.5)), int(np.ceil(pixel[k, 0] + half[k] - 0.5))
+            y0, y1 = int(np.ceil(pixel[k, 1] - half[k] - 0.5)), int(np.ceil(pixel[k, 1] + half[k] - 0.5))
+            block = out[max(y0, 0):max(min(y1, h), 0), max(x0, 0):max(min(x1, w), 0)]
+            np.minimum(block, z[k], out=block)
+    return np.where(np.isfinite(out), out, 0.0)

@@ -20,7 +20,7 @@ from ..passes.gbuffer import GBuffer
 from ..passes.shading import MAX_EMITTERS, ShadingParams
 from .params import IbrParams
 from .reconstruct import ReconstructPass
-from .reconstruction import reconstruction_mesh
+from .reconstruction import reconstruction
 from .references import ReferenceSet
 from .select import ReferenceArrays, SelectPass
 
@@ -120,7 +120,7 @@ class IbrRenderer(Renderer):
         the view, the size and the mesh settings stay the same)."""
         mesh_key = (params.mesh_step, params.grazing)
         if mesh_key != self._mesh_key:
-            self.reconstruct.load(reconstruction_mesh(self.refs, params.mesh_step, params.grazing))
+            self.reconstruct.load(reconstruction(self.refs, params.mesh_step, params.grazing))
             self._mesh_key = mesh_key
         key = (view, tuple(size), mesh_key, params.fill_radius)
         if self._depth is None or self._depth[:4] != key:

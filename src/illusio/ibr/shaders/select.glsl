@@ -12,7 +12,8 @@
 // arrays lift that limit). DISTANCE_3D and BILINEAR are compiled in, not uniform switches (llvmpipe
 // runs both sides of a branch). RESOLVE=1, once, after the disocclusions are filled (fill.glsl, HITS=1):
 // the chosen reference's attributes at that point — bilinear where the four texels around it lie on
-// one surface (depths within 1 %), else the nearest texel — into the G-buffer layout (albedo + k_s,
+// one surface (depths within 1 %), else the nearest texel; a recorded colour (photographic) bilinear
+// everywhere — into the G-buffer layout (albedo + k_s,
 // corrected linear depth, normal + exponent, world position, source index + 1, emission), or with
 // SHADE=1 lit at once by emitters.glsl as the deferred shading would (radiance + source index): no
 // G-buffer written and read again. NumPy references: ibr.reference.select, passes.reference.shading.
@@ -171,7 +172,9 @@ void attributes(vec4 h, int k, out vec4 albedo, out vec4 normal, out vec3 emissi
     seen = unproject(ref_pixel, vec2(ref_size), h.z, ref_projection[k], ref_inverse_view[k]);
     normal = texture(ref_normal, at);
     albedo = texture(ref_albedo, at) * (photographic ? 0.0 : 1.0);
-    emission = texture(ref_emission, at).rgb;
+    // a recorded colour is an image of the light, not an attribute of one surface: resampled
+    // bilinearly everywhere, as a camera's pixels blend what they cover (silhouettes included)
+    emission = texture(ref_emission, photographic ? vec3(h.xy, float(k)) : at).rgb;
 }
 
 void main() {
