@@ -10,7 +10,6 @@ import numpy as np
 from ..core.context import Context
 from ..core.gl import set_uniform
 from ..scene.camera import View
-from ..scene.mesh import Mesh
 from .reconstruction import Reconstruction
 
 __all__ = ["ReconstructPass"]
@@ -25,9 +24,8 @@ class ReconstructPass:
         self.fill_program = ctx.program("ibr/shaders/fill.glsl")
         self._buffers = None
 
-    def load(self, shape: Reconstruction | Mesh) -> None:
-        """The reconstruction (a bare Mesh: triangles only, no points)."""
-        mesh, points, footprint = (shape.mesh, shape.points, shape.footprint) if isinstance(shape, Reconstruction) else (shape, None, None)
+    def load(self, shape: Reconstruction) -> None:
+        mesh, points, footprint = shape.mesh, shape.points, shape.footprint
         self.ctx.make_current()          # buffers belong to the context current when they are made
         self.release()
         gl = self.ctx.gl
@@ -35,7 +33,7 @@ class ReconstructPass:
         ibo = gl.buffer(np.ascontiguousarray(mesh.faces, np.int32).tobytes())
         vao = gl.vertex_array(self.program, [(vbo, "3f", "in_position")], ibo)
         self._buffers = (vbo, ibo, vao)
-        if points is not None and len(points):
+        if len(points):
             interleaved = np.concatenate([np.asarray(points, np.float32).reshape(-1, 3),
                                           np.asarray(footprint, np.float32).reshape(-1, 1)], axis=1)
             pbo = gl.buffer(np.ascontiguousarray(interleaved).tobytes())
