@@ -77,11 +77,14 @@ def _shadow_and_light(real):
 
 
 def test_baseline_keeps_the_photographed_shadows_and_loscos_removes_them(sessions, photograph):
-    """Loscos 4.2.2 against 4.3: an edit scales the baseline's photographed shadows as their lit
-    surroundings (the median ratio new/photograph inside the shadows within 10 % of outside:
-    measured 0.94 and 0.98), so the shadows stay; loscos's textures are shadow-free, so the shadows
-    change otherwise (measured 0.76 and 0.86) — by twice the baseline's departure at least. Without
-    the reference correction (eqs. 4.8/4.9) this fails: loscos then keeps the shadows too."""
+    """Loscos 4.2.2 against 4.3: an edit scales the baseline's photographed shadows nearly as their
+    lit surroundings (the median ratio new/photograph inside the shadows over outside: measured
+    0.84 and 0.95; the path-traced truth of the same edits, 0.87 and 0.96), so the shadows stay;
+    loscos's textures are shadow-free, so the shadows change otherwise (measured 0.64 and 0.81) —
+    by twice the baseline's departure at least. Without the reference correction (eqs. 4.8/4.9)
+    this fails: loscos then keeps the shadows too. (Before the form factor was clipped to the
+    receiver's tangent plane the baseline measured 0.94 and 0.98: the shadow masks' per-pixel
+    lamp light, and the solution's, counted a lamp's part behind a surface negatively.)"""
     shadow, lit = _shadow_and_light(photograph)
     assert shadow.sum() > 100 and lit.sum() > 1000
 
@@ -92,7 +95,7 @@ def test_baseline_keeps_the_photographed_shadows_and_loscos_removes_them(session
     for edit in ({"lamp-0": 0.0, "lamp-1": 0.0}, {"lamp-2": 2.0, "lamp-3": 2.0}):
         kept = abs(1 - inside_over_outside("baseline", edit))
         removed = abs(1 - inside_over_outside("loscos", edit))
-        assert kept < 0.1 and removed > 0.1 and removed > 2 * kept, (edit, kept, removed)
+        assert kept < 0.2 and removed > 0.1 and removed > 2 * kept, (edit, kept, removed)
     with pytest.raises(InputError, match="no lamp named"):
         sessions("baseline").image({"lamp-9": 1.0})
 

@@ -6,8 +6,9 @@ The links use the receiver-averaged form factor: the exact form factor from a po
 centre-to-centre estimate fails (in a closed cube the point-to-disk estimate below gives row sums
 from 0.84 to 1.3; the contour integral keeps them within a few per cent of 1).
 
-Point to polygon (unoccluded, the polygon wholly in front of the point's tangent plane), with R_e the
-vectors from the point x to the corners and γ_e the angle between R_e and R_{e+1}:
+Point to polygon (unoccluded), with R_e the vectors from the point x to the corners of the polygon
+clipped to x's tangent plane and γ_e the angle between R_e and R_{e+1}; 0 when x is behind the
+polygon's plane (a surface emits and reflects to its front only):
 
     F_x→j = (1/2π) |Σ_e γ_e · n_x · (R_e × R_{e+1}) / |R_e × R_{e+1}||
 
@@ -33,9 +34,8 @@ __all__ = ["point_to_disk", "point_polygon", "facing", "facing_pairs"]
 
 
 @numba.njit(cache=True, inline="always")
-def contour_integral(x0, x1, x2, n0, n1, n2, corners, m):
-    """F from the point (x0, x1, x2) with normal (n0, n1, n2) to the polygon of the first ``m`` rows
-    of ``corners`` (4, 3): the formula of the module docstring, for numba kernels."""
+def _edge_sum(x0, x1, x2, n0, n1, n2, corners, m):
+    """Σ_e γ_e · n_x · (R_e × R_{e+1}) / |R_e × R_{e+1}| over the first ``m`` rows of ``corners``."""
     total = 0.0
     for e in range(m):
         f = (e + 1) % m
@@ -48,6 +48,48 @@ def contour_integral(x0, x1, x2, n0, n1, n2, corners, m):
         dot = a0 * b0 + a1 * b1 + a2 * b2
         gamma = np.arctan2(cn, dot)
         total += gamma * (n0 * c0 + n1 * c1 + n2 * c2) / cn
+    return total
+
+
+@numba.njit(cache=True, inline="always")
+def contour_integral(x0, x1, x2, n0, n1, n2, corners, m):
+    """F from the point (x0, x1, x2) with normal (n0, n1, n2) to the polygon of the first ``m`` rows
+    of ``corners`` (4, 3): the formula of the module docstring, for numba kernels. One-sided (0 when
+    x lies behind the polygon's plane, its normal by the corners' right-hand winding) and clipped to
+    x's tangent plane first (the part behind it would count negatively)."""
+    s0, s1, s2 = corners[1, 0] - corners[0, 0], corners[1, 1] - corners[0, 1], corners[1, 2] - corners[0, 2]
+    t0, t1, t2 = corners[m - 1, 0] - corners[0, 0], corners[m - 1, 1] - corners[0, 1], corners[m - 1, 2] - corners[0, 2]
+    side = ((s1 * t2 - s2 * t1) * (x0 - corners[0, 0]) + (s2 * t0 - s0 * t2) * (x1 - corners[0, 1])
+            + (s0 * t1 - s1 * t0) * (x2 - corners[0, 2]))
+    if side <= 0.0:
+        return 0.0
+    behind = 0
+    for e in range(m):
+        if (corners[e, 0] - x0) * n0 + (corners[e, 1] - x1) * n1 + (corners[e, 2] - x2) * n2 < 0.0:
+            behind += 1
+    if behind == m:
+        return 0.0
+    if behind == 0:
+        total = _edge_sum(x0, x1, x2, n0, n1, n2, corners, m)
+    else:       # Sutherland–Hodgman against the tangent plane: at most m + 1 corners
+        clipped = np.empty((5, 3))
+        k = 0
+        for e in range(m):
+            f = (e + 1) % m
+            ha = (corners[e, 0] - x0) * n0 + (corners[e, 1] - x1) * n1 + (corners[e, 2] - x2) * n2
+            hb = (corners[f, 0] - x0) * n0 + (corners[f, 1] - x1) * n1 + (corners[f, 2] - x2) * n2
+            if ha >= 0.0:
+                for c in range(3):
+                    clipped[k, c] = corners[e, c]
+                k += 1
+            if (ha >= 0.0) != (hb >= 0.0):
+                t = ha / (ha - hb)
+                for c in range(3):
+                    clipped[k, c] = corners[e, c] + t * (corners[f, c] - corners[e, c])
+                k += 1
+        if k < 3:
+            return 0.0
+        total = _edge_sum(x0, x1, x2, n0, n1, n2, clipped, k)
     return min(abs(total) / (2 * np.pi), 1.0)
 
 

@@ -33,7 +33,9 @@ class HierarchyParams:
     clusters: link through a hierarchy of clusters above the input polygons (radiosity.clusters:
     the first links are not every pair of polygons, so a scene of 10⁵ polygons solves); off: every
     pair of input polygons is refined from the start (exact form factors everywhere, quadratic in
-    the polygon count, at most MAX_POLYGONS)."""
+    the polygon count, at most MAX_POLYGONS). sliver_piece: a quad longer than max(4 × its width,
+    sliver_piece·√A_ε) is cut along its length into pieces that long (Polygons.split_slivers; 0: never),
+    since an element narrower than √A_ε is never split however the light varies along it."""
 
     epsilon: float = param(6e-5, range=(1e-9, 1.0), log=True, label="refinement ε (× total power)")
     min_area: float = param(0.0, range=(0.0, 100.0), unit="m²", label="minimum element area A_ε (0: automatic)")
@@ -43,6 +45,8 @@ class HierarchyParams:
     refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds")
     seed: int = param(0, range=(0, 2**31 - 1), step=1, help="visibility rays (and the path tracer of a reference)")
     clusters: bool = param(True, help="link through clusters of polygons (off: every pair of input polygons)")
+    sliver_piece: float = param(0.5, range=(0.0, 100.0), label="sliver pieces (× √A_ε, 0: uncut)",
+                                help="quads longer than 4× their width are cut into pieces this long (× √A_ε)")
 
     __post_init__ = check_ranges
 

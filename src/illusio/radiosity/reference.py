@@ -13,14 +13,29 @@ __all__ = ["point_polygon_form_factor", "gather", "cluster_gather", "push_pull",
 
 
 def point_polygon_form_factor(x, normal, corners) -> float:
-    """F from the point x (normal n) to the polygon ``corners`` (m, 3), wholly in front of x:
-    (1/2π)·|Σ_e γ_e · n·(R_e × R_{e+1}) / |R_e × R_{e+1}||, R_e = corner_e − x."""
+    """F from the point x (normal n) to the polygon ``corners`` (m, 3), unoccluded:
+    (1/2π)·|Σ_e γ_e · n·(R_e × R_{e+1}) / |R_e × R_{e+1}||, R_e = corner_e − x, over the polygon
+    clipped to x's tangent plane (the part behind it cannot send x anything); 0 when x lies behind
+    the polygon's plane (its normal (c_1 − c_0) × (c_{m−1} − c_0): a surface emits to its front)."""
     x, normal = np.asarray(x, float), np.asarray(normal, float)
+    corners = [np.asarray(c, float) for c in corners]
+    if np.cross(corners[1] - corners[0], corners[-1] - corners[0]) @ (x - corners[0]) <= 0:
+        return 0.0
+    clipped = []                      # Sutherland–Hodgman: keep the corners above the plane, cut the edges that cross it
+    for e in range(len(corners)):
+        a, b = corners[e], corners[(e + 1) % len(corners)]
+        ha, hb = float(normal @ (a - x)), float(normal @ (b - x))
+        if ha >= 0:
+            clipped.append(a)
+        if (ha >= 0) != (hb >= 0):
+            clipped.append(a + ha / (ha - hb) * (b - a))
     total = 0.0
-    m = len(corners)
+    m = len(clipped)
+    if m < 3:
+        return 0.0
     for e in range(m):
-        a = np.asarray(corners[e], float) - x
-        b = np.asarray(corners[(e + 1) % m], float) - x
+        a = clipped[e] - x
+        b = clipped[(e + 1) % m] - x
         c = np.cross(a, b)
         norm = float(np.linalg.norm(c))
         if norm < 1e-300:

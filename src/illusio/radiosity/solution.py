@@ -18,7 +18,7 @@ from .clusters import ClusteredGather, ClusterLinks, ClusterTree, refine_nodes, 
 from .hierarchy import Hierarchy
 from .links import Links
 from .params import HierarchyParams
-from .polygons import MAX_POLYGONS, Polygons
+from .polygons import MAX_POLYGONS, Polygons, polygon_areas
 from .dynamic import add_lamp, add_object, move_object, remove_object
 from .refine import needs_refinement, refine, transfer_estimate
 from .solve import SolveResult, solve
@@ -61,6 +61,9 @@ class Radiosity:
     """Hierarchical radiosity over ``polygons`` with ``params`` (HierarchyParams)."""
 
     def __init__(self, polygons: Polygons, params: HierarchyParams = HierarchyParams()):
+        if params.sliver_piece > 0:      # self.polygons are then the cut ones: h.polygon indexes them
+            min_area = params.min_area or AUTO_MIN_AREA * float(polygon_areas(polygons.corners, polygons.triangle).sum())
+            polygons = polygons.split_slivers(params.sliver_piece * np.sqrt(min_area))
         if len(polygons) > MAX_POLYGONS and not params.clusters:
             counts = np.bincount(polygons.group, minlength=len(polygons.names))
             worst = int(counts.argmax())

@@ -209,8 +209,26 @@ def _rays_to_cast(rays, samples, epoch, origins, directions, dists, up, box_lo, 
 
 
 @numba.njit(cache=True)
-def _fraction_and_masks(clear, exposed, samples, epoch, keep):
-    """V per pair (its exposed samples' clear fraction, 0 when none is exposed) and the masks to keep."""
+def _front_to_front(directions, receiver_normal, source_normal, samples):
+    """Per sample: does its ray leave the receiver's front and reach the source's front? A pair that
+    straddles a plane (a face standing on the floor and the floor) has samples behind one of them:
+    they carry nothing (the form factor is clipped and one-sided), so they must not count in V
+    either — as blocked rays they took a straddling pair's V down by the share behind."""
+    out = np.empty(len(directions), np.bool_)
+    for i in range(len(directions)):
+        p = i // samples
+        up = (directions[i, 0] * receiver_normal[p, 0] + directions[i, 1] * receiver_normal[p, 1]
+              + directions[i, 2] * receiver_normal[p, 2])
+        down = (directions[i, 0] * source_normal[p, 0] + directions[i, 1] * source_normal[p, 1]
+                + directions[i, 2] * source_normal[p, 2])
+        out[i] = up > 0 and down < 0
+    return out
+
+
+@numba.njit(cache=True)
+def _fraction_and_masks(clear, exposed, samples, epoch, keep, facing):
+    """V per pair (the clear fraction of its samples that are exposed and ``facing``, front to
+    front; 0 when none is) and the masks to keep (clear and exposed bits)."""
     n = len(clear) // samples
     visibility = np.zeros(n)
     rays = np.full(n, -1, np.int64)
@@ -219,7 +237,7 @@ def _fraction_and_masks(clear, exposed, samples, epoch, keep):
         mask = np.int64(0)
         for t in range(samples):
             i = p * samples + t
-            if exposed[i]:
+            if exposed[i] and facing[i]:
                 seen += 1
                 if clear[i]:
                     hits += 1
@@ -292,7 +310,8 @@ class Visibility:
         probe = self.scene.run(origins, up, output=1)
         self.rays += 2 * n * k
         exposed = _exposed(np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact)
-        visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False)
+        facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
+        visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False, facing)
         return form_factor, visibility
 
     def exposed(self, origins: np.ndarray, normals: np.ndarray) -> np.ndarray:
@@ -339,4 +358,5 @@ class Visibility:
             self.rays += int(cast_ray.sum() + cast_probe.sum())
         else:
             clear[:], exposed[:] = True, True
-        return _fraction_and_masks(clear, exposed, k, self.epoch, keep)
+        facing = _front_to_front(directions, h.normal[receivers], h.normal[sources], k)
+        return _fraction_and_masks(clear, exposed, k, self.epoch, keep, facing)

@@ -49,7 +49,8 @@ class RelightParams:
     lamps' links are pushed to the leaves). fresh_solution: loscos ends as the chapter mostly does
     (4.3.3): the mesh and links made again with ``final_hierarchy`` (default: the engine's BFV
     refinement) over the final textures, D computed with the lamps' links at the leaves, then B with
-    the links where the criterion puts them. lamp_scales: (lamp name, factor on its estimated
+    the links where the criterion puts them. Both keep the model's own polygons (their sliver_piece is
+    taken as 0: the photograph's textures and pixels are keyed to the input polygons). lamp_scales: (lamp name, factor on its estimated
     exitance) pairs. exposure: factor on the displayed radiance."""
 
     method: str = param("loscos", choices=METHODS)

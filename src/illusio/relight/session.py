@@ -46,9 +46,10 @@ class RelightSession:
         self.model, self.mean_reflectance = self._estimate()
         self.renderer = RadiosityRenderer(self.ctx)
         self.renderer.prepare(self.model)
-        self.hierarchy_params = params.hierarchy
+        # the model's own polygons, uncut: the photograph's textures and pixels are keyed to them
+        self.hierarchy_params = dataclasses.replace(params.hierarchy, sliver_piece=0.0)
         if params.method == "loscos":
-            self.hierarchy_params = dataclasses.replace(params.hierarchy, lights_to_leaves=True)
+            self.hierarchy_params = dataclasses.replace(self.hierarchy_params, lights_to_leaves=True)
         self.solution = self.renderer.solve(RadiosityParams(self.hierarchy_params))
         self.display = DisplayPass(self.ctx)
         self._gather = CornerGather()           # the corners' form factors, kept between edits
@@ -212,7 +213,7 @@ class RelightSession:
         model = dataclasses.replace(self.model, reflectance=old.reflectance[old.roots[:len(self.model)]].copy())
         from ..radiosity import Radiosity
 
-        sol = Radiosity(model, dataclasses.replace(self.params.final_hierarchy, lights_to_leaves=True)).build()
+        sol = Radiosity(model, dataclasses.replace(self.params.final_hierarchy, lights_to_leaves=True, sliver_piece=0.0)).build()
         self.solution, self._gather = sol, CornerGather()
         h = sol.hierarchy
         element = self._pixel_leaf()
