@@ -10,8 +10,8 @@ from ..core.params import check_ranges, param
 
 __all__ = ["HierarchyParams", "RadiosityParams", "CRITERIA", "SHOW"]
 
-#: bf: refine a link when B_j·F_ij·V_ij·A_i > ε (a shadowed link counts by its visible part);
-#: bfv: the same, and a PARTIAL link also when B_j·F_ij·A_i > ε (shadow boundaries refined as if lit)
+#: bf: refine a link when B_j·F_ij·A_i > ε (the chapter's BF: as fine in the shadows as in the light);
+#: bfv: when B_j·F_ij·V_ij·A_i > ε (BFV: a shadowed link counts by its visible part, coarser in shadows)
 CRITERIA = ("bf", "bfv")
 #: radiosity: B/π interpolated to the vertices (Gouraud); mesh: each leaf flat with its edges drawn;
 #: links: the radiosity with the links the chosen element receives drawn to their sources
@@ -45,7 +45,7 @@ class HierarchyParams:
     refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds")
     seed: int = param(0, range=(0, 2**31 - 1), step=1, help="visibility rays (and the path tracer of a reference)")
     clusters: bool = param(True, help="link through clusters of polygons (off: every pair of input polygons)")
-    sliver_piece: float = param(0.5, range=(0.0, 100.0), label="sliver pieces (× √A_ε, 0: uncut)",
+    sliver_piece: float = param(1.0, range=(0.0, 100.0), label="sliver pieces (× √A_ε, 0: uncut)",
                                 help="quads longer than 4× their width are cut into pieces this long (× √A_ε)")
 
     __post_init__ = check_ranges
