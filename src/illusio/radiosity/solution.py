@@ -61,9 +61,10 @@ class Radiosity:
     """Hierarchical radiosity over ``polygons`` with ``params`` (HierarchyParams)."""
 
     def __init__(self, polygons: Polygons, params: HierarchyParams = HierarchyParams()):
+        self.params = params
+        self._auto_min_area = AUTO_MIN_AREA * float(polygon_areas(polygons.corners, polygons.triangle).sum())
         if params.sliver_piece > 0:      # self.polygons are then the cut ones: h.polygon indexes them
-            min_area = params.min_area or AUTO_MIN_AREA * float(polygon_areas(polygons.corners, polygons.triangle).sum())
-            polygons = polygons.split_slivers(params.sliver_piece * np.sqrt(min_area))
+            polygons = polygons.split_slivers(params.sliver_piece * np.sqrt(self.min_area))
         if len(polygons) > MAX_POLYGONS and not params.clusters:
             counts = np.bincount(polygons.group, minlength=len(polygons.names))
             worst = int(counts.argmax())
@@ -71,7 +72,6 @@ class Radiosity:
                              f"{len(polygons)}, {counts[worst]} of them in {polygons.names[worst]!r}: link through "
                              "clusters (--clusters) or use coarser meshes")
         self.polygons = polygons
-        self.params = params
         self.hierarchy = Hierarchy(polygons)
         self.visibility = Visibility(self.hierarchy, params.visibility_samples, params.seed)
         self.links = Links()
