@@ -261,3 +261,20 @@ def test_block_score_averages_pixel_noise_out(rng):
     mask = np.ones((64, 64), bool)
     mask[0, 0] = False
     assert score(noisy, truth, mask, block=4).pixels == 16 * 16 - 1
+
+
+def test_score_leaves_the_callers_mask_alone(rng):
+    """score drops dark pixels from its own copy of the mask: a caller scoring twice with one mask
+    (per pixel, then over blocks, as the benchmark does) scores the second time over the same pixels.
+    (It once narrowed the caller's array in place, so the block score left out every block with a
+    dark pixel in it.)"""
+    from illusio.radiosity.mitsuba import score
+
+    truth = rng.random((32, 32, 3)) + 0.01
+    truth[:4] = 0.0                                   # below the floor: not scored, in either call
+    mask = np.ones((32, 32), bool)
+    before = mask.copy()
+    first = score(truth * 1.1, truth, mask, block=1)
+    assert (mask == before).all()
+    assert score(truth * 1.1, truth, mask, block=4).pixels == 8 * 7
+    assert first.pixels == 28 * 32

@@ -91,7 +91,7 @@ def score(render: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = N
         return score(squares(np.asarray(render)[..., :3]), squares(np.asarray(reference)[..., :3]), whole, floor)
     r = np.asarray(render, np.float64)[..., :3].mean(axis=2)
     m = np.asarray(reference, np.float64)[..., :3].mean(axis=2)
-    keep = np.ones(m.shape, bool) if mask is None else np.asarray(mask, bool)
+    keep = np.ones(m.shape, bool) if mask is None else np.array(mask, bool)   # a copy: the caller's mask is not ours to change
     keep &= m > floor * m[keep].mean()
     rel = np.abs(r - m)[keep] / m[keep]
     peak = np.percentile(np.asarray(reference, np.float64)[keep], 99)
