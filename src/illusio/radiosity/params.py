@@ -26,7 +26,10 @@ class HierarchyParams:
     Φ = Σ E_i·A_i (W): a link from j to i is refined while B_j·F_ij·A_i > ε·Φ (max over RGB), so one
     value suits any scene's scale. min_area: A_ε, elements are not split below this area (m²); 0 takes
     3·10⁻⁵ of the scene's total area (the office: 0.006 m², the Cornell box: 6·10⁻⁵ m²).
-    criterion: one of CRITERIA. visibility_samples: rays per link for V_ij (a jittered grid of
+    criterion: one of CRITERIA; bf by default: a link partly in shadow is refined as if it were
+    lit, so the shadow's edge is placed in the mesh, not averaged over a large element (the living
+    room 5.4 → 4.7 % from Mitsuba over 4×4 blocks for 5 % more links; bfv is the chapter's coarser
+    final solution, fewer links in shadows). visibility_samples: rays per link for V_ij (a jittered grid of
     that many points on each element, paired). lights_to_leaves: push every link from a light source
     down to the receivers' leaves after refinement (Loscos Figure 4.6b). refinements: refine → solve
     rounds (the first round estimates B from the emitters' power). seed: the ray jitter.
@@ -39,7 +42,7 @@ class HierarchyParams:
 
     epsilon: float = param(6e-5, range=(1e-9, 1.0), log=True, label="refinement ε (× total power)")
     min_area: float = param(0.0, range=(0.0, 100.0), unit="m²", label="minimum element area A_ε (0: automatic)")
-    criterion: str = param("bfv", choices=CRITERIA)
+    criterion: str = param("bf", choices=CRITERIA)
     visibility_samples: int = param(16, range=(1, 256), step=1, help="rays per link for the visibility V_ij")
     lights_to_leaves: bool = param(False, help="links from lamps pushed to the receivers' leaves (Loscos 1999, Figure 4.6b)")
     refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds")

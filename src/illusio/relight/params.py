@@ -25,9 +25,10 @@ METHODS = ("baseline", "loscos", "per-pixel")
 #: the initial solution of 4.2.1: "la subdivision initiale, obtenue avec un critère de raffinement BF,
 #: est grossière" (Figure 4.6a) — BF, at a coarser ε than a radiosity frame's default
 INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3, clusters=False)
-#: relighting reads element links (a lamp's shadow masks, the frontier, the corner gather): its
-#: solutions link every pair of polygons, without clusters
-FINAL_HIERARCHY = HierarchyParams(clusters=False)
+#: the fresh solution of 4.3.3 is the chapter's BFV one ("un critère de raffinement BFV": coarser in
+#: the shadows, fewer links). Relighting reads element links (a lamp's shadow masks, the frontier,
+#: the corner gather): its solutions link every pair of polygons, without clusters
+FINAL_HIERARCHY = HierarchyParams(criterion="bfv", clusters=False)
 
 
 #: metres on a side of a virtual lamp added by the CLI, the viewer or ``RelightSession.add_lamp``
@@ -47,8 +48,8 @@ class RelightParams:
     4.3.1 splits only elements covering at least this many photograph pixels. hierarchy: the initial
     radiosity solution (default: BF at ε 3e-3, the chapter's coarse start, Figure 4.6a; with loscos the
     lamps' links are pushed to the leaves). fresh_solution: loscos ends as the chapter mostly does
-    (4.3.3): the mesh and links made again with ``final_hierarchy`` (default: the engine's BFV
-    refinement) over the final textures, D computed with the lamps' links at the leaves, then B with
+    (4.3.3): the mesh and links made again with ``final_hierarchy`` (default: BFV, as the
+    chapter has it) over the final textures, D computed with the lamps' links at the leaves, then B with
     the links where the criterion puts them. Both keep the model's own polygons (their sliver_piece is
     taken as 0: the photograph's textures and pixels are keyed to the input polygons). lamp_scales: (lamp name, factor on its estimated
     exitance) pairs. exposure: factor on the displayed radiance."""
