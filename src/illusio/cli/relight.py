@@ -10,11 +10,13 @@ import typer
 
 from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, write_image
-from ..relight.params import SHOW, VIRTUAL_LAMP_SIZE, RelightParams
+from ..relight.params import DEFAULT_PATHS, DEFAULT_SIZE, SHOW, VIRTUAL_LAMP_SIZE, RelightParams
 from .common import parse_size
 from .params_options import params_options
 from .radiosity import parse_lamps
 
+#: --size's default, as the option shows it
+DEFAULT_SIZE_TEXT = f"{DEFAULT_SIZE[0]}x{DEFAULT_SIZE[1]}"
 
 
 def _numbers(text: str, count: int, what: str) -> tuple[float, ...]:
@@ -70,8 +72,8 @@ def relight_prepare(
     scene: str = typer.Argument("office", help="a folder (scene.yaml, photograph, camera.json) or the built-in real "
                                                "scene (its photograph is path-traced: the photo extra)"),
     output: Path = typer.Option(..., "-o", "--output", help="the prepared session (.npz)"),
-    size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
-    samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
+    size: str = typer.Option(DEFAULT_SIZE_TEXT, "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
+    samples: int = typer.Option(DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph"),
     response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
     *,
     params: RelightParams,
@@ -97,8 +99,8 @@ def relight(
                                                "prepare` (.npz)"),
     output: Path = typer.Option(..., "-o", "--output", help="the relit image (.png sRGB, .npy/.exr linear)"),
     set_lamp: list[str] = typer.Option(None, "--set", help="NAME=SCALE: a real lamp's estimated exitance × SCALE (repeatable)"),
-    size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
-    samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph"),
+    size: str = typer.Option(DEFAULT_SIZE_TEXT, "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
+    samples: int = typer.Option(DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph"),
     add_lamp: list[str] = typer.Option(None, "--add-lamp", help=f"X,Y,Z:EXITANCE — a virtual {VIRTUAL_LAMP_SIZE * 100:g} cm lamp facing down at X,Y,Z (m), W/m² (repeatable)"),
     add_object: list[str] = typer.Option(None, "--add-object", help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)"),
     photograph: Path = typer.Option(None, "--photograph", help="also write the photograph used"),
@@ -201,8 +203,8 @@ def relight_calibrate(
 
 def relight_example(
     folder: Path = typer.Argument(..., help="the folder to write (scene.yaml, photograph.png, points.txt, true-camera.json)"),
-    size: str = typer.Option("320x240", "--size", help="WIDTHxHEIGHT of the photograph"),
-    samples: int = typer.Option(64, "--samples", help="paths per pixel of the photograph (denoised when pyoidn is installed)"),
+    size: str = typer.Option(DEFAULT_SIZE_TEXT, "--size", help="WIDTHxHEIGHT of the photograph"),
+    samples: int = typer.Option(DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph (denoised when pyoidn is installed)"),
     seed: int = typer.Option(0, "--seed", help="the path tracer's and the picked points' randomness"),
 ) -> None:
     """The worked example of relighting your own photograph: a room's model, a photograph of it

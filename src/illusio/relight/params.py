@@ -8,7 +8,11 @@ from ..core.errors import InputError
 from ..core.params import check_ranges, param
 from ..radiosity.params import HierarchyParams
 
-__all__ = ["RelightParams", "METHODS", "SHOW", "INITIAL_HIERARCHY"]
+__all__ = ["RelightParams", "METHODS", "SHOW", "INITIAL_HIERARCHY", "DEFAULT_SIZE", "DEFAULT_PATHS"]
+
+#: the built-in photograph's size (pixels) and paths a pixel unless asked otherwise: the CLI's
+#: defaults, and what the relight benchmark's table is made at
+DEFAULT_SIZE, DEFAULT_PATHS = (320, 240), 64
 
 #: what RelightSession.show draws (``illusio relight --show``)
 SHOW = ("image", "textures", "mesh", "display-factor", "registration")

@@ -15,6 +15,7 @@ from ..core.errors import InputError
 from ..radiosity import Polygons, scene_polygons
 from ..scene.builtin import builtin_scene
 from ..scene.camera import View
+from .params import DEFAULT_PATHS, DEFAULT_SIZE
 
 __all__ = ["RealScene", "builtin_real_scene", "load_real_scene", "read_photograph", "polygon_ids", "PHOTOGRAPH_NAMES",
            "RESPONSES"]
@@ -107,7 +108,7 @@ class RealScene:
         return self.photograph.shape[1], self.photograph.shape[0]
 
 
-def builtin_real_scene(name: str = "office", size: tuple[int, int] = (320, 240), samples: int = 64, seed: int = 0,
+def builtin_real_scene(name: str = "office", size: tuple[int, int] = DEFAULT_SIZE, samples: int = DEFAULT_PATHS, seed: int = 0,
                        denoise: bool | None = None) -> RealScene:
     """The built-in case: ``name``'s polygons photographed by Mitsuba from its main camera, at
     ``samples`` paths a pixel and, with ``denoise`` (default: when pyoidn is installed), through Open
