@@ -3,7 +3,8 @@ Loscos' Figure 4.17 and a virtual lamp with every real lamp off (Figure 4.18a), 
 Mitsuba's render of the same edit.
 
 Methods: baseline (4.2, on the chapter's coarse initial BF mesh), loscos (4.3.1 refinement + 4.3.2
-textures on that mesh), loscos without the 4.3.1 refinement, loscos ending on a fresh BFV solution
+textures on that mesh), both at the CLI's default estimate (ρ = πB̂/H, lamps from their pixels) and
+with the chapter's own (eqs. 4.1/4.2), loscos without the 4.3.1 refinement, loscos ending on a fresh BFV solution
 (4.3.3), per-pixel, and — to say what the
 chapter's claim depends on — the baseline on the radiosity engine's fine default mesh (BF, ε 6e-5).
 The photograph is the CLI's default one (relight.params.DEFAULT_SIZE, DEFAULT_PATHS; denoised when
@@ -39,13 +40,16 @@ EDITS = {"back lamps off": {"lamp-0": 0.0, "lamp-1": 0.0},
          "left off, right doubled": {"lamp-0": 0.0, "lamp-2": 0.0, "lamp-1": 2.0, "lamp-3": 2.0},
          "right off, left doubled": {"lamp-1": 0.0, "lamp-3": 0.0, "lamp-0": 2.0, "lamp-2": 2.0}}
 #: Figure 4.18a: a virtual lamp (centre m, side m, exitance in the session's estimated units) with the
-#: real ones off
+#: real ones off; its truth is rendered at the baseline's estimate scale and rescaled to each session's
 VIRTUAL_LAMP = ((1.0, 2.55, 2.5), 0.5, 40.0)
 FINE = HierarchyParams(clusters=False)         # the radiosity engine's default, BF at ε 6e-5 (relight links all pairs)
 METHODS = {"baseline": RelightParams(method="baseline"),
            "loscos": RelightParams(method="loscos"),
+           "baseline, the chapter's estimate (4.1/4.2)": RelightParams(method="baseline", estimate="brightness"),
+           "loscos, the chapter's estimate (4.1/4.2)": RelightParams(method="loscos", estimate="brightness"),
            "loscos without 4.3.1": RelightParams(method="loscos", texture_refinement=False),
            "loscos without 4.8/4.9 (T_inter alone)": RelightParams(method="loscos", reference_correction=False),
+           "loscos, eq. 4.9 in full (the chapter's)": RelightParams(method="loscos", reference_weight="full"),
            "loscos, fresh BFV solution (4.3.3)": RelightParams(method="loscos", fresh_solution=True),
            "per-pixel": RelightParams(method="per-pixel"),
            "baseline, fine mesh": RelightParams(method="baseline", hierarchy=FINE)}
@@ -95,7 +99,11 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     ratios["pixels scored / in the original shadows"] = float(geometry.sum()) / max(float(shadow.sum()), 1)
     sessions = {name: RelightSession(real, params, ctx) for name, params in METHODS.items()}
     lamp_rows = np.isin(p.group, p.lamps)
-    scale = float(sessions["baseline"].model.exitance[lamp_rows].mean() / p.exitance[lamp_rows].mean())
+
+    def estimate_scale(session):
+        return float(session.model.exitance[lamp_rows].mean() / p.exitance[lamp_rows].mean())
+
+    scale = estimate_scale(sessions["baseline"])
     truths = {}
     for name, edit in EDITS.items():
         factor = np.array([edit.get(n, 1.0) for n in p.names])[p.group]
@@ -121,7 +129,9 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
                 corners = polygons.corners[polygons.group == polygons.names.index("virtual-lamp")][0]
                 truths[virtual] = truth_pair(with_virtual_lamp(p, corners, scale), real.view, size, spp, geometry,
                                              shadow, ratios, virtual)
-            record(ratios, f"{method}, {virtual}", image, truths[virtual], geometry, shadow)
+            # the truth is linear in the virtual lamp's exitance: rescaled to this session's estimate
+            truth = truths[virtual] * (scale / estimate_scale(session))
+            record(ratios, f"{method}, {virtual}", image, truth, geometry, shadow)
             timings.append(Timing(f"relight/{method}/add a virtual lamp", 1, session.times["add lamp"] * 1000,
                                   session.times["add lamp"] * 1000, session.times["add lamp"] * 1000))
         session.release()

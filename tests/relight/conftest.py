@@ -18,19 +18,21 @@ def photograph():
     return builtin_real_scene("office", (96, 72), samples=16)
 
 
-def prepared(ctx, real, method):
-    return RelightSession(real, dataclasses.replace(COARSE, method=method), ctx)
+def prepared(ctx, real, method, **changes):
+    return RelightSession(real, dataclasses.replace(COARSE, method=method, **changes), ctx)
 
 
 @pytest.fixture(scope="module")
 def sessions(ctx, photograph):
-    """One session per method, prepared on first use and released with the module."""
+    """One session per method (and RelightParams changes, as keywords), prepared on first use and
+    released with the module."""
     made: dict = {}
 
-    def get(method):
-        if method not in made:
-            made[method] = prepared(ctx, photograph, method)
-        return made[method]
+    def get(method, **changes):
+        key = (method, *sorted(changes.items()))
+        if key not in made:
+            made[key] = prepared(ctx, photograph, method, **changes)
+        return made[key]
 
     yield get
     for s in made.values():

@@ -59,43 +59,48 @@ def test_the_estimates_are_near_the_truth(session):
     assert session.mean_reflectance.shape == (3,) and 0.2 < session.mean_reflectance.mean() < 0.8
 
 
-def _shadow_and_light(real):
-    """(photographed shadows, fully lit pixels) (H, W): where under 60 % and over 95 % of the direct
-    light the lamps send reaches (the true lamps, per-pixel rays)."""
-    from illusio.relight.per_pixel import lamp_irradiance, surface_points
-
-    p = real.polygons
-    points, normals, polygon = surface_points(p, real.view, real.size)
-    geometry = (polygon >= 0) & ~(p.exitance.max(axis=1) > 0)[np.maximum(polygon, 0)]
-    rows = np.flatnonzero(np.isin(p.group, p.lamps))
-    seen, free = lamp_irradiance(p, rows, p.exitance[rows], points, normals, geometry, 64, unoccluded=True)
-    fraction, reachable = np.zeros(geometry.shape), np.zeros(geometry.shape, bool)
-    unblocked = free.sum(axis=1).max(axis=-1)
-    fraction[geometry] = seen.sum(axis=1).max(axis=-1) / np.maximum(unblocked, 1e-12)
-    reachable[geometry] = unblocked > 0           # a surface no lamp faces (the ceiling) is in no shadow
-    return reachable & (fraction < 0.6), reachable & (fraction > 0.95)
+FIGURE_4_17 = ({"lamp-0": 0.0, "lamp-1": 0.0}, {"lamp-0": 0.0, "lamp-2": 0.0, "lamp-1": 2.0, "lamp-3": 2.0},
+               {"lamp-1": 0.0, "lamp-3": 0.0, "lamp-0": 2.0, "lamp-2": 2.0})
 
 
-def test_baseline_keeps_the_photographed_shadows_and_loscos_removes_them(sessions, photograph):
-    """Loscos 4.2.2 against 4.3: an edit scales the baseline's photographed shadows nearly as their
-    lit surroundings (the median ratio new/photograph inside the shadows over outside: measured
-    0.84 and 0.95; the path-traced truth of the same edits, 0.87 and 0.96), so the shadows stay;
-    loscos's textures are shadow-free, so the shadows change otherwise (measured 0.64 and 0.81) —
-    by twice the baseline's departure at least. Without the reference correction (eqs. 4.8/4.9)
-    this fails: loscos then keeps the shadows too. (Before the form factor was clipped to the
-    receiver's tangent plane the baseline measured 0.94 and 0.98: the shadow masks' per-pixel
-    lamp light, and the solution's, counted a lamp's part behind a surface negatively.)"""
-    shadow, lit = _shadow_and_light(photograph)
-    assert shadow.sum() > 100 and lit.sum() > 1000
+@pytest.fixture(scope="module")
+def figure_4_17_truths(photograph):
+    """Mitsuba's renders of the edits of Figure 4.17 (256 paths), with the scored pixels and the
+    photographed shadows (more than 10 % of the true direct light blocked), as the benchmark scores."""
+    from benchmarks.relight import shadow_pixels
+    from illusio.radiosity.mitsuba import render_mitsuba
 
-    def inside_over_outside(method, edit):
-        ratio = sessions(method).image(edit).mean(axis=-1) / np.maximum(photograph.photograph.mean(axis=-1), 1e-6)
-        return np.median(ratio[shadow]) / np.median(ratio[lit])
+    p = photograph.polygons
+    geometry, shadow = shadow_pixels(p, photograph.view, photograph.size)
+    truths = []
+    for edit in FIGURE_4_17:
+        factor = np.array([edit.get(n, 1.0) for n in p.names])[p.group]
+        edited = dataclasses.replace(p, exitance=p.exitance * factor[:, None])
+        truths.append(render_mitsuba(edited, photograph.view, photograph.size, 256, seed=5))
+    return truths, geometry, shadow
 
-    for edit in ({"lamp-0": 0.0, "lamp-1": 0.0}, {"lamp-2": 2.0, "lamp-3": 2.0}):
-        kept = abs(1 - inside_over_outside("baseline", edit))
-        removed = abs(1 - inside_over_outside("loscos", edit))
-        assert kept < 0.2 and removed > 0.1 and removed > 2 * kept, (edit, kept, removed)
+
+def test_loscos_removes_the_photographed_shadows_where_the_baseline_keeps_them(sessions, figure_4_17_truths):
+    """Loscos 4.2.2 against 4.3, scored against the path-traced truth of each edit inside the
+    photographed shadows: the baseline relights the photograph's shadows with its elements' B/D and
+    keeps what its mesh does not resolve; loscos's shadow-free textures do better on every edit
+    (mean relative error measured 0.126 / 0.108 / 0.165 against 0.136 / 0.116 / 0.176). Without the
+    reference correction (eqs. 4.8/4.9) loscos is worse than with it on every edit (0.140 / 0.124 /
+    0.185), and worse than the baseline: 4.9 is what makes the difference here. (This replaces an
+    inside-over-outside median ratio that rewarded any departure from the baseline's: the truth's
+    own ratio departs from 1 by 0.13 on the first edit, the baseline's by 0.17, loscos's by 0.26.)"""
+    from illusio.radiosity.mitsuba import score
+
+    truths, _, shadow = figure_4_17_truths
+    assert shadow.sum() > 300
+
+    def errors(method, **changes):
+        s = sessions(method, **changes)
+        return np.array([score(s.image(edit), truth, shadow).mean_relative_error for edit, truth in zip(FIGURE_4_17, truths)])
+
+    baseline, loscos, without_4_9 = errors("baseline"), errors("loscos"), errors("loscos", reference_correction=False)
+    assert (loscos < 0.97 * baseline).all(), (loscos, baseline)
+    assert (without_4_9 > 1.05 * loscos).all(), (without_4_9, loscos)
     with pytest.raises(InputError, match="no lamp named"):
         sessions("baseline").image({"lamp-9": 1.0})
 
@@ -450,3 +455,52 @@ def test_the_built_in_photograph_is_denoised_like_a_camera_s():
     raw = builtin_real_scene("office", (96, 72), 16, denoise=False).photograph
     clean = builtin_real_scene("office", (96, 72), 16).photograph
     assert score(clean, reference).mean_relative_error < 0.5 * score(raw, reference).mean_relative_error
+
+
+def test_inverse_estimate_reads_reflectance_as_light_explained(rng):
+    """ρ = πB̂/H: a surface's radiance B̂ = ρH/π gives its ρ back whatever its lighting (eq. 4.1 would
+    read a shadowed patch of the same paint as darker paint); clipped at MAX_REFLECTANCE, 0 unlit."""
+    rho = rng.uniform(0.05, 0.9, (20, 3))
+    irradiance = rng.uniform(0.1, 50, (20, 1)) * rng.uniform(0.5, 1.5, (20, 3))
+    assert np.allclose(estimate.reflectance_from_irradiance(rho * irradiance / np.pi, irradiance), rho)
+    assert estimate.reflectance_from_irradiance(np.array([[5.0, 0.0, 0.1]]), np.array([[1.0, 0.0, 1.0]])).tolist() == \
+        [[estimate.MAX_REFLECTANCE, 0.0, pytest.approx(0.1 * np.pi)]]
+
+
+def test_a_lamp_s_exitance_from_its_own_pixels():
+    """E = π × the mean of the lamp's pixels in a high-dynamic-range photograph; none from fewer than
+    4 pixels or from a photograph that clips at the lamp (eq. 4.2 then estimates it)."""
+    pixels = np.array([[6.0, 5.5, 5.0]] * 8)
+    assert np.allclose(estimate.lamp_exitance_from_pixels(pixels), np.pi * pixels[0])
+    assert estimate.lamp_exitance_from_pixels(pixels[:3]) is None
+    clipped = np.minimum(pixels, 1.0)
+    assert estimate.lamp_exitance_from_pixels(clipped, saturation=1.0) is None
+    assert np.allclose(estimate.lamp_exitance_from_pixels(pixels * 0.1, saturation=1.0), np.pi * 0.1 * pixels[0])
+
+
+def test_the_inverse_estimate_is_nearer_the_truth_than_eq_4_1(sessions):
+    """On the office photographed by Mitsuba (lamps HDR): the lamps the camera sees from the front
+    read from their pixels within 8 % of their true exitance (measured 6 % at most at this 96×72
+    size; eq. 4.2 gives one value for all), and
+    the leaves' reflectances nearer the true ones than eq. 4.1's (area-weighted mean relative error
+    measured 0.19 against 0.30)."""
+    from benchmarks.relight import reflectance_error
+
+    inverse, chapter = sessions("baseline"), sessions("baseline", estimate="brightness")
+    truth = inverse.real.polygons
+    lamps = np.isin(truth.group, truth.lamps)
+    read = np.isin(truth.group, [truth.names.index(n) for n in inverse.lamps_read])
+    assert read.any() and (read <= lamps).all()
+    np.testing.assert_allclose(inverse.model.exitance[read], truth.exitance[read], rtol=0.08)
+    assert reflectance_error(inverse) < 0.8 * reflectance_error(chapter)
+
+
+def test_eq_4_9_weight_is_the_blocked_share_of_the_direct_light():
+    """w of T_final = (ρ_corr/ρ_inter)^w · T_inter: 1 in a full shadow (the reference's texture, as
+    the chapter), 0 in full light (the leaf's own), the blocked share between; a leaf no lamp reaches
+    takes the reference in full."""
+    from illusio.relight.textures import correction_weight
+
+    free = np.array([[2.0, 2.0, 2.0], [2.0, 2.0, 2.0], [1.0, 2.0, 3.0], [0.0, 0.0, 0.0]])
+    blocked = np.array([[2.0, 2.0, 2.0], [0.0, 0.0, 0.0], [0.5, 1.0, 1.5], [0.0, 0.0, 0.0]])
+    assert correction_weight(blocked, free).tolist() == [1.0, 0.0, 0.5, 1.0]

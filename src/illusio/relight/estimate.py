@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["reflectance_from_photograph", "reestimated_reflectance", "lamp_exitance", "displayed"]
+__all__ = ["reflectance_from_photograph", "reestimated_reflectance", "lamp_exitance", "displayed",
+           "reflectance_from_irradiance", "lamp_exitance_from_pixels"]
 
 #: the largest reflectance the estimate gives (a texture brighter than the mean by 1/ρ̂ would reach 1)
 MAX_REFLECTANCE = 0.95
@@ -40,6 +41,30 @@ def lamp_exitance(mean_reflectance, mean_scene_radiance, total_area: float, lamp
     rho = np.asarray(mean_reflectance, np.float64)
     total = (1 - rho) * np.pi * np.asarray(mean_scene_radiance, np.float64) * total_area
     return np.maximum(total - np.asarray(other_power, np.float64), 0.0) / lamp_area
+
+
+def reflectance_from_irradiance(mean_pixels, irradiance) -> np.ndarray:
+    """The estimate the chapter's conclusion asks for ("des valeurs de réflectance mieux estimées"):
+    each element's ρ explains its own photographed light, ρ_i = π·B̂_i / H_i, with B̂_i its mean pixel
+    (radiance, (n, 3)) and H_i the irradiance the radiosity solution gathers there (W/m², direct and
+    indirect, (n, 3)). Eq. (4.1) instead reads an element's brightness as its colour, so a shadowed
+    floor comes out dark. Clipped to [0, MAX_REFLECTANCE]; 0 where H is 0. The session alternates it
+    with a solve (H depends on the ρ of the elements that light i) until it settles."""
+    h = np.asarray(irradiance, np.float64)
+    rho = np.pi * np.asarray(mean_pixels, np.float64) / np.where(h > 0, h, 1.0)
+    return np.clip(np.where(h > 0, rho, 0.0), 0.0, MAX_REFLECTANCE)
+
+
+def lamp_exitance_from_pixels(lamp_pixels, saturation: float | None = None) -> np.ndarray | None:
+    """A lamp's exitance read from its own pixels (radiance, (n, 3)): E = π × their mean (a
+    Lambertian emitter of exitance E shows radiance E/π). None when fewer than 4 pixels, or when
+    ``saturation`` is given (the level a low-dynamic-range photograph clips at) and a pixel reaches
+    0.999 of it in every channel: a clipped lamp says only that it is brighter, and eq. (4.2) must
+    estimate it."""
+    px = np.asarray(lamp_pixels, np.float64).reshape(-1, 3)
+    if len(px) < 4 or (saturation is not None and (px.min(axis=1) >= 0.999 * saturation).any()):
+        return None
+    return np.pi * px.mean(axis=0)
 
 
 def displayed(radiosity, display_factor, texture) -> np.ndarray:

@@ -29,7 +29,7 @@ from ..radiosity.corner_cache import CornerGather
 from ..radiosity.display import corner_average
 from . import estimate, textures
 from .shadow_refine import refine_by_texture
-from .params import SHOW, VIRTUAL_LAMP_SIZE, RelightParams
+from .params import INVERSE_ITERATIONS, SHOW, VIRTUAL_LAMP_SIZE, RelightParams
 from .photograph import RealScene, polygon_ids
 from .registration import overlay, registration
 from .state import load_session, save_session
@@ -105,25 +105,68 @@ class RelightSession:
         glow_power = (exitance[glowing] * areas[glowing, None]).sum(axis=0)
         exitance[lamp] = estimate.lamp_exitance(rho_hat, mean_scene, float(areas[~lamp].sum()), float(areas[lamp].sum()),
                                                 other_power=glow_power)
+        if self.params.estimate == "inverse":
+            self._lamps_from_pixels(exitance)
         self.mean_scene = mean_scene
         return Polygons(p.corners, p.triangle, rho, exitance, p.group, list(p.names), list(p.lamps)), rho_hat
 
-    def _textures_to_leaves(self) -> None:
-        """Each seen leaf's ρ from its own pixels (eq. 4.1), pulled up the tree, then solved again."""
-        sol = self.solution
-        h = sol.hierarchy
-        element = self._pixel_leaf()
-        self.pixel_element = element
-        photo = self.real.photograph.astype(np.float64)
+    def _lamps_from_pixels(self, exitance: np.ndarray) -> None:
+        """The inverse estimate's lamps: each lamp group whose pixels (eroded by one, off its rim) the
+        photograph holds unclipped takes E = π × their mean; the others keep eq. (4.2)'s."""
+        from scipy import ndimage
+
+        p, ids, photo = self.real.polygons, self.pixel_polygon, self.real.photograph
+        # a photograph that never passes 1 is a low-dynamic-range one: its lamps clip there
+        saturation = None if float(photo.max()) > 1.0 else 1.0
+        eye = np.asarray(self.real.view.pose.position, np.float64)
+        normals, centres = p.normals(), p.corners.mean(axis=1)
+        self.lamps_read = []
+        for g in p.lamps:
+            rows = p.group == g
+            if ((eye - centres[rows]) * normals[rows]).sum(axis=1).min() <= 0:
+                continue                    # seen from behind (or edge-on): its pixels are not its light
+            own = ndimage.binary_erosion((ids >= 0) & (p.group[np.maximum(ids, 0)] == g))
+            read = estimate.lamp_exitance_from_pixels(photo[own], saturation)
+            if read is not None and read.max() > 0:
+                exitance[p.group == g] = read
+                self.lamps_read.append(p.names[g])
+
+    def _leaf_pixels(self) -> tuple[np.ndarray, np.ndarray]:
+        """(pixels seen per element (n,), their mean radiance (n, 3)) of the non-emitting elements
+        under ``pixel_element``."""
+        h = self.solution.hierarchy
+        element, photo = self.pixel_element, self.real.photograph.astype(np.float64)
         seen = (element >= 0) & (h.exitance[np.maximum(element, 0)].max(axis=-1) == 0)
         count = np.bincount(element[seen], minlength=len(h))
         total = np.stack([np.bincount(element[seen], weights=photo[seen][:, c], minlength=len(h)) for c in range(3)], axis=1)
+        return count, total / np.maximum(count, 1)[:, None]
+
+    def _textures_to_leaves(self) -> None:
+        """Each seen leaf's ρ from its own pixels — eq. (4.1), or with the inverse estimate ρ = πB̂/H
+        alternated with the solve — pulled up the tree, then solved again."""
+        sol = self.solution
+        h = sol.hierarchy
+        self.pixel_element = self._pixel_leaf()
+        count, mean_pixels = self._leaf_pixels()
         leaves = h.leaves()
         lit = leaves[count[leaves] > 0]
-        h.reflectance[lit] = estimate.reflectance_from_photograph(total[lit] / count[lit, None], self.mean_scene,
-                                                                  self.mean_reflectance)
+        h.reflectance[lit] = estimate.reflectance_from_photograph(mean_pixels[lit], self.mean_scene, self.mean_reflectance)
         self._pull_reflectance()
         sol.solve()
+        if self.params.estimate == "inverse":
+            for _ in range(INVERSE_ITERATIONS):
+                h.reflectance[lit] = estimate.reflectance_from_irradiance(mean_pixels[lit], self._leaf_irradiance()[lit])
+                self._pull_reflectance()
+                sol.solve()
+
+    def _leaf_irradiance(self) -> np.ndarray:
+        """H per element (n, 3): the irradiance gathered at it and at every ancestor (links may end
+        above the leaves), W/m²."""
+        h = self.solution.hierarchy
+        total = h.irradiance.copy()
+        for lv in h.by_level()[1:]:
+            total[lv] += total[h.parent[lv]]
+        return total
 
     def _pixel_leaf(self) -> np.ndarray:
         """The leaf seen through each pixel of the photograph (H, W) int, −1 where none."""
@@ -173,26 +216,32 @@ class RelightSession:
         shadowed &= significant
         shadowed &= h.exitance[leaves].max(axis=1) == 0          # a self-luminous leaf keeps its texture
         inter = np.where(b_orig > 0, (b_orig + rho * blocked) / np.where(b_orig > 0, b_orig, 1), 1.0)   # eq. 4.6
-        rho_inter = np.clip(rho * inter, 0, estimate.MAX_REFLECTANCE)
-        seen = np.bincount(self.pixel_element[self.pixel_element >= 0], minlength=len(h))[leaves] > 0
+        count, mean_pixels = self._leaf_pixels()
+        seen = count[leaves] > 0
+        # ρ_inter: T_inter read as eq. 4.1 reads a texture (its brightness; the scale cancels in 4.9)
+        rho_inter = mean_pixels[leaves] * inter / np.maximum(self.mean_scene, 1e-12) * self.mean_reflectance
+        # the colour compared by Figure 4.11: the leaf's reflectance once unoccluded
+        colour = np.clip(rho * inter if self.params.estimate == "brightness" else rho, 0, estimate.MAX_REFLECTANCE)
         near = textures.neighbours(h, leaves)
         frontier = lit & seen & np.array([bool(len(n)) and shadowed[n].any() for n in near])
         group = self.model.group[h.polygon[leaves]]
-        ref = textures.references(h, leaves, shadowed, frontier, group, rho_inter, self.params.colour_threshold)
+        ref = textures.references(h, leaves, shadowed, frontier, group, colour, self.params.colour_threshold)
         factor = inter.copy()
-        # where a reference exists, 4.9 replaces T_inter (inter cancels: factor = ρ_corr/ρ); eq. 4.6 is
-        # the final texture only of shadowed leaves without one
-        fix = (ref >= 0) & self.params.reference_correction
+        fix = (ref >= 0) & seen & self.params.reference_correction
         r = ref[fix]
         # eq. 4.8 with the indirect irradiance I in both sums: the texture holds indirect light too, and
         # with the lamps' form factors alone a leaf nearer a lamp than its reference came out too bright
         unoccluded = free + indirect
         ratio = unoccluded[fix].sum(axis=1) / np.maximum(unoccluded[r].sum(axis=1), 1e-300)
         rho_corr = rho_inter[r] * ratio[:, None]                                                         # eq. 4.8
-        factor[fix] = inter[fix] * rho_corr / np.maximum(rho_inter[fix], 1e-6)                          # eq. 4.9
+        correction = rho_corr / np.maximum(rho_inter[fix], 1e-6)
+        weight = textures.correction_weight(blocked[fix], free[fix]) if self.params.reference_weight == "blocked-share" else 1.0
+        factor[fix] = inter[fix] * correction ** np.reshape(weight, (-1, 1))                            # eq. 4.9
         self.references = (leaves, ref)
         self.shadowed = shadowed
-        h.reflectance[leaves] = np.clip(rho * factor, 0, estimate.MAX_REFLECTANCE)
+        # ρ_final: the brightness of T_final (4.1), or the inverse estimate's ρ times what 4.9 changed
+        texture_change = factor if self.params.estimate == "brightness" else factor / inter
+        h.reflectance[leaves] = np.clip(rho * texture_change, 0, estimate.MAX_REFLECTANCE)
         self._pull_reflectance()
         sol.solve()
         final = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
@@ -244,11 +293,10 @@ class RelightSession:
         b = h.radiosity[sol.links.source]
         for c in range(3):
             direct[:, c] = np.bincount(sol.links.receiver[lamp], weights=(weight * b[:, c])[lamp], minlength=len(h))
-        total, lamps = h.irradiance.copy(), direct
+        lamps = direct
         for lv in h.by_level()[1:]:
-            total[lv] += total[h.parent[lv]]
             lamps[lv] += lamps[h.parent[lv]]
-        return np.clip(total - lamps, 0, None)
+        return np.clip(self._leaf_irradiance() - lamps, 0, None)
 
     def _per_pixel_prepare(self) -> None:
         from .per_pixel import lamp_irradiance, surface_points

@@ -11,8 +11,16 @@ Per leaf (every link from a lamp ends at a leaf, ``lights_to_leaves``):
   colour (its reflectance in CIE L*a*b*, eq. 4.4) is within ``colour_threshold``; without one, the
   nearest frontier leaf of the object (the chapter asks the user for a default element); without
   any, the leaf keeps T_inter;
-- eq. (4.8): ρ_corr = ρ_r · Σ_s F_is B_s / Σ_s F_rs B_s (the lamps weighted by their radiosity, so
-  lamps of different power count as they light), and eq. (4.9): T_final = ρ_corr / ρ_inter · T_inter.
+- eq. (4.8): ρ_corr = ρ_r · U_i / U_r, U the unoccluded irradiance (Σ_s F_is B_s over the lamps,
+  weighted by their radiosity so lamps of different power count as they light, plus the indirect
+  light the texture also holds), ρ_inter each leaf's T_inter read as eq. 4.1 reads a texture; and
+  eq. (4.9): T_final = (ρ_corr / ρ_inter)^w · T_inter, with w (``correction_weight``) the share of
+  the leaf's direct light that is blocked. The chapter has w = 1: the reference replaces the leaf's
+  own texture wherever a reference exists. Ours trusts the leaf's own photograph in proportion to the
+  light it still holds: a penumbra leaf's T_inter adds little blocked light to a texture mostly lit
+  and is near right, where the reference brings the error of its own estimate and of the U_i/U_r
+  ratio; an umbra leaf's T_inter multiplies a dark texture by a large (E + Ē)/E, and there the
+  reference's lit texture is the better guess (measured in benchmarks/RESULTS.md, issue 33).
 The textures are kept as one factor per leaf on the photograph (T = factor × photograph), modulated
 at the leaves' vertices as the chapter does: each surface's corner points take the mean factor of
 the leaves meeting there and the display interpolates across each leaf (``RelightSession``), so no
@@ -27,7 +35,7 @@ import numpy as np
 #: light Ē must be for the leaf to count as shadowed (below it the leaf counts as lit)
 BLOCKED_SHARE = 0.05
 
-__all__ = ["BLOCKED_SHARE", "srgb_to_lab", "colour_distance", "lamp_transfer", "neighbours", "references"]
+__all__ = ["BLOCKED_SHARE", "correction_weight", "srgb_to_lab", "colour_distance", "lamp_transfer", "neighbours", "references"]
 
 
 def srgb_to_lab(rgb: np.ndarray) -> np.ndarray:
@@ -60,6 +68,14 @@ def lamp_transfer(h, links, leaves: np.ndarray):
     shadowed = np.bincount(r, weights=(v < 1).astype(float), minlength=n)[leaves] > 0
     linked = np.bincount(r, minlength=n)[leaves] > 0
     return lit, blocked, free, linked & ~shadowed, shadowed
+
+
+def correction_weight(blocked: np.ndarray, free: np.ndarray) -> np.ndarray:
+    """w of eq. (4.9) per leaf (n,): the blocked share of its direct light, Σ_c Ē / Σ_c Σ_s F_is B_s,
+    in [0, 1] (1 in a full shadow: the reference's texture; 0 in full light: the leaf's own)."""
+    total = np.asarray(free, np.float64).sum(axis=1)
+    share = np.asarray(blocked, np.float64).sum(axis=1) / np.where(total > 0, total, 1.0)
+    return np.clip(np.where(total > 0, share, 1.0), 0.0, 1.0)
 
 
 def neighbours(h, leaves: np.ndarray) -> list[np.ndarray]:
