@@ -91,3 +91,22 @@ def test_kept_session_cases_are_refused(ctx, saved, name, bad, tmp_path):
     path = tmp_path / "office.npz"
     path.write_bytes(archive_bytes(with_bad_array(saved[1], name, bad)))
     assert must_refuse(lambda p: RelightSession.load(p, ctx), path)
+
+
+def test_a_session_saved_before_the_estimate_knobs_loads_as_the_chapter_s(ctx, saved, tmp_path):
+    """A record without ``estimate`` and ``reference_weight`` (saved before the inverse estimate) was
+    prepared with eqs. 4.1/4.2 and the full eq. 4.9: it says so when loaded, not today's defaults."""
+    import json
+
+    _, arrays = saved
+    record = json.loads(str(arrays["record"]))
+    assert record["params"]["estimate"] == "inverse"
+    for key in ("estimate", "reference_weight"):
+        del record["params"][key]
+    path = tmp_path / "old.npz"
+    path.write_bytes(archive_bytes({**arrays, "record": np.array(json.dumps(record))}))
+    session = RelightSession.load(path, ctx)
+    try:
+        assert (session.params.estimate, session.params.reference_weight) == ("brightness", "full")
+    finally:
+        session.release()

@@ -164,7 +164,8 @@ def load_session(path) -> dict:
         if record.get("format") != FORMAT:
             raise InputError(f"{path}: saved as {record.get('format')!r}, this illusio reads {FORMAT!r}")
         _check_arrays(path, arrays, record)
-        p = dict(record["params"])
+        # a session saved before these knobs existed was prepared as the chapter has it
+        p = {"estimate": "brightness", "reference_weight": "full", **record["params"]}
         params = RelightParams(**{**p, "hierarchy": HierarchyParams(**{"clusters": False, **p["hierarchy"]}),
                                   "final_hierarchy": HierarchyParams(**{"clusters": False, **p["final_hierarchy"]}),
                                   "lamp_scales": tuple(tuple(x) for x in p["lamp_scales"])})
