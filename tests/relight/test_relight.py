@@ -198,9 +198,9 @@ def test_loscos_textures(loscos):
 
 def test_eq_4_6_the_blocked_light_is_added_where_no_reference_corrects(loscos):
     """T_inter = (B + ρĒ)/B × T_orig (eq. 4.6) is the final texture of a shadowed leaf without a
-    reference (wherever a reference exists eq. 4.9 replaces it: T_inter cancels in ρ_corr/ρ_inter ×
-    T_inter). In the office those are the table and chair legs, keyboards and stands that no lamp
-    lights wholly: their seen leaves are brightened (median factor measured 1.4; 1 without eq. 4.6)."""
+    reference (where a reference exists eq. 4.9 corrects it, test below). In the office those are
+    the table and chair legs, keyboards and stands that no lamp lights wholly: their seen leaves are
+    brightened (median factor measured 1.4; 1 without eq. 4.6)."""
     s = loscos
     h = s.solution.hierarchy
     leaves, ref = s.references

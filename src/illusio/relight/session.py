@@ -7,7 +7,11 @@ the area-weighted mean, eq. (4.1) again; polygons the photograph does not see ge
 every lamp the same exitance. The hierarchy is built and solved; each leaf the photograph sees then
 takes its own ρ from eq. (4.1) with its pixels (the chapter's update at subdivision), inner elements
 the area-weighted mean of their children's, and the solution is solved again. The display factor D
-is that B, kept at the leaves' corners.
+is that B, kept at the leaves' corners. With the inverse estimate (``RelightParams.estimate``, the
+default) each lamp the photograph shows unclipped and from the front takes π × its mean pixel
+instead of eq. (4.2)'s share, and each seen leaf's ρ is then set to π·B̂/H, H the irradiance the
+solution gathers there, alternated with the solve (``INVERSE_ITERATIONS``): the ρ that explains the
+leaf's photographed light rather than its brightness.
 
 Display, eq. (4.3): (B/D)·T per pixel, with B and D interpolated from the corners (smooth, as the
 chapter does) and T the photograph itself (view-dependent textures: the model is seen from the
@@ -128,7 +132,7 @@ class RelightSession:
             own = ndimage.binary_erosion((ids >= 0) & (p.group[np.maximum(ids, 0)] == g))
             read = estimate.lamp_exitance_from_pixels(photo[own], saturation)
             if read is not None and read.max() > 0:
-                exitance[p.group == g] = read
+                exitance[rows] = read
                 self.lamps_read.append(p.names[g])
 
     def _leaf_pixels(self) -> tuple[np.ndarray, np.ndarray]:
