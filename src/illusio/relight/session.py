@@ -10,7 +10,7 @@ the area-weighted mean of their children's, and the solution is solved again. Th
 is that B, kept at the leaves' corners. With the inverse estimate (``RelightParams.estimate``, the
 default) each lamp the photograph shows unclipped and from the front takes π × its mean pixel
 instead of eq. (4.2)'s share, and each seen leaf's ρ is then set to π·B̂/H, H the irradiance the
-solution gathers there, alternated with the solve (``INVERSE_ITERATIONS``): the ρ that explains the
+solution gathers there, alternated with the solve until it settles (``INVERSE_TOLERANCE``): the ρ that explains the
 leaf's photographed light rather than its brightness.
 
 Display, eq. (4.3): (B/D)·T per pixel, with B and D interpolated from the corners (smooth, as the
@@ -33,7 +33,7 @@ from ..radiosity.corner_cache import CornerGather
 from ..radiosity.display import corner_average
 from . import estimate, textures
 from .shadow_refine import refine_by_texture
-from .params import INVERSE_ITERATIONS, SHOW, VIRTUAL_LAMP_SIZE, RelightParams
+from .params import INVERSE_MAX_ITERATIONS, INVERSE_TOLERANCE, SHOW, VIRTUAL_LAMP_SIZE, RelightParams
 from .photograph import RealScene, polygon_ids
 from .registration import overlay, registration
 from .state import load_session, save_session
@@ -158,10 +158,16 @@ class RelightSession:
         self._pull_reflectance()
         sol.solve()
         if self.params.estimate == "inverse":
-            for _ in range(INVERSE_ITERATIONS):
+            self.inverse_iterations = 0
+            while self.inverse_iterations < INVERSE_MAX_ITERATIONS:
+                before = h.reflectance[lit].mean(axis=1)
                 h.reflectance[lit] = estimate.reflectance_from_irradiance(mean_pixels[lit], self._leaf_irradiance()[lit])
                 self._pull_reflectance()
                 sol.solve()
+                self.inverse_iterations += 1
+                change = np.abs(h.reflectance[lit].mean(axis=1) - before) / np.maximum(before, 1e-6)
+                if not len(lit) or np.median(change) < INVERSE_TOLERANCE:
+                    break
 
     def _leaf_irradiance(self) -> np.ndarray:
         """H per element (n, 3): the irradiance gathered at it and at every ancestor (links may end
