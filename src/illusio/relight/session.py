@@ -135,14 +135,16 @@ class RelightSession:
                 exitance[rows] = read
                 self.lamps_read.append(p.names[g])
 
-    def _leaf_pixels(self) -> tuple[np.ndarray, np.ndarray]:
-        """(pixels seen per element (n,), their mean radiance (n, 3)) of the non-emitting elements
-        under ``pixel_element``."""
+    def _leaf_pixels(self, values: np.ndarray | None = None, element: np.ndarray | None = None):
+        """(pixels seen per element (n,), the mean of ``values`` (H, W, 3; default the photograph's
+        radiance) over them (n, 3)) for the non-emitting elements under ``element`` (default
+        ``pixel_element``)."""
         h = self.solution.hierarchy
-        element, photo = self.pixel_element, self.real.photograph.astype(np.float64)
+        element = self.pixel_element if element is None else element
+        values = self.real.photograph.astype(np.float64) if values is None else values
         seen = (element >= 0) & (h.exitance[np.maximum(element, 0)].max(axis=-1) == 0)
         count = np.bincount(element[seen], minlength=len(h))
-        total = np.stack([np.bincount(element[seen], weights=photo[seen][:, c], minlength=len(h)) for c in range(3)], axis=1)
+        total = np.stack([np.bincount(element[seen], weights=values[seen][:, c], minlength=len(h)) for c in range(3)], axis=1)
         return count, total / np.maximum(count, 1)[:, None]
 
     def _textures_to_leaves(self) -> None:
@@ -276,12 +278,10 @@ class RelightSession:
         self.solution, self._gather = sol, CornerGather()
         h = sol.hierarchy
         element = self._pixel_leaf()
-        seen = (element >= 0) & (h.exitance[np.maximum(element, 0)].max(axis=-1) == 0)
-        count = np.bincount(element[seen], minlength=len(h))
-        total = np.stack([np.bincount(element[seen], weights=rho_map[seen][:, c], minlength=len(h)) for c in range(3)], axis=1)
+        count, mean_rho = self._leaf_pixels(rho_map, element)
         leaves = h.leaves()
         lit = leaves[count[leaves] > 0]
-        h.reflectance[lit] = np.clip(total[lit] / count[lit, None], 0, estimate.MAX_REFLECTANCE)
+        h.reflectance[lit] = np.clip(mean_rho[lit], 0, estimate.MAX_REFLECTANCE)
         self._pull_reflectance()
         sol.solve()
         final = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
