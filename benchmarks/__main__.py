@@ -10,9 +10,9 @@ import importlib
 import sys
 from pathlib import Path
 
-from .runner import print_table, write_results
-
 from illusio.core.technique import techniques
+
+from .runner import print_table, write_results
 
 #: each technique's suites (core.technique: ``benchmarks``) in the registry's order, then those of
 #: the whole package (the protocol's overheads, the viewer, batch jobs)
@@ -28,7 +28,10 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     unknown = set(args.suites) - set(SUITES)
     if unknown:
-        print(f"benchmarks: unknown suite(s) {', '.join(sorted(unknown))}; choose from {', '.join(SUITES)}", file=sys.stderr)
+        print(
+            f"benchmarks: unknown suite(s) {', '.join(sorted(unknown))}; choose from {', '.join(SUITES)}",
+            file=sys.stderr,
+        )
         return 2
     from illusio.core import Context, IllusioError
 

@@ -45,19 +45,38 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             seconds = time.perf_counter() - start
             assert report.ran == n and not report.failed
             per_second[workers] = n / seconds
-            timings.append(Timing(f"batch/{label}", 1, seconds * 1000, seconds * 1000, seconds * 1000,
-                                  f"{n} tasks, pool start-up included"))
+            timings.append(
+                Timing(
+                    f"batch/{label}",
+                    1,
+                    seconds * 1000,
+                    seconds * 1000,
+                    seconds * 1000,
+                    f"{n} tasks, pool start-up included",
+                )
+            )
             ratios[f"tasks per second, {label}"] = n / seconds
             shutil.rmtree(out)
         # a fresh process per task, as a shell loop over `illusio lines ...` would run them
         sample = job.tasks[: 3 if quick else 6]
         start = time.perf_counter()
         for task in sample:
-            subprocess.run([sys.executable, "-m", "illusio", *task.argv, "-o", str(tmp / "fresh.png")],
-                           check=True, capture_output=True)
+            subprocess.run(
+                [sys.executable, "-m", "illusio", *task.argv, "-o", str(tmp / "fresh.png")],
+                check=True,
+                capture_output=True,
+            )
         fresh = (time.perf_counter() - start) / len(sample)
-        timings.append(Timing("batch/fresh process per task", 1, fresh * 1000, fresh * 1000, fresh * 1000,
-                              f"mean over {len(sample)} tasks"))
+        timings.append(
+            Timing(
+                "batch/fresh process per task",
+                1,
+                fresh * 1000,
+                fresh * 1000,
+                fresh * 1000,
+                f"mean over {len(sample)} tasks",
+            )
+        )
         ratios["tasks per second, a fresh process per task"] = 1 / fresh
         ratios["warm worker / fresh process per task, tasks per second (1 worker)"] = per_second[1] * fresh
         ratios["2 workers / 1 worker, tasks per second"] = per_second[2] / per_second[1]
@@ -68,6 +87,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         ratios["worker start-up seconds (1-worker run less n tasks)"] = startup
         for workers in (2, 4, 8):
             # N workers each on its own device: n tasks take start-up + n·c/N
-            ratios[f"model: {workers} / 1 workers, tasks per second, one device each"] = (
-                (startup + n * task_s) / (startup + n * task_s / workers))
+            ratios[f"model: {workers} / 1 workers, tasks per second, one device each"] = (startup + n * task_s) / (
+                startup + n * task_s / workers
+            )
     return timings, ratios

@@ -39,6 +39,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
                 tex = renderer.render_texture(frame, RenderSettings(shadows=shadows, forward=forward))
                 ctx.finish()
                 ctx.release(tex)
+
             return go
 
         note = f"{tris:,} triangles, {size[0]}x{size[1]}"
@@ -54,5 +55,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         ratios[f"{label}: full frame / gbuffer only"] = by[f"{label}/gbuffer+shading+shadows"] / by[f"{label}/gbuffer"]
         ratios[f"{label}: shadows on / off"] = by[f"{label}/gbuffer+shading+shadows"] / by[f"{label}/gbuffer+shading"]
         ratios[f"{label}: deferred / forward, no shadows"] = by[f"{label}/gbuffer+shading"] / by[f"{label}/forward"]
-        ratios[f"{label}: deferred / forward, shadows"] = by[f"{label}/gbuffer+shading+shadows"] / by[f"{label}/forward+shadows"]
+        ratios[f"{label}: deferred / forward, shadows"] = (
+            by[f"{label}/gbuffer+shading+shadows"] / by[f"{label}/forward+shadows"]
+        )
     return timings, ratios

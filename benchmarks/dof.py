@@ -77,22 +77,34 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         focus = focus_on if isinstance(focus_on, float) else object_distance(scene, focus_on, view)
         base = DofParams(focus_distance=focus, aperture_mm=aperture, eye_separation=0.065, max_coc=max_coc)
         frame = Frame(view, size)
-        variants = {"gather": base, "gather-exact": replace(base, gather_taps=0), "mipmap": replace(base, method="mipmap"), "planes": replace(base, method="planes"),
-                    "sharp": replace(base, method="mipmap", aperture_mm=0.0)}
+        variants = {
+            "gather": base,
+            "gather-exact": replace(base, gather_taps=0),
+            "mipmap": replace(base, method="mipmap"),
+            "planes": replace(base, method="planes"),
+            "sharp": replace(base, method="mipmap", aperture_mm=0.0),
+        }
         for eye in eyes:
             key = f"{scene_name}/{eye}"
             reference_params = replace(base, method="accumulation", samples=samples, stereo=eye)
             reference = renderer.render(frame, reference_params)
             half = renderer.render(frame, replace(reference_params, samples=samples // 2, seed=1))
-            ratios[f"{key}: reference {samples // 2} vs {samples} positions, PSNR dB (converged)"] = psnr(half, reference)
+            ratios[f"{key}: reference {samples // 2} vs {samples} positions, PSNR dB (converged)"] = psnr(
+                half, reference
+            )
             renderer.render(frame, replace(base, stereo=eye))  # the gather's depth map of this eye
             edges = edge_mask(ctx.readback(renderer.maps()["depth"])[..., 0])
             ladder = {}
-            for n in ladder_sizes:                  # another seed: not the reference's own positions
+            for n in ladder_sizes:  # another seed: not the reference's own positions
                 params = replace(reference_params, samples=n, seed=7)
                 image = renderer.render(frame, params)
-                t = time_case(f"{key}/accumulation-{n}", lambda p=params: renderer.render(frame, p),
-                              max(1, repeat // 3), warmup=1, notes=f"{size[0]}x{size[1]}, one eye")
+                t = time_case(
+                    f"{key}/accumulation-{n}",
+                    lambda p=params: renderer.render(frame, p),
+                    max(1, repeat // 3),
+                    warmup=1,
+                    notes=f"{size[0]}x{size[1]}, one eye",
+                )
                 timings.append(t)
                 ladder[n] = (psnr(image, reference), t.median_ms)
                 ratios[f"{key}: accumulation-{n} PSNR dB"] = ladder[n][0]
@@ -102,15 +114,24 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
                 quality = psnr(image, reference)
                 ratios[f"{key}: {name} PSNR dB"] = quality
                 ratios[f"{key}: {name} PSNR dB within 4 px of depth edges"] = psnr(image, reference, edges)
-                ratios[f"{key}: {name} SSIM"] = float(structural_similarity(image, reference, channel_axis=2, data_range=1.0))
-                t = time_case(f"{key}/{name}", lambda p=params: renderer.render(frame, p), max(1, repeat // 3), warmup=1,
-                              notes=f"{size[0]}x{size[1]}, one eye")
+                ratios[f"{key}: {name} SSIM"] = float(
+                    structural_similarity(image, reference, channel_axis=2, data_range=1.0)
+                )
+                t = time_case(
+                    f"{key}/{name}",
+                    lambda p=params: renderer.render(frame, p),
+                    max(1, repeat // 3),
+                    warmup=1,
+                    notes=f"{size[0]}x{size[1]}, one eye",
+                )
                 timings.append(t)
                 if name == "sharp":
                     continue
                 match = matched(ladder, quality)
                 if match is None:
-                    ratios[f"{key}: {name} beyond accumulation-{max(ladder)} (speed-up at least)"] = ladder[max(ladder)][1] / t.median_ms
+                    ratios[f"{key}: {name} beyond accumulation-{max(ladder)} (speed-up at least)"] = (
+                        ladder[max(ladder)][1] / t.median_ms
+                    )
                 else:
                     ratios[f"{key}: {name} matched by accumulation positions"] = match[0]
                     ratios[f"{key}: {name} speed-up at equal PSNR (goal >= 5, best >= 10)"] = match[1] / t.median_ms

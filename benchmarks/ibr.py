@@ -27,10 +27,10 @@ from skimage.metrics import structural_similarity
 
 from illusio.core.context import Context
 from illusio.core.renderer import Frame
-from illusio.ibr.captures import CaptureFrame, Intrinsics, frames_to_references
-from illusio.ibr.reconstruction import unproject
 from illusio.gallery.ibr import showcase_path
+from illusio.ibr.captures import CaptureFrame, Intrinsics, frames_to_references
 from illusio.ibr.params import IbrParams
+from illusio.ibr.reconstruction import unproject
 from illusio.ibr.references import capture, orbit_views
 from illusio.ibr.renderer import IbrRenderer
 from illusio.passes.scene_renderer import RenderSettings, SceneRenderer
@@ -64,14 +64,18 @@ def seam_errors(images, truths, sources, depths) -> tuple[float, float]:
     at_seam = []
     for image, true, source, depth in zip(images, truths, sources, depths):
         error = np.abs(np.asarray(image, np.float64) - true).mean(axis=-1)
-        spread = np.max([ndimage.maximum_filter(true[..., c], 5) - ndimage.minimum_filter(true[..., c], 5)
-                         for c in range(3)], axis=0)
-        flat = (depth > 0) & (ndimage.minimum_filter(depth, 5) > 0.98 * ndimage.maximum_filter(depth, 5)) & (spread < 0.02)
+        spread = np.max(
+            [ndimage.maximum_filter(true[..., c], 5) - ndimage.minimum_filter(true[..., c], 5) for c in range(3)],
+            axis=0,
+        )
+        flat = (
+            (depth > 0) & (ndimage.minimum_filter(depth, 5) > 0.98 * ndimage.maximum_filter(depth, 5)) & (spread < 0.02)
+        )
         flat &= ndimage.minimum_filter(source, 3) > 0
         boundary = (ndimage.maximum_filter(source, 3) != ndimage.minimum_filter(source, 3)) & flat
         at_seam.append(error[boundary])
     errors = np.concatenate(at_seam) * 255
-    if not len(errors):                 # no boundary on a flat surface at this size (--quick)
+    if not len(errors):  # no boundary on a flat surface at this size (--quick)
         return float("nan"), float("nan")
     return float(errors.mean()), float(np.percentile(errors, 99))
 
@@ -128,8 +132,15 @@ def rgbd_quality(ctx: Context, quick: bool, ratios: dict) -> None:
         d = ref.depth * (1 + rng.normal(0, 0.004, ref.depth.shape))
         d[rng.random(d.shape) < 0.03] = 0.0
         pose = np.linalg.inv(v.view_matrix().astype(np.float64)) @ _FLIP
-        frames.append(CaptureFrame(f"frame {k}", np.clip(ref.colour, 0, 1).astype(np.float32),
-                                   np.where(ref.depth > 0, d, 0.0).astype(np.float32), intrinsics, pose))
+        frames.append(
+            CaptureFrame(
+                f"frame {k}",
+                np.clip(ref.colour, 0, 1).astype(np.float32),
+                np.where(ref.depth > 0, d, 0.0).astype(np.float32),
+                intrinsics,
+                pose,
+            )
+        )
     chosen = [0, 4, 8]
     refs = frames_to_references(frames, chosen)
     renderer = IbrRenderer(ctx)
@@ -138,17 +149,19 @@ def rgbd_quality(ctx: Context, quick: bool, ratios: dict) -> None:
     for k in (k for k in range(9) if k not in chosen):
         view, photo = refs.frames[k]
         mask = frames[k].depth > 0
-        image = renderer.render(Frame(view, size), IbrParams(relight=False))[..., :3]   # drawn as recorded
+        image = renderer.render(Frame(view, size), IbrParams(relight=False))[..., :3]  # drawn as recorded
         scores["ibr"].append(_masked_psnr(image, photo, mask))
         scores["point splat"].append(_masked_psnr(point_splat(refs, view, size), photo, mask))
-        nearest = min(chosen, key=lambda j: abs(j - k))        # along the path, the nearest camera
+        nearest = min(chosen, key=lambda j: abs(j - k))  # along the path, the nearest camera
         scores["nearest reference's photo"].append(_masked_psnr(frames[nearest].colour, photo, mask))
     renderer.release()
     for label, values in scores.items():
         ratios[f"rgbd capture, held-out frames: {label}: PSNR dB (mean of 6)"] = float(np.mean(values))
     ibr = float(np.mean(scores["ibr"]))
     ratios["rgbd capture: ibr - point splat, dB (goal >= 3)"] = ibr - float(np.mean(scores["point splat"]))
-    ratios["rgbd capture: ibr - nearest reference's photo, dB (goal >= 8)"] = ibr - float(np.mean(scores["nearest reference's photo"]))
+    ratios["rgbd capture: ibr - nearest reference's photo, dB (goal >= 8)"] = ibr - float(
+        np.mean(scores["nearest reference's photo"])
+    )
 
 
 def growth(ctx: Context, repeat: int, quick: bool, timings: list, ratios: dict) -> None:
@@ -166,8 +179,10 @@ def growth(ctx: Context, repeat: int, quick: bool, timings: list, ratios: dict) 
         step = [0]
 
         def view_at(k):
-            return View(Pose(tuple(np.asarray(base.pose.position) + right * 0.02 * (k % 20 - 10)), base.pose.target),
-                        base.camera)
+            return View(
+                Pose(tuple(np.asarray(base.pose.position) + right * 0.02 * (k % 20 - 10)), base.pose.target),
+                base.camera,
+            )
 
         def moving():
             step[0] += 1
@@ -225,10 +240,15 @@ def _office_and_speed(ctx: Context, repeat: int, quick: bool = False) -> tuple[l
     renderer = IbrRenderer(ctx)
     for count, scale in ((1, 2), (3, 2), (6, 2), (3, 1)):
         renderer.prepare(capture(scene, orbit_views(scene, count, 1.6), (size[0] * scale, size[1] * scale), ctx))
-        variants = {"": IbrParams(), ", the speed run's settings (mesh every 8 output px, holes filled 2 px)": speed_params(scale)}
+        variants = {
+            "": IbrParams(),
+            ", the speed run's settings (mesh every 8 output px, holes filled 2 px)": speed_params(scale),
+        }
         if scale == 2:
-            variants |= {", nearest depth": IbrParams(bilinear_depth=False),
-                         ", 3d distance": IbrParams(distance="3d", max_distance=0.05)}
+            variants |= {
+                ", nearest depth": IbrParams(bilinear_depth=False),
+                ", 3d distance": IbrParams(distance="3d", max_distance=0.05),
+            }
         for label, params in variants.items():
             if label and count != 3:
                 continue
@@ -240,11 +260,15 @@ def _office_and_speed(ctx: Context, repeat: int, quick: bool = False) -> tuple[l
             if count == 3 and scale == 2 and not label:
                 mean, p99 = seam_errors(images, truths, sources, truth_depths)
                 ratios["office, 3 references: error at view boundaries on flat surfaces, 1/255 steps: mean"] = mean
-                ratios["office, 3 references: error at view boundaries on flat surfaces, 1/255 steps: 99th percentile"] = p99
+                ratios[
+                    "office, 3 references: error at view boundaries on flat surfaces, 1/255 steps: 99th percentile"
+                ] = p99
             ratios[f"office, {count} references{label}: PSNR dB (mean over the path)"] = float(
-                np.mean([psnr(i, t) for i, t in zip(images, truths)]))
-            ratios[f"office, {count} references{label}: SSIM"] = float(np.mean(
-                [structural_similarity(i, t, channel_axis=2, data_range=1.0) for i, t in zip(images, truths)]))
+                np.mean([psnr(i, t) for i, t in zip(images, truths)])
+            )
+            ratios[f"office, {count} references{label}: SSIM"] = float(
+                np.mean([structural_similarity(i, t, channel_axis=2, data_range=1.0) for i, t in zip(images, truths)])
+            )
     renderer.release()
     truth.release()
 
@@ -265,7 +289,9 @@ def _office_and_speed(ctx: Context, repeat: int, quick: bool = False) -> tuple[l
 
     def view_at(k):
         right, _, _ = base.pose.axes()
-        return View(Pose(tuple(np.asarray(base.pose.position) + right * 0.02 * (k % 20 - 10)), base.pose.target), base.camera)
+        return View(
+            Pose(tuple(np.asarray(base.pose.position) + right * 0.02 * (k % 20 - 10)), base.pose.target), base.camera
+        )
 
     def ibr_moving(which=renderer, scale=1):
         moving[0] += 1
@@ -281,23 +307,33 @@ def _office_and_speed(ctx: Context, repeat: int, quick: bool = False) -> tuple[l
         ctx.finish()
 
     note = f"{size[0]}x{size[1]}, 1,000,002 triangles, 3 references"
-    cases = {"raster/1M triangles": (rasterise, note),
-             "ibr/camera moving": (ibr_moving, note + ", reconstruction each frame"),
-             "ibr/camera moving, references at twice the size": (
-                 lambda: ibr_moving(twice, 2), note + " at twice the output's size, reconstruction each frame"),
-             "ibr/camera still": (ibr_still, note + ", selection and lighting only")}
-    timings += time_interleaved(cases, repeat)          # the goal: the machine's speed drifts between cases
+    cases = {
+        "raster/1M triangles": (rasterise, note),
+        "ibr/camera moving": (ibr_moving, note + ", reconstruction each frame"),
+        "ibr/camera moving, references at twice the size": (
+            lambda: ibr_moving(twice, 2),
+            note + " at twice the output's size, reconstruction each frame",
+        ),
+        "ibr/camera still": (ibr_still, note + ", selection and lighting only"),
+    }
+    timings += time_interleaved(cases, repeat)  # the goal: the machine's speed drifts between cases
     single = time_case("ibr/camera still, single pass", ibr_still, repeat, notes=note + ", apart from the others")
-    multi = time_case("ibr/camera still, multi-pass", lambda: ibr_still("multi-pass"), repeat,
-                      notes=note + ", the text's draw per reference, apart from the others")
+    multi = time_case(
+        "ibr/camera still, multi-pass",
+        lambda: ibr_still("multi-pass"),
+        repeat,
+        notes=note + ", the text's draw per reference, apart from the others",
+    )
     timings += [single, multi]
     by = {t.name: t.median_ms for t in timings}
     ratios["raster / ibr time, camera moving (goal > 1)"] = by["raster/1M triangles"] / by["ibr/camera moving"]
     ratios["raster / ibr time, camera moving, references at twice the size"] = (
-        by["raster/1M triangles"] / by["ibr/camera moving, references at twice the size"])
+        by["raster/1M triangles"] / by["ibr/camera moving, references at twice the size"]
+    )
     ratios["raster / ibr time, camera still"] = by["raster/1M triangles"] / by["ibr/camera still"]
     ratios["multi-pass / single-pass selection time, camera still"] = (
-        by["ibr/camera still, multi-pass"] / by["ibr/camera still, single pass"])
+        by["ibr/camera still, multi-pass"] / by["ibr/camera still, single pass"]
+    )
     renderer.release()
     twice.release()
     still.release()

@@ -16,16 +16,18 @@ from pathlib import Path
 import numpy as np
 
 from illusio.core import Context
+from illusio.core.renderer import Frame
 from illusio.lines import analytic
 from illusio.lines.curvature import estimate_curvature
-from illusio.core.renderer import Frame
 from illusio.lines.drawing import LineRenderer, framing_view
 from illusio.lines.params import LineParams
 from illusio.scene.mesh import load_mesh
 
 from .runner import Timing, time_case, time_interleaved
 
-MODELS = Path(os.environ.get("ILLUSIO_MODELS", Path(__file__).resolve().parents[1].parent / "shared" / "data" / "models"))
+MODELS = Path(
+    os.environ.get("ILLUSIO_MODELS", Path(__file__).resolve().parents[1].parent / "shared" / "data" / "models")
+)
 MESHES = {"bunny": "stanford-bunny.obj", "dragon": "dragon_vrip_res2.ply", "igea": "igea.ply"}
 
 
@@ -41,7 +43,7 @@ def analytic_cases(quick: bool):
     noisy = ("torus-48", "ellipsoid-3") if quick else ("torus-96", "ellipsoid-4", "sphere-3", "ellipsoid-3", "torus-48")
     for name in noisy:
         mesh, k_min, k_max = cases[name]
-        for amount in ((0.05,) if quick else (0.02, 0.05, 0.1)):
+        for amount in (0.05,) if quick else (0.02, 0.05, 0.1):
             cases[f"{name}+noise{amount:g}"] = (analytic.add_noise(mesh, amount, seed=1), k_min, k_max)
     return cases
 
@@ -55,6 +57,7 @@ def libigl():
     def principal(mesh):
         _, _, pv1, pv2, _ = igl.principal_curvature(mesh.vertices.astype(np.float64), mesh.faces.astype(np.int64))
         return np.minimum(pv1, pv2), np.maximum(pv1, pv2)
+
     return principal
 
 
@@ -80,7 +83,9 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     ratios["mean relative error ours (k_min, k_max)"] = float(np.mean(ours_errors))
     if igl_errors:
         ratios["mean relative error libigl"] = float(np.mean(igl_errors))
-        ratios["cases where ours is at least as accurate"] = float(np.sum(np.array(ours_errors) <= np.array(igl_errors) + 1e-9))
+        ratios["cases where ours is at least as accurate"] = float(
+            np.sum(np.array(ours_errors) <= np.array(igl_errors) + 1e-9)
+        )
         ratios["cases"] = float(len(igl_errors))
     # speed on the test meshes (or an analytic stand-in when they are absent / quick)
     meshes = {}
@@ -94,10 +99,18 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     renderer = LineRenderer(ctx)
     for name, mesh in meshes.items():
         n = f"{len(mesh.vertices):,} vertices"
-        ours = time_case(f"curvature/ours {name}", lambda: estimate_curvature(mesh, cache=False), max(1, repeat // 3), warmup=1, notes=n)
+        ours = time_case(
+            f"curvature/ours {name}",
+            lambda: estimate_curvature(mesh, cache=False),
+            max(1, repeat // 3),
+            warmup=1,
+            notes=n,
+        )
         timings.append(ours)
         if igl_principal:
-            theirs = time_case(f"curvature/libigl {name}", lambda: igl_principal(mesh), max(1, repeat // 3), warmup=1, notes=n)
+            theirs = time_case(
+                f"curvature/libigl {name}", lambda: igl_principal(mesh), max(1, repeat // 3), warmup=1, notes=n
+            )
             timings.append(theirs)
             ratios[f"libigl / ours time {name}"] = theirs.median_ms / ours.median_ms
         curv = estimate_curvature(mesh)
@@ -113,24 +126,36 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             ctx.finish()
             ctx.release(q, r)
 
-        t = time_case(f"hybrid passes {name}", hybrid, repeat, notes=f"{n}, {size[0]}x{size[1]}, view curvature + ridge filter")
+        t = time_case(
+            f"hybrid passes {name}", hybrid, repeat, notes=f"{n}, {size[0]}x{size[1]}, view curvature + ridge filter"
+        )
         timings.append(t)
         ratios[f"hybrid frames per second {name}"] = 1000.0 / t.median_ms
-        d = time_case(f"drawing {name}", lambda: renderer.render(Frame(view, size), LineParams()), max(1, repeat // 2),
-                      notes=f"{n}, default drawing: hybrid ridges + object-space silhouettes, read back")
+        d = time_case(
+            f"drawing {name}",
+            lambda: renderer.render(Frame(view, size), LineParams()),
+            max(1, repeat // 2),
+            notes=f"{n}, default drawing: hybrid ridges + object-space silhouettes, read back",
+        )
         timings.append(d)
         ratios[f"drawing frames per second {name}"] = 1000.0 / d.median_ms
 
-        def texture():                      # the whole drawing as the viewer shows it: no readback
+        def texture():  # the whole drawing as the viewer shows it: no readback
             tex = renderer.render_texture(Frame(view, size), LineParams())
             ctx.finish()
             ctx.release(tex)
 
-        d = time_case(f"drawing as a texture {name}", texture, repeat,
-                      notes=f"{n}, default drawing on the GPU, not read back (like the hybrid passes)")
+        d = time_case(
+            f"drawing as a texture {name}",
+            texture,
+            repeat,
+            notes=f"{n}, default drawing on the GPU, not read back (like the hybrid passes)",
+        )
         timings.append(d)
         # the goal, measured interleaved (the machine's speed drifts between cases)
         paired = time_interleaved({"hybrid": (hybrid, ""), "texture": (texture, "")}, max(3, repeat), warmup=0)
-        ratios[f"whole drawing / hybrid passes frame rate {name} (goal >= 0.8)"] = paired[0].median_ms / paired[1].median_ms
+        ratios[f"whole drawing / hybrid passes frame rate {name} (goal >= 0.8)"] = (
+            paired[0].median_ms / paired[1].median_ms
+        )
     renderer.release()
     return timings, ratios

@@ -66,7 +66,7 @@ def run(ctx: Context, repeat: int, quick: bool = False):
         results[f"{name}: auto threshold"] = auto.params.threshold
     # (b): every mesh drawn with every other mesh's choice
     names = list(cases)
-    transfer = np.full((len(names), len(names)), np.nan)     # [source, target]
+    transfer = np.full((len(names), len(names)), np.nan)  # [source, target]
     for t, name in enumerate(names):
         mesh, view, target = cases[name]
         renderer.prepare(mesh)
@@ -82,20 +82,25 @@ def run(ctx: Context, repeat: int, quick: bool = False):
         results[f"{name}: F1 with another mesh's choice, mean"] = round(float(column.mean()), 3)
         results[f"{name}: F1 with another mesh's choice, worst"] = round(float(column.min()), 3)
         results[f"{name}: F1 with {names[best_source]}'s choice"] = round(float(transfer[best_source, t]), 3)
-    for label, key in (("defaults", "F1 defaults"), ("auto", "F1 auto"),
-                       ("another mesh's choice", "F1 with another mesh's choice, mean")):
+    for label, key in (
+        ("defaults", "F1 defaults"),
+        ("auto", "F1 auto"),
+        ("another mesh's choice", "F1 with another mesh's choice, mean"),
+    ):
         results[f"mean over meshes: F1 {label}"] = round(float(np.mean([results[f"{n}: {key}"] for n in names])), 3)
     results[f"the choice that transfers best, {names[best_source]}'s: its mean F1 on the other meshes"] = round(
-        float(transfer[best_source][others[best_source]].mean()), 3)
+        float(transfer[best_source][others[best_source]].mean()), 3
+    )
     results["mean over meshes: F1 with the best-transferring choice"] = round(
-        float(np.mean([transfer[best_source, t] for t in range(len(names))])), 3)
+        float(np.mean([transfer[best_source, t] for t in range(len(names))])), 3
+    )
     results.update(photographs(ctx, cases, chosen, size, quick))
     return [], results
 
 
 def photographs(ctx: Context, cases: dict, chosen: dict, size, quick: bool) -> dict[str, float]:
-    from illusio.passes.mitsuba import mitsuba_available
     from illusio.lines.photograph import exposed, photograph
+    from illusio.passes.mitsuba import mitsuba_available
 
     if not mitsuba_available():
         return {}
@@ -108,8 +113,11 @@ def photographs(ctx: Context, cases: dict, chosen: dict, size, quick: bool) -> d
         photo = photograph(mesh, view, size, samples=8 if quick else 32, misregistration=MISREGISTRATION)
         edges = image_edges(exposed(photo), "canny")
         on_photo = auto_parameters(renderer, view, size, edges).params
-        for label, params in (("defaults", LineParams()), ("auto on the shaded mesh", chosen[name]),
-                              ("auto on the photograph", on_photo)):
+        for label, params in (
+            ("defaults", LineParams()),
+            ("auto on the shaded mesh", chosen[name]),
+            ("auto on the photograph", on_photo),
+        ):
             ours = line_mask(renderer.render(Frame(view, size), params))
             registered, (dx, dy) = registered_score(ours, edges, max_shift=5)
             results[f"photo {name}, {label}: F1 as drawn"] = round(score(ours, edges).f1, 3)

@@ -39,15 +39,39 @@ def _cases(ctx: Context, size):
     lines = LineParams()
     line_size = (min(w, 1024), min(h, 1024))
     return [
-        ("plain", SceneRenderer(ctx), room, Frame(room.camera("main"), size), settings,
-         lambda: render_scene(room, room.camera("main"), size, ctx, settings)),
+        (
+            "plain",
+            SceneRenderer(ctx),
+            room,
+            Frame(room.camera("main"), size),
+            settings,
+            lambda: render_scene(room, room.camera("main"), size, ctx, settings),
+        ),
         # two depth maps in turn: every one-shot call uploads a new subject (the usual script)
-        ("sis", StereogramRenderer(ctx), depth, Frame(None, size), sis,
-         lambda: stereogram(depths.__setitem__(0, 1 - depths[0]) or (depth if depths[0] else other), sis, ctx)),
-        ("multiscene", MultiSceneRenderer(ctx), MultiSceneSubject(room, hidden), Frame(room.camera("tv"), size), multi,
-         lambda: multiscene(room, hidden, Frame(room.camera("tv"), size), multi, ctx)),
-        ("lines", LineRenderer(ctx), knot, Frame(None, line_size), lines,
-         lambda: line_drawing(knot, lines, None, line_size, ctx)),
+        (
+            "sis",
+            StereogramRenderer(ctx),
+            depth,
+            Frame(None, size),
+            sis,
+            lambda: stereogram(depths.__setitem__(0, 1 - depths[0]) or (depth if depths[0] else other), sis, ctx),
+        ),
+        (
+            "multiscene",
+            MultiSceneRenderer(ctx),
+            MultiSceneSubject(room, hidden),
+            Frame(room.camera("tv"), size),
+            multi,
+            lambda: multiscene(room, hidden, Frame(room.camera("tv"), size), multi, ctx),
+        ),
+        (
+            "lines",
+            LineRenderer(ctx),
+            knot,
+            Frame(None, line_size),
+            lines,
+            lambda: line_drawing(knot, lines, None, line_size, ctx),
+        ),
     ]
 
 
@@ -66,7 +90,12 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
 
         t = time_case(f"{label}/render_texture + finish", texture, repeat, notes=note)
         a = time_case(f"{label}/render (array)", lambda: renderer.render(frame, params), repeat, notes=note)
-        o = time_case(f"{label}/one-shot", one_shot, repeat, notes=note + ", the context's kept renderer, subject prepared each call")
+        o = time_case(
+            f"{label}/one-shot",
+            one_shot,
+            repeat,
+            notes=note + ", the context's kept renderer, subject prepared each call",
+        )
         timings += [t, a, o]
         ratios[f"{label}: array / texture (goal <= 1.3)"] = a.median_ms / t.median_ms
         ratios[f"{label}: one-shot / kept (goal <= 1.5)"] = o.median_ms / a.median_ms

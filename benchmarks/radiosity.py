@@ -43,8 +43,15 @@ _DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data"
 MODELS = Path(os.environ.get("ILLUSIO_MODELS", _DATA / "models"))
 MGF = Path(os.environ.get("ILLUSIO_MGF", _DATA / "scenes" / "mgf"))
 #: scanned meshes for the growth table, by triangle count
-SCANS = ("cow.obj", "bunny.off", "rocker-arm.obj", "dragon_vrip_res3.ply", "stanford-bunny.obj", "armadillo.obj",
-         "dragon_vrip_res2.ply")
+SCANS = (
+    "cow.obj",
+    "bunny.off",
+    "rocker-arm.obj",
+    "dragon_vrip_res3.ply",
+    "stanford-bunny.obj",
+    "armadillo.obj",
+    "dragon_vrip_res2.ply",
+)
 
 
 def scan_room(model: str):
@@ -59,7 +66,7 @@ def scan_room(model: str):
     material = scene.nodes[0].material
     scene.nodes[:] = [n for n in scene.nodes if "block" not in n.name]
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore")            # the scans' own repairs (unreferenced vertices)
+        warnings.simplefilter("ignore")  # the scans' own repairs (unreferenced vertices)
         mesh = load_mesh(MODELS / model).normalised(0.3)
     scene.nodes.append(Node("scan", mesh, translate((0.278, 0.0, 0.28)), material))
     return scene
@@ -72,10 +79,14 @@ def _seconds(fn) -> tuple[float, object]:
 
 
 def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
-    cases = {"cornell-box": ((48, 48), 128) if quick else ((128, 128), 4096),
-             "office": ((64, 48), 64) if quick else ((160, 120), 4096),
-             "living-room": ((64, 36), 64) if quick else ((160, 90), 16384),   # its lamps light it unevenly: 2048 paths left 1.9 % noise over blocks
-             "scan room, stanford-bunny (69k triangles)": ((48, 48), 64) if quick else ((128, 128), 2048)}
+    cases = {
+        "cornell-box": ((48, 48), 128) if quick else ((128, 128), 4096),
+        "office": ((64, 48), 64) if quick else ((160, 120), 4096),
+        "living-room": ((64, 36), 64)
+        if quick
+        else ((160, 90), 16384),  # its lamps light it unevenly: 2048 paths left 1.9 % noise over blocks
+        "scan room, stanford-bunny (69k triangles)": ((48, 48), 64) if quick else ((128, 128), 2048),
+    }
     renderer = RadiosityRenderer(ctx)
     for name, (size, spp) in cases.items():
         scene = scan_room("stanford-bunny.obj") if name.startswith("scan room") else load_scene(name)
@@ -83,42 +94,68 @@ def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
         view = scene.camera("main")
         halves = [render_mitsuba(renderer.polygons, view, size, spp // 2, seed=s) for s in (1, 2)]
         reference = (halves[0] + halves[1]) / 2
-        variants = {"default": HierarchyParams()} if quick else {
-            "default": HierarchyParams(), "ε = 1e-5": HierarchyParams(epsilon=1e-5)}
+        variants = (
+            {"default": HierarchyParams()}
+            if quick
+            else {"default": HierarchyParams(), "ε = 1e-5": HierarchyParams(epsilon=1e-5)}
+        )
         mask = None
         for label, hierarchy in variants.items():
             image, emitter = renderer.radiance(Frame(view, size), RadiosityParams(hierarchy), 4)
             mask = ~emitter
             s = score(image, reference, mask)
             st = renderer.result().stats
-            ratios[f"{name}, {label} ({st.elements} elements, {st.links} links): mean relative error vs Mitsuba"] = s.mean_relative_error
+            ratios[f"{name}, {label} ({st.elements} elements, {st.links} links): mean relative error vs Mitsuba"] = (
+                s.mean_relative_error
+            )
             ratios[f"{name}, {label}: mean relative error vs Mitsuba over 4x4 blocks (goal <= 0.05)"] = score(
-                image, reference, mask, block=4).mean_relative_error
+                image, reference, mask, block=4
+            ).mean_relative_error
             ratios[f"{name}, {label}: PSNR dB vs Mitsuba"] = s.psnr
         noise = score(halves[0], halves[1], mask).mean_relative_error / 2
         ratios[f"{name}: the reference's own noise, mean relative ({spp} paths per pixel, {size[0]}x{size[1]})"] = noise
-        ratios[f"{name}: the reference's own noise over 4x4 blocks"] = score(halves[0], halves[1], mask, block=4).mean_relative_error / 2
+        ratios[f"{name}: the reference's own noise over 4x4 blocks"] = (
+            score(halves[0], halves[1], mask, block=4).mean_relative_error / 2
+        )
     renderer.release()
 
 
 def scale(quick: bool, timings: list, ratios: dict) -> None:
     polygons = scene_polygons(load_scene("office"))
     params = HierarchyParams(epsilon=3e-4) if quick else HierarchyParams()
-    Radiosity(polygons, HierarchyParams(epsilon=1e-2)).build()          # numba compiles once
+    Radiosity(polygons, HierarchyParams(epsilon=1e-2)).build()  # numba compiles once
     build_s, sol = _seconds(lambda: Radiosity(polygons, params).build())
     st = sol.stats
-    timings.append(Timing("office/build", 1, build_s * 1000, build_s * 1000, build_s * 1000,
-                          f"{st.elements} elements, {st.links} links, {st.rays} rays"))
+    timings.append(
+        Timing(
+            "office/build",
+            1,
+            build_s * 1000,
+            build_s * 1000,
+            build_s * 1000,
+            f"{st.elements} elements, {st.links} links, {st.rays} rays",
+        )
+    )
     ratios["office build: elements (goal >= 5000)"] = st.elements
     ratios["office build: links (goal >= 40000)"] = st.links
     ratios["office build: seconds (goal <= 3 on 2 cores)"] = build_s
     per_link = build_s / st.links / (RENDERPARK["seconds"] / RENDERPARK["links"])
-    ratios["office build / RenderPark (0.34 s for 5.4k elements, 42k links): time ratio"] = build_s / RENDERPARK["seconds"]
+    ratios["office build / RenderPark (0.34 s for 5.4k elements, 42k links): time ratio"] = (
+        build_s / RENDERPARK["seconds"]
+    )
     ratios["office build / RenderPark: time per link ratio"] = per_link
 
     resolve_s, result = _seconds(lambda: sol.set_lamps({"lamp-0": 0.25, "lamp-3": 2.0}))
-    timings.append(Timing("office/lamp change", 1, resolve_s * 1000, resolve_s * 1000, resolve_s * 1000,
-                          f"links kept, {result.iterations} iterations of gather + push-pull"))
+    timings.append(
+        Timing(
+            "office/lamp change",
+            1,
+            resolve_s * 1000,
+            resolve_s * 1000,
+            resolve_s * 1000,
+            f"links kept, {result.iterations} iterations of gather + push-pull",
+        )
+    )
     ratios["lamp change / build time (goal <= 1/50 = 0.02)"] = resolve_s / build_s
 
     move = np.eye(4)
@@ -129,7 +166,9 @@ def scale(quick: bool, timings: list, ratios: dict) -> None:
     moved[rows] += move[:3, 3]
     rebuild_s, fresh = _seconds(lambda: Radiosity(dataclasses.replace(polygons, corners=moved), params).build())
     timings.append(Timing("office/move chair seat", 1, move_s * 1000, move_s * 1000, move_s * 1000, "dynamic update"))
-    timings.append(Timing("office/rebuild with the seat moved", 1, rebuild_s * 1000, rebuild_s * 1000, rebuild_s * 1000))
+    timings.append(
+        Timing("office/rebuild with the seat moved", 1, rebuild_s * 1000, rebuild_s * 1000, rebuild_s * 1000)
+    )
     ratios["moved object update / full rebuild time (goal <= 1/10 = 0.1)"] = move_s / rebuild_s
 
     growth = [3e-4, 1e-4, 4e-5] if quick else [6e-4, 1e-4, 4e-5, 1.5e-5, 5e-6, 2e-6]
@@ -138,12 +177,22 @@ def scale(quick: bool, timings: list, ratios: dict) -> None:
         s, sol = _seconds(lambda: Radiosity(polygons, HierarchyParams(epsilon=eps, min_area=2e-4)).build())
         counts.append(sol.stats.elements)
         seconds.append(s)
-        timings.append(Timing(f"office/build ε={eps:g}", 1, s * 1000, s * 1000, s * 1000,
-                              f"{sol.stats.elements} elements, {sol.stats.links} links"))
+        timings.append(
+            Timing(
+                f"office/build ε={eps:g}",
+                1,
+                s * 1000,
+                s * 1000,
+                s * 1000,
+                f"{sol.stats.elements} elements, {sol.stats.links} links",
+            )
+        )
         ratios[f"growth: ε={eps:g}: elements"] = sol.stats.elements
         ratios[f"growth: ε={eps:g}: links"] = sol.stats.links
         ratios[f"growth: ε={eps:g}: seconds"] = s
-        ratios[f"growth: ε={eps:g}: seconds / (n log2 n) × 1e6"] = s / (sol.stats.elements * np.log2(sol.stats.elements)) * 1e6
+        ratios[f"growth: ε={eps:g}: seconds / (n log2 n) × 1e6"] = (
+            s / (sol.stats.elements * np.log2(sol.stats.elements)) * 1e6
+        )
     slope = np.polyfit(np.log(counts), np.log(seconds), 1)[0]
     ratios["growth: exponent of build time against elements"] = float(slope)
 
@@ -173,24 +222,42 @@ def polygon_growth(quick: bool, timings: list, ratios: dict) -> None:
     rows = []
     root = str(Path(__file__).resolve().parents[1])
     for label, what in cases:
-        out = subprocess.run([sys.executable, "-c", _BUILD_ONE.format(root=root, label=label, what=what)],
-                             capture_output=True, text=True, check=True)
+        out = subprocess.run(
+            [sys.executable, "-c", _BUILD_ONE.format(root=root, label=label, what=what)],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
         row = json.loads(out.stdout.strip().splitlines()[-1])
         rows.append((label, row))
-        timings.append(Timing(f"radiosity growth/{label}", 1, row["seconds"] * 1000, row["seconds"] * 1000,
-                              row["seconds"] * 1000, f"{row['polygons']} polygons, {row['elements']} elements, "
-                              f"{row['links']} links ({row['cluster_links']} through clusters), {row['gb']:.2f} GB peak"))
+        timings.append(
+            Timing(
+                f"radiosity growth/{label}",
+                1,
+                row["seconds"] * 1000,
+                row["seconds"] * 1000,
+                row["seconds"] * 1000,
+                f"{row['polygons']} polygons, {row['elements']} elements, "
+                f"{row['links']} links ({row['cluster_links']} through clusters), {row['gb']:.2f} GB peak",
+            )
+        )
         for key in ("polygons", "seconds", "elements", "links", "gb"):
             ratios[f"polygon growth: {label}: {key}"] = row[key]
     scans = [r for label, r in rows if label.startswith("scan")]
     n = np.array([r["polygons"] for r in scans], float)
     t = np.array([r["seconds"] for r in scans])
-    ratios["polygon growth: exponent of build time against polygons (scan rooms)"] = float(np.polyfit(np.log(n), np.log(t), 1)[0])
+    ratios["polygon growth: exponent of build time against polygons (scan rooms)"] = float(
+        np.polyfit(np.log(n), np.log(t), 1)[0]
+    )
     for label, r in rows:
         if label.startswith("scan"):
-            ratios[f"polygon growth: {label}: seconds / (n log2 n) x 1e6"] = r["seconds"] / (r["polygons"] * np.log2(r["polygons"])) * 1e6
+            ratios[f"polygon growth: {label}: seconds / (n log2 n) x 1e6"] = (
+                r["seconds"] / (r["polygons"] * np.log2(r["polygons"])) * 1e6
+            )
     biggest = max(scans, key=lambda r: r["polygons"])
-    ratios[f"polygon growth: largest scan room ({biggest['polygons']} polygons): seconds (goal <= 120 on 2 cores)"] = biggest["seconds"]
+    ratios[f"polygon growth: largest scan room ({biggest['polygons']} polygons): seconds (goal <= 120 on 2 cores)"] = (
+        biggest["seconds"]
+    )
     ratios["polygon growth: largest scan room: peak GB (goal <= 8)"] = biggest["gb"]
 
 

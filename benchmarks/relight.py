@@ -30,29 +30,33 @@ from illusio.core.context import Context
 from illusio.radiosity import HierarchyParams, Polygons
 from illusio.radiosity.mitsuba import render_mitsuba, score
 from illusio.relight import RelightParams, RelightSession, builtin_real_scene
-from illusio.relight.per_pixel import lamp_irradiance, surface_points
 from illusio.relight.params import DEFAULT_PATHS, DEFAULT_SIZE
+from illusio.relight.per_pixel import lamp_irradiance, surface_points
 from illusio.relight.tone import fit_tone
 
 from .runner import Timing
 
-EDITS = {"back lamps off": {"lamp-0": 0.0, "lamp-1": 0.0},
-         "left off, right doubled": {"lamp-0": 0.0, "lamp-2": 0.0, "lamp-1": 2.0, "lamp-3": 2.0},
-         "right off, left doubled": {"lamp-1": 0.0, "lamp-3": 0.0, "lamp-0": 2.0, "lamp-2": 2.0}}
+EDITS = {
+    "back lamps off": {"lamp-0": 0.0, "lamp-1": 0.0},
+    "left off, right doubled": {"lamp-0": 0.0, "lamp-2": 0.0, "lamp-1": 2.0, "lamp-3": 2.0},
+    "right off, left doubled": {"lamp-1": 0.0, "lamp-3": 0.0, "lamp-0": 2.0, "lamp-2": 2.0},
+}
 #: Figure 4.18a: a virtual lamp (centre m, side m, exitance in the session's estimated units) with the
 #: real ones off; its truth is rendered at the baseline's estimate scale and rescaled to each session's
 VIRTUAL_LAMP = ((1.0, 2.55, 2.5), 0.5, 40.0)
-FINE = HierarchyParams(clusters=False)         # the radiosity engine's default, BF at ε 6e-5 (relight links all pairs)
-METHODS = {"baseline": RelightParams(method="baseline"),
-           "loscos": RelightParams(method="loscos"),
-           "baseline, the chapter's estimate (4.1/4.2)": RelightParams(method="baseline", estimate="brightness"),
-           "loscos, the chapter's estimate (4.1/4.2)": RelightParams(method="loscos", estimate="brightness"),
-           "loscos without 4.3.1": RelightParams(method="loscos", texture_refinement=False),
-           "loscos without 4.8/4.9 (T_inter alone)": RelightParams(method="loscos", reference_correction=False),
-           "loscos, eq. 4.9 in full (the chapter's)": RelightParams(method="loscos", reference_weight="full"),
-           "loscos, fresh BFV solution (4.3.3)": RelightParams(method="loscos", fresh_solution=True),
-           "per-pixel": RelightParams(method="per-pixel"),
-           "baseline, fine mesh": RelightParams(method="baseline", hierarchy=FINE)}
+FINE = HierarchyParams(clusters=False)  # the radiosity engine's default, BF at ε 6e-5 (relight links all pairs)
+METHODS = {
+    "baseline": RelightParams(method="baseline"),
+    "loscos": RelightParams(method="loscos"),
+    "baseline, the chapter's estimate (4.1/4.2)": RelightParams(method="baseline", estimate="brightness"),
+    "loscos, the chapter's estimate (4.1/4.2)": RelightParams(method="loscos", estimate="brightness"),
+    "loscos without 4.3.1": RelightParams(method="loscos", texture_refinement=False),
+    "loscos without 4.8/4.9 (T_inter alone)": RelightParams(method="loscos", reference_correction=False),
+    "loscos, eq. 4.9 in full (the chapter's)": RelightParams(method="loscos", reference_weight="full"),
+    "loscos, fresh BFV solution (4.3.3)": RelightParams(method="loscos", fresh_solution=True),
+    "per-pixel": RelightParams(method="per-pixel"),
+    "baseline, fine mesh": RelightParams(method="baseline", hierarchy=FINE),
+}
 
 
 def shadow_pixels(p: Polygons, view, size, samples: int = 64) -> tuple[np.ndarray, np.ndarray]:
@@ -74,16 +78,26 @@ def with_virtual_lamp(p: Polygons, lamp: np.ndarray, scale: float) -> Polygons:
     that the score is about where the light goes, not about the estimate of 4.2."""
     exitance = VIRTUAL_LAMP[2]
     off = np.where(np.isin(p.group, p.lamps)[:, None], 0.0, 1.0)
-    return Polygons(np.r_[p.corners, lamp[None]], np.r_[p.triangle, False], np.r_[p.reflectance, np.zeros((1, 3))],
-                    np.r_[p.exitance * off, np.full((1, 3), exitance / scale)], np.r_[p.group, len(p.names)],
-                    p.names + ["virtual-lamp"], p.lamps)
+    return Polygons(
+        np.r_[p.corners, lamp[None]],
+        np.r_[p.triangle, False],
+        np.r_[p.reflectance, np.zeros((1, 3))],
+        np.r_[p.exitance * off, np.full((1, 3), exitance / scale)],
+        np.r_[p.group, len(p.names)],
+        p.names + ["virtual-lamp"],
+        p.lamps,
+    )
 
 
 def truth_pair(scene, view, size, spp, geometry, shadow, ratios, name):
     """The truth (two half renders averaged) and its own noise recorded."""
     halves = [render_mitsuba(scene, view, size, spp // 2, seed=s) for s in (11, 12)]
-    ratios[f"{name}: the truth's own noise, mean relative"] = score(halves[0], halves[1], geometry).mean_relative_error / 2
-    ratios[f"{name}: the truth's own noise in the shadows"] = score(halves[0], halves[1], shadow).mean_relative_error / 2
+    ratios[f"{name}: the truth's own noise, mean relative"] = (
+        score(halves[0], halves[1], geometry).mean_relative_error / 2
+    )
+    ratios[f"{name}: the truth's own noise in the shadows"] = (
+        score(halves[0], halves[1], shadow).mean_relative_error / 2
+    )
     return (halves[0] + halves[1]) / 2
 
 
@@ -112,14 +126,24 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
     virtual = "virtual lamp, real lamps off"
     for method, session in sessions.items():
         t = session.times["prepare"]
-        timings.append(Timing(f"relight/{method}/prepare", 1, t * 1000, t * 1000, t * 1000,
-                              f"{session.solution.stats.leaves} leaves, {size[0]}x{size[1]} photograph"))
+        timings.append(
+            Timing(
+                f"relight/{method}/prepare",
+                1,
+                t * 1000,
+                t * 1000,
+                t * 1000,
+                f"{session.solution.stats.leaves} leaves, {size[0]}x{size[1]} photograph",
+            )
+        )
         for name, edit in EDITS.items():
             record(ratios, f"{method}, {name}", session.image(edit), truths[name], geometry, shadow)
         ratios[f"{method}: reflectance error per element"] = reflectance_error(session)
         t = session.times["edit"]
         timings.append(Timing(f"relight/{method}/lamp change with display", 1, t * 1000, t * 1000, t * 1000))
-        ratios[f"{method}: lamp change / preparation time (goal <= 1/20)"] = session.times["edit"] / session.times["prepare"]
+        ratios[f"{method}: lamp change / preparation time (goal <= 1/20)"] = (
+            session.times["edit"] / session.times["prepare"]
+        )
         if session.params.method != "per-pixel":
             centre, side, exitance = VIRTUAL_LAMP
             session.image({n: 0.0 for n in session.lamp_names})
@@ -127,13 +151,21 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             if virtual not in truths:
                 polygons = session.solution.polygons
                 corners = polygons.corners[polygons.group == polygons.names.index("virtual-lamp")][0]
-                truths[virtual] = truth_pair(with_virtual_lamp(p, corners, scale), real.view, size, spp, geometry,
-                                             shadow, ratios, virtual)
+                truths[virtual] = truth_pair(
+                    with_virtual_lamp(p, corners, scale), real.view, size, spp, geometry, shadow, ratios, virtual
+                )
             # the truth is linear in the virtual lamp's exitance: rescaled to this session's estimate
             truth = truths[virtual] * (scale / estimate_scale(session))
             record(ratios, f"{method}, {virtual}", image, truth, geometry, shadow)
-            timings.append(Timing(f"relight/{method}/add a virtual lamp", 1, session.times["add lamp"] * 1000,
-                                  session.times["add lamp"] * 1000, session.times["add lamp"] * 1000))
+            timings.append(
+                Timing(
+                    f"relight/{method}/add a virtual lamp",
+                    1,
+                    session.times["add lamp"] * 1000,
+                    session.times["add lamp"] * 1000,
+                    session.times["add lamp"] * 1000,
+                )
+            )
         session.release()
     timings += speed(ctx, ratios, quick)
     return timings, ratios
@@ -159,7 +191,9 @@ def record(ratios, key, image, truth, geometry, shadow) -> None:
     ratios[f"{key}: PSNR dB"] = whole.psnr
     ratios[f"{key}: mean relative error in the original shadows"] = score(image, truth, shadow).mean_relative_error
     toned = fit_tone(image, truth, geometry).apply(image)
-    ratios[f"{key}: mean relative error in the original shadows, after the tone step"] = score(toned, truth, shadow).mean_relative_error
+    ratios[f"{key}: mean relative error in the original shadows, after the tone step"] = score(
+        toned, truth, shadow
+    ).mean_relative_error
 
 
 def speed(ctx, ratios, quick: bool) -> list[Timing]:
@@ -178,14 +212,22 @@ def speed(ctx, ratios, quick: bool) -> list[Timing]:
     ratios["speed run: lamp change with display / preparation (goal <= 1/20)"] = edit / prepare
     session.add_object(shapes.box((0.5, 0.5, 0.5)), "crate", at=(0.5, 0.25, 1.0))
     steps = []
-    for step in [-0.1] * 8 + [0.1] * 8:         # dragged 0.8 m across the floor and back
+    for step in [-0.1] * 8 + [0.1] * 8:  # dragged 0.8 m across the floor and back
         start = time.perf_counter()
         session.move_object("crate", (step, 0.0, 0.0))
         steps.append(time.perf_counter() - start)
     ratios["speed run: virtual object moves per second (goal >= 10)"] = 1.0 / float(np.median(steps))
     session.release()
     note = f"{leaves} leaves, {size[0]}x{size[1]} photograph"
-    return [Timing("relight/speed/prepare", 1, prepare * 1000, prepare * 1000, prepare * 1000, note),
-            Timing("relight/speed/lamp change with display", 1, edit * 1000, edit * 1000, edit * 1000, note),
-            Timing("relight/speed/move a virtual object", len(steps), float(np.median(steps)) * 1000,
-                   float(min(steps)) * 1000, float(max(steps)) * 1000, note)]
+    return [
+        Timing("relight/speed/prepare", 1, prepare * 1000, prepare * 1000, prepare * 1000, note),
+        Timing("relight/speed/lamp change with display", 1, edit * 1000, edit * 1000, edit * 1000, note),
+        Timing(
+            "relight/speed/move a virtual object",
+            len(steps),
+            float(np.median(steps)) * 1000,
+            float(min(steps)) * 1000,
+            float(max(steps)) * 1000,
+            note,
+        ),
+    ]

@@ -10,10 +10,10 @@ import json
 import platform
 import statistics
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import Callable
 
 
 @dataclass
@@ -37,8 +37,9 @@ def time_case(name: str, fn: Callable[[], object], repeat: int = 10, warmup: int
     return Timing(name, repeat, statistics.median(samples), min(samples), max(samples), notes)
 
 
-def time_interleaved(cases: dict[str, tuple[Callable[[], object], str]], repeat: int = 10,
-                     warmup: int = 2) -> list[Timing]:
+def time_interleaved(
+    cases: dict[str, tuple[Callable[[], object], str]], repeat: int = 10, warmup: int = 2
+) -> list[Timing]:
     """Time ``cases`` ({name: (fn, notes)}) one run of each in turn, ``repeat`` rounds: cases whose
     ratio is a goal, on a machine whose speed drifts between cases run one after another."""
     for _ in range(warmup):
@@ -50,21 +51,33 @@ def time_interleaved(cases: dict[str, tuple[Callable[[], object], str]], repeat:
             t0 = time.perf_counter()
             fn()
             samples[name].append((time.perf_counter() - t0) * 1000)
-    return [Timing(name, repeat, statistics.median(samples[name]), min(samples[name]), max(samples[name]), notes)
-            for name, (_, notes) in cases.items()]
+    return [
+        Timing(name, repeat, statistics.median(samples[name]), min(samples[name]), max(samples[name]), notes)
+        for name, (_, notes) in cases.items()
+    ]
 
 
 def machine(ctx) -> dict:
     import os
 
     info = ctx.info()
-    return {"renderer": info["renderer"], "gl_version": info["version"], "cpu_count": os.cpu_count(),
-            "platform": platform.platform(), "python": platform.python_version()}
+    return {
+        "renderer": info["renderer"],
+        "gl_version": info["version"],
+        "cpu_count": os.cpu_count(),
+        "platform": platform.platform(),
+        "python": platform.python_version(),
+    }
 
 
 def write_results(path: Path, suite: str, ctx, timings: list[Timing], ratios: dict[str, float]) -> dict:
-    data = {"suite": suite, "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-            "machine": machine(ctx), "timings": [asdict(t) for t in timings], "ratios": ratios}
+    data = {
+        "suite": suite,
+        "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "machine": machine(ctx),
+        "timings": [asdict(t) for t in timings],
+        "ratios": ratios,
+    }
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(data, indent=2))

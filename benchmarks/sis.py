@@ -13,15 +13,15 @@ from dataclasses import replace
 import numpy as np
 
 from illusio.core import Context
+from illusio.core.renderer import Frame
 from illusio.scene import Pose, View, builtin_scene
 from illusio.scene.builtin import shapes
 from illusio.sis import reference
 from illusio.sis.depth import hidden_scene
-from illusio.core.renderer import Frame
 from illusio.sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
 from illusio.sis.params import StereogramParams
-from illusio.sis.stereogram import StereogramRenderer, quantise
 from illusio.sis.patterns import random_dots
+from illusio.sis.stereogram import StereogramRenderer, quantise
 
 from .runner import Timing, time_case
 
@@ -51,10 +51,15 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             out = renderer.render_texture(frame, params)
             ctx.finish()
             ctx.release(out)
+
         return go
 
     for algorithm in ("strip", "fast", "sequential", "symmetric"):
-        timings.append(time_case(f"gpu/{algorithm}", gpu(algorithm), repeat, notes=note + ", depth texture in, stereogram texture out"))
+        timings.append(
+            time_case(
+                f"gpu/{algorithm}", gpu(algorithm), repeat, notes=note + ", depth texture in, stereogram texture out"
+            )
+        )
     chain_params = StereogramParams()
     sep = renderer.separation_pass(tex, chain_params)
     pattern, _ = renderer.pattern_texture(chain_params, (w, h))
@@ -63,12 +68,19 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         out = renderer.compute(sep, pattern, chain_params, algorithm="chain")
         ctx.finish()
         ctx.release(out)
+
     timings.append(time_case("gpu/chain (separation map given)", chain, repeat, notes=note))
     sep_cpu = reference.separation(depth, 100, 50)
     pat_cpu = quantise(random_dots(w, h, 0))
     reference.sequential(sep_cpu[:4, :300], pat_cpu[:4, :300], 100, 150)  # numba compile outside the timing
-    timings.append(time_case("cpu/sequential (numba)", lambda: reference.sequential(sep_cpu, pat_cpu, 100, 150),
-                             max(3, repeat // 3), notes=note))
+    timings.append(
+        time_case(
+            "cpu/sequential (numba)",
+            lambda: reference.sequential(sep_cpu, pat_cpu, 100, 150),
+            max(3, repeat // 3),
+            notes=note,
+        )
+    )
     ctx.release(sep)
     renderer.release()
 
@@ -88,17 +100,33 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             out = multi.render_texture(Frame(view, (w, h), index=frame[0]), MultiSceneParams())
             ctx.finish()
             ctx.release(out)
+
         return go
 
     def scene_only():
         out = multi.scene_renderer.render_texture(Frame(tv, (w, h)), replace(MultiSceneParams().settings, forward=True))
         ctx.finish()
         ctx.release(out)
-    timings.append(time_case("multiscene/tv frame", multiscene(True), repeat,
-                             notes=f"{w}x{h}, snow, fast, living-room 'tv' camera turning 0.2 degrees a frame"))
-    timings.append(time_case("multiscene/tv frame, still camera", multiscene(False), repeat,
-                             notes="the same with the camera still: the static layer is reused"))
-    timings.append(time_case("multiscene/main scene alone", scene_only, repeat, notes="the same forward pass, no stereogram"))
+
+    timings.append(
+        time_case(
+            "multiscene/tv frame",
+            multiscene(True),
+            repeat,
+            notes=f"{w}x{h}, snow, fast, living-room 'tv' camera turning 0.2 degrees a frame",
+        )
+    )
+    timings.append(
+        time_case(
+            "multiscene/tv frame, still camera",
+            multiscene(False),
+            repeat,
+            notes="the same with the camera still: the static layer is reused",
+        )
+    )
+    timings.append(
+        time_case("multiscene/main scene alone", scene_only, repeat, notes="the same forward pass, no stereogram")
+    )
     by = {t.name: t.median_ms for t in timings}
     ratios = {
         "strip / fast (goal >= 3)": by["gpu/strip"] / by["gpu/fast"],
@@ -116,5 +144,7 @@ def _turned(view: View, degrees: float) -> View:
     target = np.asarray(view.pose.target, np.float64)
     offset = np.asarray(view.pose.position, np.float64) - target
     a = np.radians(degrees)
-    turned = np.array([offset[0] * np.cos(a) + offset[2] * np.sin(a), offset[1], -offset[0] * np.sin(a) + offset[2] * np.cos(a)])
+    turned = np.array(
+        [offset[0] * np.cos(a) + offset[2] * np.sin(a), offset[1], -offset[0] * np.sin(a) + offset[2] * np.cos(a)]
+    )
     return View(Pose(tuple(target + turned), tuple(target), view.pose.up), view.camera)

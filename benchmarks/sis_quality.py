@@ -19,12 +19,12 @@ from illusio.core.renderer import Frame
 from illusio.passes.scene_renderer import RenderSettings
 from illusio.scene import load_scene
 from illusio.scene.builtin import shape
+from illusio.scene.camera import Camera, Pose, View
+from illusio.scene.scene import Scene
 from illusio.sis import reference
 from illusio.sis.decode import check
 from illusio.sis.depth import depth_from_scene, hidden_scene
 from illusio.sis.multiscene import MultiSceneRenderer, MultiSceneSubject
-from illusio.scene.camera import Camera, Pose, View
-from illusio.scene.scene import Scene
 from illusio.sis.params import HOST_LAYOUTS, MultiSceneParams, StereogramParams
 from illusio.sis.stereogram import StereogramRenderer
 
@@ -51,7 +51,9 @@ def run(ctx: Context, repeat: int, quick: bool = False):
         # where a point is seen (the middle of its fused pair) less where the depth map drew it:
         # left-anchored algorithms link depth pixel x to x − s, the symmetric one x − s/2 to x + s/2
         near = sep < strip_width + depth_factor / 2
-        results[f"{algorithm} near part seen shifted px"] = 0.0 if anchor == "centre" else round(-float(sep[near].mean()) / 2, 1)
+        results[f"{algorithm} near part seen shifted px"] = (
+            0.0 if anchor == "centre" else round(-float(sep[near].mean()) / 2, 1)
+        )
     results["mean separation px"] = round(float(sep.mean()), 1)
     renderer.release()
     results.update(host_lighting(ctx, (w, h)))
@@ -70,8 +72,13 @@ def oblique_scene(angle: float) -> Scene:
     from illusio.scene.scene import Material, Node
     from illusio.scene.transforms import compose, rotate
 
-    panel = Node("panel", shapes.plane((1.6, 0.9)), compose(rotate((0, 1, 0), angle), rotate((1, 0, 0), 90)),
-                 Material((0.8, 0.8, 0.8)), tags=("host",))
+    panel = Node(
+        "panel",
+        shapes.plane((1.6, 0.9)),
+        compose(rotate((0, 1, 0), angle), rotate((1, 0, 0), 90)),
+        Material((0.8, 0.8, 0.8)),
+        tags=("host",),
+    )
     return Scene(name=f"panel-{angle}", nodes=[panel])
 
 
@@ -114,10 +121,14 @@ def host_lighting(ctx: Context, size) -> dict[str, float]:
     renderer.prepare(MultiSceneSubject(scene, hidden_scene(shape("torus-knot"))))
     out = {}
     for host, camera, emission in (("tv-screen", "tv", 0.9), ("back-wall", "main", 0.0)):
-        for label, shadows, host_shadows in (("no shadows", False, False), ("shadows on the host", True, True),
-                                             ("room shadowed, host not", True, False)):
-            params = MultiSceneParams(host=host, emission=emission, settings=RenderSettings(shadows=shadows),
-                                      host_shadows=host_shadows)
+        for label, shadows, host_shadows in (
+            ("no shadows", False, False),
+            ("shadows on the host", True, True),
+            ("room shadowed, host not", True, False),
+        ):
+            params = MultiSceneParams(
+                host=host, emission=emission, settings=RenderSettings(shadows=shadows), host_shadows=host_shadows
+            )
             image = renderer.render(Frame(scene.camera(camera), size, index=3), params)
             report, _ = renderer.decode_frame(image, params)
             out[f"{host} {label} decoded"] = round(report.matched, 4)

@@ -23,6 +23,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             def frame():
                 viewer.step(1 / 30)
                 ctx.finish()
+
             timings.append(time_case(f"{name}/{variant}", frame, repeat, notes=f"{size[0]}x{size[1]}, camera moving"))
             viewer.key("d", False)
     viewer.release()

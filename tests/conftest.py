@@ -95,12 +95,15 @@ def gl_error_flag_is_clean():
     yield
     import illusio.core.context as core_context
 
-    current = core_context.current_context()   # reading another context's flag makes that one current
+    current = core_context.current_context()  # reading another context's flag makes that one current
     live = {id(c): c for c in [c for c in _SESSION_CONTEXT if c.gl is not None] + core_context.live_contexts()}
-    raised = [f"{err} on {'the session context' if c in _SESSION_CONTEXT else 'a context'}"
-              for c in live.values() if (err := c.gl_error())]  # read once each: reading clears it
+    raised = [
+        f"{err} on {'the session context' if c in _SESSION_CONTEXT else 'a context'}"
+        for c in live.values()
+        if (err := c.gl_error())
+    ]  # read once each: reading clears it
     if current is not None:
-        current.make_current()                   # the next test finds the context this one left current
+        current.make_current()  # the next test finds the context this one left current
     if raised:
         pytest.fail("GL error flag set after the test: " + "; ".join(raised), pytrace=False)
 

@@ -10,8 +10,13 @@ from tests.conftest import REPO
 
 
 def test_quick_core_benchmark_writes_json_with_ratios(tmp_path):
-    r = subprocess.run([sys.executable, "-m", "benchmarks", "core", "--quick", "--repeat", "1", "--out", str(tmp_path)],
-                       capture_output=True, text=True, cwd=REPO, timeout=600)
+    r = subprocess.run(
+        [sys.executable, "-m", "benchmarks", "core", "--quick", "--repeat", "1", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        timeout=600,
+    )
     assert r.returncode == 0, r.stderr
     data = json.loads((tmp_path / "core.json").read_text())
     names = {t["name"] for t in data["timings"]}
@@ -22,8 +27,13 @@ def test_quick_core_benchmark_writes_json_with_ratios(tmp_path):
 
 
 def test_quick_protocol_and_viewer_benchmarks_write_their_goals(tmp_path):
-    r = subprocess.run([sys.executable, "-m", "benchmarks", "protocol", "viewer", "--quick", "--repeat", "1",
-                        "--out", str(tmp_path)], capture_output=True, text=True, cwd=REPO, timeout=600)
+    r = subprocess.run(
+        [sys.executable, "-m", "benchmarks", "protocol", "viewer", "--quick", "--repeat", "1", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        timeout=600,
+    )
     assert r.returncode == 0, r.stderr
     protocol = json.loads((tmp_path / "protocol.json").read_text())
     for renderer in ("plain", "sis", "multiscene", "lines"):
@@ -41,7 +51,7 @@ def test_dof_speed_is_compared_with_the_accumulation_of_equal_quality():
 
     ladder = {1: (29.0, 40.0), 2: (31.0, 80.0), 4: (34.0, 160.0), 8: (38.0, 320.0)}
     assert matched(ladder, 34.0) == pytest.approx((4.0, 160.0))
-    n, t = matched(ladder, 32.5)                      # half way from 2 to 4 positions, in log
-    assert n == pytest.approx(2 ** 1.5) and t == pytest.approx(80 * 2 ** 0.5)
+    n, t = matched(ladder, 32.5)  # half way from 2 to 4 positions, in log
+    assert n == pytest.approx(2**1.5) and t == pytest.approx(80 * 2**0.5)
     assert matched(ladder, 28.0) == (1.0, 40.0)
     assert matched(ladder, 40.0) is None

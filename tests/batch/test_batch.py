@@ -31,6 +31,7 @@ tasks:
 
 def write_mesh(path: Path, mesh) -> None:
     import trimesh
+
     trimesh.Trimesh(mesh.vertices, mesh.faces, process=False).export(path)
 
 
@@ -44,31 +45,48 @@ def job_dir(tmp_path) -> Path:
 
 
 def outputs(folder: Path) -> dict:
-    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
-            if p.is_file() and p.name != "manifest.jsonl"}
+    return {
+        str(p.relative_to(folder)): p.read_bytes()
+        for p in sorted(folder.rglob("*"))
+        if p.is_file() and p.name != "manifest.jsonl"
+    }
 
 
 def test_expansion(job_dir):
     job = load_job(job_dir / "job.yaml")
-    assert [t.output for t in job.tasks] == ["gear-tau0.5.png", "gear-tau2.0.png", "knot-tau0.5.png", "knot-tau2.0.png",
-                                             "tv/00000.png", "tv/00001.png", "tv/00002.png", "tv/00003.png"]
+    assert [t.output for t in job.tasks] == [
+        "gear-tau0.5.png",
+        "gear-tau2.0.png",
+        "knot-tau0.5.png",
+        "knot-tau2.0.png",
+        "tv/00000.png",
+        "tv/00001.png",
+        "tv/00002.png",
+        "tv/00003.png",
+    ]
     assert job.tasks[1].argv[:2] == ("lines", str(job_dir / "meshes" / "gear.off"))
     assert job.tasks[1].argv[-2:] == ("--tau", "2.0") and job.tasks[6].argv[-2:] == ("--frame", "2")
     assert job.videos == [(2, "tv.mp4", 24.0, [f"tv/0000{k}.png" for k in range(4)])]
 
 
-@pytest.mark.parametrize("edit, message", [
-    (lambda j: j.replace("command: lines", "command: linez"), "task 1: command: 'linez'"),
-    (lambda j: j.replace("size: 96x96", "sise: 96x96"), "task 1: options: lines has no option 'sise'"),
-    (lambda j: j.replace("meshes/*.off", "meshes/*.obj"), "task 1: inputs: 'meshes/*.obj' matches no file"),
-    (lambda j: j.replace("{input_stem}-tau{tau}.png", "tau{tau}.png"), "is also the output of task 1"),
-    (lambda j: j.replace("frames: [0, 3]", "frames: [3, 0]"), "task 2: frames"),
-    (lambda j: j.replace("tv/{frame:05d}.png", "tv/{frames}.png"), "task 2: output: 'tv/{frames}.png' uses frames"),
-    (lambda j: j.replace("command: sis-scene", "command: render\n    inputs: [meshes/gear.off]"), "render has no --frame"),
-    (lambda j: j.replace("    video: tv.mp4", "    vidéo: tv.mp4"), "task 2: unknown field"),
-    (lambda j: j.replace("tv/{frame:05d}.png", "../tv/{frame:05d}.png"), "inside the out folder"),
-    (lambda j: j + "  - [", "not valid YAML at line"),
-])
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        (lambda j: j.replace("command: lines", "command: linez"), "task 1: command: 'linez'"),
+        (lambda j: j.replace("size: 96x96", "sise: 96x96"), "task 1: options: lines has no option 'sise'"),
+        (lambda j: j.replace("meshes/*.off", "meshes/*.obj"), "task 1: inputs: 'meshes/*.obj' matches no file"),
+        (lambda j: j.replace("{input_stem}-tau{tau}.png", "tau{tau}.png"), "is also the output of task 1"),
+        (lambda j: j.replace("frames: [0, 3]", "frames: [3, 0]"), "task 2: frames"),
+        (lambda j: j.replace("tv/{frame:05d}.png", "tv/{frames}.png"), "task 2: output: 'tv/{frames}.png' uses frames"),
+        (
+            lambda j: j.replace("command: sis-scene", "command: render\n    inputs: [meshes/gear.off]"),
+            "render has no --frame",
+        ),
+        (lambda j: j.replace("    video: tv.mp4", "    vidéo: tv.mp4"), "task 2: unknown field"),
+        (lambda j: j.replace("tv/{frame:05d}.png", "../tv/{frame:05d}.png"), "inside the out folder"),
+        (lambda j: j + "  - [", "not valid YAML at line"),
+    ],
+)
 def test_bad_jobs_are_refused_before_anything_runs(job_dir, capsys, edit, message):
     (job_dir / "job.yaml").write_text(edit(JOB))
     out = job_dir / "out"
@@ -87,18 +105,18 @@ def test_run_resume_and_redo(job_dir):
     assert len((out / "manifest.jsonl").read_text().splitlines()) == 8
     again = run_job(job, out)
     assert again.ran == 0 and again.skipped == 8
-    (out / "knot-tau2.0.png").unlink()                            # missing: only it runs again
-    (out / "tv" / "00001.png").write_bytes(b"not a png")          # corrupt: only it runs again
+    (out / "knot-tau2.0.png").unlink()  # missing: only it runs again
+    (out / "tv" / "00001.png").write_bytes(b"not a png")  # corrupt: only it runs again
     third = run_job(job, out)
     assert third.ran == 2 and third.skipped == 6
     assert outputs(out) == made
 
 
 def test_a_failing_task_is_retried_reported_and_the_rest_finish(job_dir, capsys):
-    (job_dir / "meshes" / "broken.off").write_text("OFF\n8 12 0\n0 0 0\n")     # a truncated mesh
+    (job_dir / "meshes" / "broken.off").write_text("OFF\n8 12 0\n0 0 0\n")  # a truncated mesh
     code, cap = call_cli(["batch", str(job_dir / "job.yaml"), "--out", str(job_dir / "out"), "--retries", "2"], capsys)
     assert code == 1
-    assert cap.out.startswith("8 ran, 0 already done, 2 failed, 4 retried")     # two tasks, two tries again each
+    assert cap.out.startswith("8 ran, 0 already done, 2 failed, 4 retried")  # two tasks, two tries again each
     assert "failed: broken-tau0.5.png" in cap.err and "failed: broken-tau2.0.png" in cap.err
     made = outputs(job_dir / "out")
     assert "knot-tau2.0.png" in made and "tv.mp4" in made and not any(k.startswith("broken") for k in made)
@@ -145,8 +163,9 @@ def test_ray_gives_the_same_bytes_and_survives_a_killed_actor(job_dir, ray_clust
             deadline = time.time() + 60
             while time.time() < deadline and not (manifest.exists() and manifest.read_text().strip()):
                 time.sleep(0.05)
-            ray.kill(actors[0])          # mid-job: one task done, others running or queued
+            ray.kill(actors[0])  # mid-job: one task done, others running or queued
             killed.append(actors[0])
+
         threading.Thread(target=watch, daemon=True).start()
 
     report = run_job(job, job_dir / "ray", workers=2, use_ray=True, on_start=kill_one)
@@ -168,6 +187,7 @@ def test_interrupt_leaves_a_valid_manifest(job_dir):
         return run_task(task, out)
 
     from illusio.batch import Interrupted
+
     with pytest.raises(Interrupted) as stop:
         run_job(job, job_dir / "out", task_fn=interrupt_third)
     assert stop.value.report.ran == 2
@@ -179,14 +199,23 @@ def test_interrupt_leaves_a_valid_manifest(job_dir):
 
 def test_ray_missing_gives_the_install_hint(job_dir, capsys, monkeypatch):
     import sys
-    monkeypatch.setitem(sys.modules, "ray", None)          # import ray now fails as if not installed
+
+    monkeypatch.setitem(sys.modules, "ray", None)  # import ray now fails as if not installed
     code, cap = call_cli(["batch", str(job_dir / "job.yaml"), "--out", str(job_dir / "out"), "--ray"], capsys)
     assert code == 2 and "pip install 'illusio[cluster]'" in cap.err and "Traceback" not in cap.err
 
 
 def test_ray_takes_an_optional_address():
     from illusio.cli.batch import optional_values
-    assert optional_values(["batch", "j.yaml", "--ray", "--workers", "2"]) == ["batch", "j.yaml", "--ray", "local", "--workers", "2"]
+
+    assert optional_values(["batch", "j.yaml", "--ray", "--workers", "2"]) == [
+        "batch",
+        "j.yaml",
+        "--ray",
+        "local",
+        "--workers",
+        "2",
+    ]
     assert optional_values(["batch", "j.yaml", "--ray"]) == ["batch", "j.yaml", "--ray", "local"]
     assert optional_values(["batch", "j.yaml", "--ray", "auto"]) == ["batch", "j.yaml", "--ray", "auto"]
 
@@ -196,7 +225,8 @@ def test_a_group_command_writing_a_folder(tmp_path):
     changed inside the folder makes it run again."""
     (tmp_path / "job.yaml").write_text(
         "tasks:\n  - command: ibr capture\n    arguments: [office]\n    options: {size: 64x48}\n"
-        "    sweep: {views: [2, 3]}\n    output: refs-{views}\n")
+        "    sweep: {views: [2, 3]}\n    output: refs-{views}\n"
+    )
     job = load_job(tmp_path / "job.yaml")
     assert job.tasks[0].argv[:3] == ("ibr", "capture", "office")
     out = tmp_path / "out"

@@ -7,7 +7,9 @@ from illusio.core import read_image
 
 
 def illusio(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "illusio", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "illusio", *map(str, args)], capture_output=True, text=True, cwd=cwd, timeout=300
+    )
 
 
 def assert_one_line_error(result, *words):
@@ -113,16 +115,18 @@ def test_version_list_and_did_you_mean(capsys):
         assert f"  {name}\n" in out.out
     from illusio.core.technique import techniques
 
-    for t in techniques().values():              # each technique with its title, source and views
+    for t in techniques().values():  # each technique with its title, source and views
         assert f"  {t.name}: {t.title}; source: {t.source_kind} (default {t.default_source})" in out.out
     assert "  relight: Relighting" in out.out and "views tv, wall, interactive" in out.out
     code, out = call_cli(["list", "shapes"], capsys)
     assert code == 0 and "scenes:" not in out.out and "  gear" in out.out
-    for args, hint in ((["list", "scene"], "did you mean scenes?"),
-                       (["render", "living-rom", "-o", "x.png"], "did you mean living-room?"),
-                       (["sis-scene", "living-room", "-o", "x.png", "--host", "tv-scren"], "its hosts: back-wall, tv-screen"),
-                       (["sis-scene", "living-room", "-o", "x.png", "--camera", "sofa"], "has no camera 'sofa' (cameras: main, tv)"),
-                       (["sis-scene", "living-room", "-o", "x.png", "--host-layout", "tilted"], "not one of uv, viewer")):
+    for args, hint in (
+        (["list", "scene"], "did you mean scenes?"),
+        (["render", "living-rom", "-o", "x.png"], "did you mean living-room?"),
+        (["sis-scene", "living-room", "-o", "x.png", "--host", "tv-scren"], "its hosts: back-wall, tv-screen"),
+        (["sis-scene", "living-room", "-o", "x.png", "--camera", "sofa"], "has no camera 'sofa' (cameras: main, tv)"),
+        (["sis-scene", "living-room", "-o", "x.png", "--host-layout", "tilted"], "not one of uv, viewer"),
+    ):
         code, out = call_cli(args, capsys)
         assert code == 2 and hint in out.err, out.err
 
@@ -136,7 +140,7 @@ def test_switches_are_switches_with_their_default():
 
     def commands(group):
         for name, command in group.commands.items():
-            if getattr(command, "commands", None):       # a group (ibr): its commands
+            if getattr(command, "commands", None):  # a group (ibr): its commands
                 yield from commands(command)
             else:
                 yield name, command
@@ -186,8 +190,17 @@ def test_no_gl_driver_gives_the_install_hint(tmp_path):
 
     from illusio.core.errors import APT_HINT
 
-    env = {**os.environ, "GLCONTEXT_LINUX_LIBEGL": str(tmp_path / "missing" / "libEGL.so.1"), "ILLUSIO_GL_BACKEND": "egl"}
-    r = subprocess.run([sys.executable, "-m", "illusio", "render", "torus-knot", "-o", str(tmp_path / "x.png")],
-                       capture_output=True, text=True, env=env, timeout=120)
+    env = {
+        **os.environ,
+        "GLCONTEXT_LINUX_LIBEGL": str(tmp_path / "missing" / "libEGL.so.1"),
+        "ILLUSIO_GL_BACKEND": "egl",
+    }
+    r = subprocess.run(
+        [sys.executable, "-m", "illusio", "render", "torus-knot", "-o", str(tmp_path / "x.png")],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
     assert_one_line_error(r, "OpenGL 4.3", APT_HINT)
     assert not (tmp_path / "x.png").exists()

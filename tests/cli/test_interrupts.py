@@ -28,13 +28,17 @@ def test_an_interrupted_video_leaves_nothing_behind(tmp_path, signum):
     """A turntable video interrupted while its frames are being written: the command stops with a
     non-zero status, the video does not exist and its temporary file is gone."""
     out = tmp_path / "spin.mp4"
-    proc = subprocess.Popen(ILLUSIO + ["render", "living-room", "--turntable", "3600", "--size", "96x72", "-o", str(out)],
-                            env=environment(tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        ILLUSIO + ["render", "living-room", "--turntable", "3600", "--size", "96x72", "-o", str(out)],
+        env=environment(tmp_path),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
     try:
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and proc.poll() is None and not list(tmp_path.glob(".spin.tmp-*")):
             time.sleep(0.05)
-        time.sleep(2.0)                                         # frames are being drawn and encoded
+        time.sleep(2.0)  # frames are being drawn and encoded
         assert proc.poll() is None, proc.communicate()[1].decode()
         proc.send_signal(signum)
         _, err = proc.communicate(timeout=60)
@@ -46,16 +50,19 @@ def test_an_interrupted_video_leaves_nothing_behind(tmp_path, signum):
 
 
 def test_two_processes_filling_one_curvature_entry_leave_one_valid_entry(tmp_path):
-    script = ("from illusio.scene.builtin.shapes import torus_knot; from illusio.lines.curvature import estimate_curvature;"
-              "estimate_curvature(torus_knot())")
+    script = (
+        "from illusio.scene.builtin.shapes import torus_knot; from illusio.lines.curvature import estimate_curvature;"
+        "estimate_curvature(torus_knot())"
+    )
     env = environment(tmp_path)
     procs = [subprocess.Popen([sys.executable, "-c", script], env=env, stderr=subprocess.PIPE) for _ in range(2)]
     for p in procs:
         assert p.wait(timeout=300) == 0, p.stderr.read().decode()
     files = sorted((tmp_path / "cache" / "curvature").iterdir())
-    assert [f.suffix for f in files] == [".npz"], files                # one entry, no temporary file
+    assert [f.suffix for f in files] == [".npz"], files  # one entry, no temporary file
     from illusio.lines.curvature import Curvature, estimate_curvature
     from illusio.scene.builtin.shapes import torus_knot
+
     cached = Curvature.load(files[0])
     fresh = estimate_curvature(torus_knot(), cache=False)
     np.testing.assert_allclose(cached.k_max, fresh.k_max, rtol=1e-5, atol=1e-6)

@@ -16,7 +16,7 @@ from illusio.cli.params_options import option_specs, params_options
 from illusio.core.errors import InputError
 from illusio.core.params import check_ranges, param
 
-THROWAWAY = textwrap.dedent('''
+THROWAWAY = textwrap.dedent("""
     import dataclasses, json, sys
     from pathlib import Path
     import illusio.dof.params as dof_params
@@ -24,7 +24,8 @@ THROWAWAY = textwrap.dedent('''
 
     # a field nobody wrote code for, added before anything imports DofParams
     dof_params.DofParams = dataclasses.make_dataclass(
-        "DofParams", [("throwaway_knob", float, param(0.25, range=(0.0, 1.0), unit="m", help="a field only this test knows"))],
+        "DofParams",
+        [("throwaway_knob", float, param(0.25, range=(0.0, 1.0), unit="m", help="a field only this test knows"))],
         bases=(dof_params.DofParams,), frozen=True, namespace={"__module__": dof_params.__name__})
 
     import typer.testing
@@ -63,15 +64,21 @@ THROWAWAY = textwrap.dedent('''
     found["batch"] = {"ran": report.ran, "failed": report.failed, "seen": seen,
                       "written": (folder / "out" / "knob.png").exists()}
     print(json.dumps(found))
-''')
+""")
 
 
 def test_a_new_params_field_reaches_the_cli_the_panel_and_batch_jobs(tmp_path):
     import os
 
-    env = {**os.environ, "COLUMNS": "240", "TERMINAL_WIDTH": "240"}      # the help on one line per option
-    done = subprocess.run([sys.executable, "-c", THROWAWAY, str(tmp_path)], capture_output=True, text=True,
-                          timeout=600, cwd=tmp_path, env=env)
+    env = {**os.environ, "COLUMNS": "240", "TERMINAL_WIDTH": "240"}  # the help on one line per option
+    done = subprocess.run(
+        [sys.executable, "-c", THROWAWAY, str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        cwd=tmp_path,
+        env=env,
+    )
     assert done.returncode == 0, done.stderr[-3000:]
     found = json.loads(done.stdout.strip().splitlines()[-1])
     assert "--throwaway-knob" in found["help"] and "a field only this test knows (m; 0 to 1)" in found["help"]
@@ -100,7 +107,7 @@ class _Outer:
 
 def test_option_specs_follow_the_metadata():
     specs = {s.path: s for s in option_specs(_Outer)}
-    assert set(specs) == {"speed", "kinds", "on", "name", "inner.depth"}      # panel=False stays out unless cli=True
+    assert set(specs) == {"speed", "kinds", "on", "name", "inner.depth"}  # panel=False stays out unless cli=True
     assert specs["speed"].flag == "--velocity" and specs["on"].flag == "--on/--off"
     assert specs["inner.depth"].flag == "--depth" and specs["kinds"].kind == "multi"
 
@@ -137,8 +144,10 @@ def test_two_fields_making_one_flag_are_refused_at_import():
         option_specs(Clash)
 
 
-@pytest.mark.parametrize("command", ["dof", "radiosity", "lines", "curvature", "sis", "sis-scene", "relight",
-                                     "relight-prepare", "ibr render"])
+@pytest.mark.parametrize(
+    "command",
+    ["dof", "radiosity", "lines", "curvature", "sis", "sis-scene", "relight", "relight-prepare", "ibr render"],
+)
 def test_every_technique_command_offers_every_declared_field(command):
     """Each command's options hold its Params' shown fields, and its defaults are the Params'."""
     import typer
@@ -154,7 +163,7 @@ def test_every_technique_command_offers_every_declared_field(command):
     callback = next(c.callback for c in registered.registered_commands if c.name == command.split()[-1])
     opts = {o: p for p in click_command.params for o in getattr(p, "opts", ())}
     assert callback.option_specs, command
-    for key, specs in callback.option_specs.items():
+    for _key, specs in callback.option_specs.items():
         for spec in specs:
             option = opts[spec.long]
             default = ",".join(spec.default) if spec.kind == "multi" else spec.default
@@ -165,4 +174,4 @@ def test_view_names_the_viewer_modes_the_registry_gives():
     from illusio.cli.view import _VIEWABLE
     from illusio.viewer.modes import MODES
 
-    assert _VIEWABLE == list(MODES)
+    assert list(MODES) == _VIEWABLE

@@ -25,7 +25,7 @@ def readme_commands() -> list[list[str]]:
 def resolve(argv):
     group = typer.main.get_command(app)
     command, name, rest = group.commands[argv[0]], argv[0], argv[1:]
-    if getattr(command, "commands", None):            # a group (ibr): its command
+    if getattr(command, "commands", None):  # a group (ibr): its command
         command, name, rest = command.commands[rest[0]], f"{name} {rest[0]}", rest[1:]
     return command, name, rest
 
@@ -52,7 +52,7 @@ def folders_written(argv) -> set:
 @pytest.mark.parametrize("argv", readme_commands(), ids=lambda a: " ".join(a)[:60])
 def test_readme_command_parses(argv):
     command, name, rest = resolve(expand(argv))
-    command.make_context(name, list(rest))         # raises on an option it does not take or a bad value
+    command.make_context(name, list(rest))  # raises on an option it does not take or a bad value
     written = set()
     for line in readme_commands():
         if line == argv:
@@ -61,7 +61,12 @@ def test_readme_command_parses(argv):
     words = expand(argv)
     for k, word in enumerate(words):
         inside_written = any(word.startswith(w.rstrip("/") + "/") for w in written | folders_written(argv))
-        if word.endswith(SUFFIXES) and not (k and words[k - 1] in OUTPUTS) and word not in written and not inside_written:
+        if (
+            word.endswith(SUFFIXES)
+            and not (k and words[k - 1] in OUTPUTS)
+            and word not in written
+            and not inside_written
+        ):
             assert (ROOT / word).exists(), f"{' '.join(argv)}: {word} does not exist"
 
 
@@ -73,11 +78,14 @@ RUN = ("info", "list", "render", "lines", "curvature", "dof", "radiosity", "reli
 
 def runs(argv) -> bool:
     line = " ".join(argv)
-    return line.startswith(RUN) and "--scenario" not in argv and not ("batch" in line and ("--workers" in argv or "--ray" in argv))
+    return (
+        line.startswith(RUN)
+        and "--scenario" not in argv
+        and not ("batch" in line and ("--workers" in argv or "--ray" in argv))
+    )
 
 
-@pytest.mark.parametrize("argv", [a for a in readme_commands() if runs(a)],
-                         ids=lambda a: " ".join(a)[:60])
+@pytest.mark.parametrize("argv", [a for a in readme_commands() if runs(a)], ids=lambda a: " ".join(a)[:60])
 def test_readme_command_runs_as_written(argv, tmp_path, monkeypatch, capsys):
     from tests.conftest import call_cli
 
@@ -85,7 +93,7 @@ def test_readme_command_runs_as_written(argv, tmp_path, monkeypatch, capsys):
         pytest.importorskip("mitsuba", reason="path-traced by Mitsuba (photo extra)")
     (tmp_path / "examples").symlink_to(ROOT / "examples")
     monkeypatch.chdir(tmp_path)
-    for earlier in prerequisites(argv):           # the lines that write what this one reads, first
+    for earlier in prerequisites(argv):  # the lines that write what this one reads, first
         code, out = call_cli(earlier, capsys)
         assert code == 0, (earlier, out.err)
     code, out = call_cli(argv, capsys)
@@ -105,13 +113,16 @@ def _writes(line) -> set:
 def prerequisites(argv) -> list:
     """The earlier README lines whose outputs ``argv`` reads (and theirs), in README order."""
     lines = readme_commands()
-    before = lines[:lines.index(argv)]
+    before = lines[: lines.index(argv)]
     needed, wanted = [], set(expand(argv))
     for line in reversed(before):
         made = _writes(line)
         # a file it reads, one inside a folder it reads, or in a folder a line wrote
-        if any(w == m or w.startswith(m.rstrip("/") + "/") or m.startswith(w.rstrip("/") + "/")
-               for w in wanted for m in made):
+        if any(
+            w == m or w.startswith(m.rstrip("/") + "/") or m.startswith(w.rstrip("/") + "/")
+            for w in wanted
+            for m in made
+        ):
             needed.append(line)
             wanted |= set(expand(line))
     return needed[::-1]
@@ -124,8 +135,10 @@ def test_readme_names_the_system_packages_setup_installs():
 
     setup = set(re.findall(r"need\+=\(([\w.+-]+)\)", (ROOT / "scripts" / "setup.sh").read_text()))
     text = (ROOT / "README.md").read_text()
-    section = text[text.index("## Two commands"):text.index("## The five systems")]
-    readme = {w for line in re.findall(r"apt-get install -y --no-install-recommends ([^`]+)`", section) for w in line.split()}
+    section = text[text.index("## Two commands") : text.index("## The five systems")]
+    readme = {
+        w for line in re.findall(r"apt-get install -y --no-install-recommends ([^`]+)`", section) for w in line.split()
+    }
     assert setup >= {"libegl1", "libgl1", "libgl1-mesa-dri", "libatomic1", "xvfb", "xauth", "chromium"}
     assert readme == setup - {"python3-venv"}, (readme, setup)
     assert "python3-venv" in section

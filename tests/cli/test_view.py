@@ -14,8 +14,25 @@ def test_camera_path_recorded_to_a_gif_with_no_window(tmp_path, capsys, monkeypa
     cam = tmp_path / "cam.json"
     cam.write_text(PATH)
     out, shot = tmp_path / "orbit.gif", tmp_path / "last.png"
-    code, cap = call_cli(["view", "torus-knot", "--technique", "lines", "--path", str(cam), "-o", str(out), "--fps", "4",
-                          "--size", "96x64", "--screenshot", str(shot)], capsys)
+    code, cap = call_cli(
+        [
+            "view",
+            "torus-knot",
+            "--technique",
+            "lines",
+            "--path",
+            str(cam),
+            "-o",
+            str(out),
+            "--fps",
+            "4",
+            "--size",
+            "96x64",
+            "--screenshot",
+            str(shot),
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     frames = iio.imread(out, index=None)
     assert frames.shape[:3] == (5, 64, 96)  # 1 s at 4 fps, both ends
@@ -23,7 +40,7 @@ def test_camera_path_recorded_to_a_gif_with_no_window(tmp_path, capsys, monkeypa
     assert np.abs(frames[0].astype(int) - frames[-1].astype(int)).mean() > 1  # the camera went round
     assert "5 frames" in cap.out
     last = read_image(shot)
-    assert last.shape[:2] == (64, 96) and (last.min(axis=-1) < 0.5).any()    # the last frame, with its lines
+    assert last.shape[:2] == (64, 96) and (last.min(axis=-1) < 0.5).any()  # the last frame, with its lines
 
 
 def test_view_errors_are_one_line(tmp_path, capsys):

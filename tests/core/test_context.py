@@ -28,7 +28,7 @@ def test_releasing_the_bound_framebuffer_leaves_no_gl_error(ctx):
     released while bound, the bind of its deleted name raises GL_INVALID_OPERATION (what every dof
     planes frame did). Context.release_framebuffer parks the binding on framebuffer 0 first."""
     assert ctx.gl_error() is None
-    texture = ctx.acquire((8, 8), 4, "f1")       # acquire makes ctx current for the raw calls below
+    texture = ctx.acquire((8, 8), 4, "f1")  # acquire makes ctx current for the raw calls below
     fbo = ctx.gl.framebuffer(color_attachments=[texture])
     fbo.use()
     ctx.release_framebuffer(fbo)
@@ -39,7 +39,7 @@ def test_releasing_the_bound_framebuffer_leaves_no_gl_error(ctx):
 
 
 def test_gl_error_reads_and_clears_the_flag(ctx):
-    ctx.make_current()                           # a raw GL call goes to whichever context is current
-    ctx.gl.enable_direct(0x1234)                 # not an enum glEnable takes
+    ctx.make_current()  # a raw GL call goes to whichever context is current
+    ctx.gl.enable_direct(0x1234)  # not an enum glEnable takes
     assert ctx.gl_error() == "GL_INVALID_ENUM"
-    assert ctx.gl_error() is None                # read once: cleared
+    assert ctx.gl_error() is None  # read once: cleared

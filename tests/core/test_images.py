@@ -3,7 +3,15 @@ import os
 import numpy as np
 import pytest
 
-from illusio.core import InputError, OutputError, check_output_path, linear_to_srgb, read_image, srgb_to_linear, write_image
+from illusio.core import (
+    InputError,
+    OutputError,
+    check_output_path,
+    linear_to_srgb,
+    read_image,
+    srgb_to_linear,
+    write_image,
+)
 
 
 def test_srgb_transfer_round_trip(rng):
@@ -40,43 +48,44 @@ def independent_exr(path) -> dict:
     import struct
     import zlib
 
-    data = open(path, "rb").read()
+    with open(path, "rb") as f:
+        data = f.read()
     assert data[:4] == b"\x76\x2f\x31\x01", "not an OpenEXR file"
     pos, attrs = 8, {}
     while data[pos] != 0:
         name_end = data.index(b"\0", pos)
         type_end = data.index(b"\0", name_end + 1)
         size = struct.unpack_from("<i", data, type_end + 1)[0]
-        attrs[data[pos:name_end].decode()] = data[type_end + 5:type_end + 5 + size]
+        attrs[data[pos:name_end].decode()] = data[type_end + 5 : type_end + 5 + size]
         pos = type_end + 5 + size
     pos += 1
     channels, raw, k = [], attrs["channels"], 0
     while raw[k] != 0:
         end = raw.index(b"\0", k)
-        channels.append((raw[k:end].decode(), struct.unpack_from("<i", raw, end + 1)[0]))   # 1 half, 2 float
+        channels.append((raw[k:end].decode(), struct.unpack_from("<i", raw, end + 1)[0]))  # 1 half, 2 float
         k = end + 17
     x0, y0, x1, y1 = struct.unpack("<4i", attrs["dataWindow"])
     w, h = x1 - x0 + 1, y1 - y0 + 1
-    compression = attrs["compression"][0]                           # 0 none, 2 ZIPS, 3 ZIP
+    compression = attrs["compression"][0]  # 0 none, 2 ZIPS, 3 ZIP
     lines = {0: 1, 2: 1, 3: 16}[compression]
     blocks = (h + lines - 1) // lines
     offsets = struct.unpack_from(f"<{blocks}Q", data, pos)
     out = {name: np.zeros((h, w), np.float32) for name, _ in channels}
     for offset in offsets:
         y, size = struct.unpack_from("<2i", data, offset)
-        block = data[offset + 8:offset + 8 + size]
+        block = data[offset + 8 : offset + 8 + size]
         n = min(lines, y1 + 1 - y)
         expected = sum(w * n * (2 if t == 1 else 4) for _, t in channels)
         if compression and size < expected:
             t = np.frombuffer(zlib.decompress(block), np.uint8).astype(np.int32)
-            t = (np.cumsum(np.r_[t[0], t[1:] - 128]) % 256).astype(np.uint8)   # undo the predictor
+            t = (np.cumsum(np.r_[t[0], t[1:] - 128]) % 256).astype(np.uint8)  # undo the predictor
             half = (len(t) + 1) // 2
             block = np.empty(len(t), np.uint8)
-            block[0::2], block[1::2] = t[:half], t[half:]                      # undo the interleave
+            block[0::2], block[1::2] = t[:half], t[half:]  # undo the interleave
             block = block.tobytes()
         k = 0
         for row in range(n):
-            for name, kind in sorted(channels):                          # channels in name order
+            for name, kind in sorted(channels):  # channels in name order
                 dtype, step = (np.float16, 2) if kind == 1 else (np.float32, 4)
                 out[name][y - y0 + row] = np.frombuffer(block, dtype, w, k)
                 k += w * step
@@ -107,8 +116,16 @@ def test_exr_is_openexr_float_and_half_unclipped(tmp_path, rng):
         read_image(tmp_path / "bad.exr")
 
 
-@pytest.mark.parametrize("ext, magic", [(".tiff", (b"II*\0", b"MM\0*")), (".bmp", (b"BM",)), (".webp", (b"RIFF",)),
-                                        (".PNG", (b"\x89PNG",)), (".JPG", (b"\xff\xd8",))])
+@pytest.mark.parametrize(
+    "ext, magic",
+    [
+        (".tiff", (b"II*\0", b"MM\0*")),
+        (".bmp", (b"BM",)),
+        (".webp", (b"RIFF",)),
+        (".PNG", (b"\x89PNG",)),
+        (".JPG", (b"\xff\xd8",)),
+    ],
+)
 def test_every_extension_is_what_it_says(tmp_path, ext, magic):
     path = write_image(tmp_path / f"x{ext}", np.full((4, 4, 3), 0.5, np.float32))
     assert path.read_bytes().startswith(magic)

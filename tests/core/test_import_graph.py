@@ -84,22 +84,27 @@ def test_the_import_graph_has_no_cycle():
 def test_the_cycle_finder_finds_one():
     """The check above can fail: a back edge makes a cycle it reports."""
     _, graph = _graph()
-    graph["illusio.batch.job"].add("illusio.cli.main")        # what batch once did (command_table)
+    graph["illusio.batch.job"].add("illusio.cli.main")  # what batch once did (command_table)
     assert any({"illusio.batch.job", "illusio.cli.main"} <= set(c) for c in _cycles(graph))
 
 
 def test_no_private_name_is_imported_from_another_module():
     modules = _modules()
-    found = [f"{path.relative_to(SRC.parent)}:{line}: {name} from {target}"
-             for module, path in modules.items() for line, target, name in _imports(module, path, modules)
-             if name and name.startswith("_") and not name.startswith("__")]
+    found = [
+        f"{path.relative_to(SRC.parent)}:{line}: {name} from {target}"
+        for module, path in modules.items()
+        for line, target, name in _imports(module, path, modules)
+        if name and name.startswith("_") and not name.startswith("__")
+    ]
     assert found == []
 
 
 @pytest.mark.parametrize("technique", ["sis", "lines", "dof", "ibr", "radiosity", "relight"])
 def test_params_import_without_numba_or_gl(technique):
-    code = (f"import sys, illusio.{technique}.params, illusio.core.technique as t; t.technique('{technique}'); "
-            "print(sorted(m for m in ('numba', 'moderngl') if m in sys.modules))")
+    code = (
+        f"import sys, illusio.{technique}.params, illusio.core.technique as t; t.technique('{technique}'); "
+        "print(sorted(m for m in ('numba', 'moderngl') if m in sys.modules))"
+    )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"

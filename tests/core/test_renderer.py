@@ -8,13 +8,13 @@ import pytest
 from illusio.core.errors import InputError
 from illusio.core.params import ParamInfo, check_ranges, describe, param, with_values
 from illusio.core.renderer import DEFAULT_SIZE, Frame, Renderer, fingerprint
+from illusio.lines.drawing import LineRenderer
 from illusio.lines.params import CurvatureParams, LineParams
 from illusio.passes.scene_renderer import RenderSettings, SceneRenderer
 from illusio.scene.builtin import builtin_scene, shape
 from illusio.sis.multiscene import MultiSceneParams, MultiSceneRenderer
 from illusio.sis.params import StereogramParams
 from illusio.sis.stereogram import StereogramRenderer
-from illusio.lines.drawing import LineRenderer
 
 ALL_PARAMS = (RenderSettings, StereogramParams, MultiSceneParams, LineParams, CurvatureParams)
 ALL_RENDERERS = (SceneRenderer, StereogramRenderer, MultiSceneRenderer, LineRenderer)
@@ -88,6 +88,7 @@ def test_every_params_is_frozen_hashable_and_describes_its_fields(cls):
             if info.kind in ("choice", "multi"):
                 assert info.choices
             walk(info.children)
+
     walk(infos)
 
 

@@ -43,7 +43,7 @@ def test_the_registry_holds_every_technique_once():
     names = [t.name for t in ALL]
     assert names[:1] == ["plain"] and len(names) == len(set(names)) == 8
     assert {"sis", "sis-scene", "lines", "dof", "ibr", "radiosity", "relight"} <= set(names)
-    for t in ALL:                      # every reference resolves to what it says
+    for t in ALL:  # every reference resolves to what it says
         assert t.renderer_class().Params is t.params_class()
         assert t.mode_class() is not None and t.mode_class().name in names + ["sis"]
         assert all(callable(load(ref)) for ref in (t.subject,) + ((t.showcase,) if t.showcase else ()))
@@ -83,7 +83,7 @@ def test_maps_stay_valid_until_the_next_frame_and_release_returns_every_texture(
     params = t.params_class()()
     image = renderer.render(Frame(None, SIZE), params)
     maps = renderer.maps()
-    for name, texture in maps.items():          # readable, and not handed back to the pool
+    for name, texture in maps.items():  # readable, and not handed back to the pool
         assert ctx.readback(texture).size > 0, name
     renderer.render(Frame(None, SIZE), params)  # the next frame: the same maps again, no growth
     assert set(renderer.maps()) == set(maps)

@@ -5,7 +5,9 @@ from illusio.core import TextureSpec, readback, upload
 from tests.conftest import tolerance
 
 
-@pytest.mark.parametrize("dtype,channels", [(np.float32, 1), (np.float32, 3), (np.float32, 4), (np.uint8, 4), (np.float16, 2)])
+@pytest.mark.parametrize(
+    "dtype,channels", [(np.float32, 1), (np.float32, 3), (np.float32, 4), (np.uint8, 4), (np.float16, 2)]
+)
 def test_upload_readback_round_trip_keeps_row_zero_on_top(ctx, rng, dtype, channels):
     h, w = rng.integers(3, 40, size=2)
     a = (rng.random((h, w, channels)) * (255 if dtype == np.uint8 else 1)).astype(dtype)
@@ -18,10 +20,12 @@ def test_gl_sees_the_array_bottom_row_at_uv_zero(ctx, tmp_path):
     """The one row flip: uv (0, 0) in a shader samples the array's last row, first column."""
     a = np.zeros((4, 5, 4), np.float32)
     a[-1, 0] = (1, 0, 0, 1)  # bottom-left of the image
-    a[0, 0] = (0, 1, 0, 1)   # top-left
+    a[0, 0] = (0, 1, 0, 1)  # top-left
     src = tmp_path / "probe.glsl"
-    src.write_text('#version 430\n#include "common/fullscreen.glsl"\n#if defined(FRAGMENT_SHADER)\n'
-                   "uniform sampler2D image;\nin vec2 uv;\nout vec4 c;\nvoid main() { c = texture(image, uv); }\n#endif\n")
+    src.write_text(
+        '#version 430\n#include "common/fullscreen.glsl"\n#if defined(FRAGMENT_SHADER)\n'
+        "uniform sampler2D image;\nin vec2 uv;\nout vec4 c;\nvoid main() { c = texture(image, uv); }\n#endif\n"
+    )
     tex = upload(ctx.gl, a, filter="nearest")
     gl_rows = np.frombuffer(tex.read(), np.float32).reshape(4, 5, 4)
     np.testing.assert_array_equal(gl_rows[0], a[-1])  # GL's row 0 is the image's bottom row
@@ -39,8 +43,10 @@ def test_gl_sees_the_array_bottom_row_at_uv_zero(ctx, tmp_path):
 
 def test_fullscreen_triangle_covers_every_pixel_with_centred_uv(ctx, tmp_path):
     src = tmp_path / "uv.glsl"
-    src.write_text('#version 430\n#include "common/fullscreen.glsl"\n#if defined(FRAGMENT_SHADER)\n'
-                   "in vec2 uv;\nout vec4 c;\nvoid main() { c = vec4(uv, 1.0, 1.0); }\n#endif\n")
+    src.write_text(
+        '#version 430\n#include "common/fullscreen.glsl"\n#if defined(FRAGMENT_SHADER)\n'
+        "in vec2 uv;\nout vec4 c;\nvoid main() { c = vec4(uv, 1.0, 1.0); }\n#endif\n"
+    )
     w, h = 7, 5
     out = ctx.acquire((w, h), 4, "f4")
     fbo = ctx.framebuffer([out])
@@ -51,7 +57,9 @@ def test_fullscreen_triangle_covers_every_pixel_with_centred_uv(ctx, tmp_path):
     img = ctx.readback(out)
     assert (img[..., 3] == 1).all()
     np.testing.assert_allclose(img[0, :, 0], (np.arange(w) + 0.5) / w, **tolerance("same arithmetic"))
-    np.testing.assert_allclose(img[:, 0, 1], 1 - (np.arange(h) + 0.5) / h, **tolerance("same arithmetic"))  # row 0 on top = uv.y near 1
+    np.testing.assert_allclose(
+        img[:, 0, 1], 1 - (np.arange(h) + 0.5) / h, **tolerance("same arithmetic")
+    )  # row 0 on top = uv.y near 1
     ctx.release(out)
 
 
@@ -74,4 +82,3 @@ def test_readback_u8_reads_the_first_channels_as_bytes_top_row_first(ctx, rng):
     want = np.round(np.clip(a[..., :2], 0, 1) * 255)
     assert got.dtype == np.uint8 and got.shape == (13, 21, 2)
     assert np.abs(got.astype(int) - want).max() <= 1
-

@@ -15,9 +15,9 @@ from illusio.scene.camera import Pose, View
 def maps():
     ids = np.full((60, 80), 1, np.int64)  # a wall (node 0) at 9 m
     depth = np.full((60, 80), 9.0)
-    ids[20:40, 30:50], depth[20:40, 30:50] = 3, 4.0    # a small object at the centre, 4 m
-    ids[:, :25], depth[:, :25] = 2, 6.0                 # a big one on the left, 6 m
-    ids[29:31, 39:41], depth[29:31, 39:41] = 1, 9.0     # a thin gap at the very centre
+    ids[20:40, 30:50], depth[20:40, 30:50] = 3, 4.0  # a small object at the centre, 4 m
+    ids[:, :25], depth[:, :25] = 2, 6.0  # a big one on the left, 6 m
+    ids[29:31, 39:41], depth[29:31, 39:41] = 1, 9.0  # a thin gap at the very centre
     return ids, depth
 
 
@@ -52,12 +52,16 @@ def test_policies_in_the_museum(ctx):
     renderer.prepare(museum)
     gaze = DofParams(policy="gaze", accommodation=0.0)
     renderer.render(Frame(view, (96, 72)), gaze)
-    assert renderer.result().focus_distance == pytest.approx(object_distance(museum, "exhibit-superquadric", view), rel=0.15)
+    assert renderer.result().focus_distance == pytest.approx(
+        object_distance(museum, "exhibit-superquadric", view), rel=0.15
+    )
     # the speed policy reads the viewer's walk from frame to frame
     speed = replace(gaze, policy="speed")
     renderer.render(Frame(view, (48, 36), time=0.0), speed)
-    moved = View(Pose(tuple(np.asarray(view.pose.position) - (0, 0, 2.0)), tuple(np.asarray(view.pose.target) - (0, 0, 2.0))),
-                 view.camera)
+    moved = View(
+        Pose(tuple(np.asarray(view.pose.position) - (0, 0, 2.0)), tuple(np.asarray(view.pose.target) - (0, 0, 2.0))),
+        view.camera,
+    )
     renderer.render(Frame(moved, (48, 36), time=1.0), speed)
     assert renderer.result().focus_distance == pytest.approx(speed_focus(2.0))
     # accommodation: the focus follows a change over time, in dioptres

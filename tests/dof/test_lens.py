@@ -46,7 +46,10 @@ def test_circle_in_pixels_is_the_circle_on_the_image_plane_scaled_to_the_image(r
     for F_mm in (17.0, 50.0, 200.0):
         plane = image_distance(F_mm / 1000, d_f) * 2 * math.tan(math.radians(fov) / 2)
         np.testing.assert_allclose(px, coc_diameter(d, d_f, A_mm / 1000, F_mm / 1000) / plane * H, rtol=1e-5)
-    assert coc_pixels(np.array([0.0, np.inf]), d_f, 0.01, fov, H)[0] == coc_pixels(np.array([np.inf]), d_f, 0.01, fov, H)[0]
+    assert (
+        coc_pixels(np.array([0.0, np.inf]), d_f, 0.01, fov, H)[0]
+        == coc_pixels(np.array([np.inf]), d_f, 0.01, fov, H)[0]
+    )
 
 
 def test_moving_the_eye_over_the_lens_blurs_a_point_by_its_circle_of_confusion(rng):

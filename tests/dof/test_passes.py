@@ -46,7 +46,7 @@ def test_gather_pass_matches_reference(ctx, rng, max_coc):
 
 @pytest.mark.parametrize("max_coc", [5.0, 14.0])
 def test_coc_tiles_pass_matches_reference(ctx, rng, max_coc):
-    h, w = 37, 45                                   # not a whole number of tiles
+    h, w = 37, 45  # not a whole number of tiles
     coc = (rng.random((h, w)) ** 4 * max_coc).astype(np.float32)  # mostly small, a few large
     tex = ctx.upload(coc, filter="nearest")
     out = CocTilesPass(ctx)(tex, max_coc)
@@ -81,7 +81,10 @@ def test_sampled_gather_pass_matches_reference(ctx, rng, taps):
     got = _sampled_gather(ctx, image, coc, depth, max_coc, taps)
     want = reference.gather_taps(image, coc, depth, max_coc, taps)
     error, bound = np.abs(got - want), tolerance("sampled gather")
-    assert np.percentile(error, 99) < bound["p99"] and error.mean() < bound["mean"], (np.percentile(error, 99), error.mean())
+    assert np.percentile(error, 99) < bound["p99"] and error.mean() < bound["mean"], (
+        np.percentile(error, 99),
+        error.mean(),
+    )
 
 
 def test_sampled_gather_estimates_the_gather(rng):
@@ -96,8 +99,9 @@ def test_sampled_gather_estimates_the_gather(rng):
     exact = reference.gather(image, coc, depth, 6)
     errors = [np.abs(reference.gather_taps(image, coc, depth, max_coc, n) - exact).mean() for n in (4, 16, 64)]
     assert errors[0] > errors[1] > errors[2] and errors[2] < 0.02, errors
-    np.testing.assert_allclose(reference.gather_taps(image, np.zeros((h, w), np.float32), depth, max_coc, 16), image,
-                               atol=1e-6)
+    np.testing.assert_allclose(
+        reference.gather_taps(image, np.zeros((h, w), np.float32), depth, max_coc, 16), image, atol=1e-6
+    )
 
 
 def test_gather_keeps_focus_sharp_and_a_sharp_foreground_out_of_the_background(rng):
@@ -192,18 +196,18 @@ def test_equation_plane_law_exponential_density_around_the_focus():
     focus, near, far, m, n = 3.0, 0.05, 40.0, 6, 4
     z = plane_distances(focus, m, n, near, far)
     assert z.size == m + n + 1 and (np.diff(z) < 0).all() and z[m] == pytest.approx(focus)
-    behind = z[:m][::-1] - focus                       # offsets, nearest the focus first
-    front = focus - z[m + 1:]
-    cdf = lambda x, z0: 1 - np.exp(-x / z0)            # noqa: E731
+    behind = z[:m][::-1] - focus  # offsets, nearest the focus first
+    front = focus - z[m + 1 :]
+    cdf = lambda x, z0: 1 - np.exp(-x / z0)  # noqa: E731
     assert np.allclose(cdf(behind, focus), np.arange(1, m + 1) / (m + 1))
     assert np.allclose(cdf(front, focus) / cdf(focus - near, focus), np.arange(1, n + 1) / (n + 1))
-    assert (np.diff(behind) > 0).all() and (np.diff(np.diff(behind)) > 0).all()   # gaps grow outwards
+    assert (np.diff(behind) > 0).all() and (np.diff(np.diff(behind)) > 0).all()  # gaps grow outwards
     assert (np.diff(front) > 0).all() and front[-1] < focus - near
     wide = plane_distances(focus, m, n, near, far, scale=2 * focus)
     assert np.allclose(wide[:m][::-1] - focus, 2 * behind)
     assert np.allclose(plane_distances(focus, m, n, near, far, scale=focus), z)
     linear = plane_distances(focus, m, n, near, far, "linear")
-    assert np.allclose(np.diff(linear[:m + 1]), np.diff(linear[:m + 1])[0]) and linear[0] == pytest.approx(z[0])
+    assert np.allclose(np.diff(linear[: m + 1]), np.diff(linear[: m + 1])[0]) and linear[0] == pytest.approx(z[0])
     assert np.allclose(np.diff(linear[m:]), np.diff(linear[m:])[0]) and linear[-1] == pytest.approx(z[-1])
     drawn = covering(z, far)
     assert drawn[0] == far and np.array_equal(drawn[1:], z[1:])

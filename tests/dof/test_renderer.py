@@ -25,12 +25,16 @@ def test_stereo_outputs_and_maps(ctx, museum):
     frame = Frame(museum.camera(), SIZE)
     mono = renderer.render(frame, DofParams())
     assert mono.shape == (SIZE[1], SIZE[0], 3) and set(renderer.maps()) == {"coc", "depth"}
-    for stereo, shape in (("side-by-side", (SIZE[1], 2 * SIZE[0])), ("top-bottom", (2 * SIZE[1], SIZE[0])),
-                          ("anaglyph", (SIZE[1], SIZE[0])), ("left", (SIZE[1], SIZE[0]))):
+    for stereo, shape in (
+        ("side-by-side", (SIZE[1], 2 * SIZE[0])),
+        ("top-bottom", (2 * SIZE[1], SIZE[0])),
+        ("anaglyph", (SIZE[1], SIZE[0])),
+        ("left", (SIZE[1], SIZE[0])),
+    ):
         image = renderer.render(frame, DofParams(stereo=stereo))
         assert image.shape[:2] == shape, stereo
     sbs = renderer.render(frame, DofParams(stereo="side-by-side", eye_separation=0.2))
-    assert np.abs(sbs[:, :SIZE[0]] - sbs[:, SIZE[0]:]).mean() > 0.005  # two different eyes
+    assert np.abs(sbs[:, : SIZE[0]] - sbs[:, SIZE[0] :]).mean() > 0.005  # two different eyes
     assert {"left", "right", "coc", "depth"} <= set(renderer.maps())
     renderer.release()
 
@@ -75,13 +79,28 @@ def test_focus_on_an_object_puts_its_centre_at_the_focus_distance(museum):
 
 def test_dof_command(tmp_path, capsys):
     out = tmp_path / "dof.png"
-    code, cap = call_cli(["dof", "museum", "-o", str(out), "--size", "96x72", "--focus-object", "exhibit-blob",
-                          "--stereo", "side-by-side"], capsys)
+    code, cap = call_cli(
+        [
+            "dof",
+            "museum",
+            "-o",
+            str(out),
+            "--size",
+            "96x72",
+            "--focus-object",
+            "exhibit-blob",
+            "--stereo",
+            "side-by-side",
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     from illusio.core import read_image
 
     assert read_image(out).shape[:2] == (72, 192)
-    code, cap = call_cli(["dof", "museum", "-o", str(tmp_path / "pair.png"), "--size", "64x48", "--stereo", "left-right"], capsys)
+    code, cap = call_cli(
+        ["dof", "museum", "-o", str(tmp_path / "pair.png"), "--size", "64x48", "--stereo", "left-right"], capsys
+    )
     assert code == 0, cap.err
     left, right = read_image(tmp_path / "pair-left.png"), read_image(tmp_path / "pair-right.png")
     assert left.shape[:2] == right.shape[:2] == (48, 64) and np.abs(left - right).mean() > 1e-3
@@ -95,8 +114,27 @@ def test_a_scenario_plays_as_a_stereo_video_and_a_bad_one_says_where(tmp_path, c
     import imageio.v3 as iio
 
     video = tmp_path / "fut.gif"
-    code, cap = call_cli(["dof", "futuristic", "--scenario", "futuristic", "--video", str(video), "--fps", "2",
-                          "--duration", "3", "--size", "64x48", "--stereo", "side-by-side", "--method", "planes"], capsys)
+    code, cap = call_cli(
+        [
+            "dof",
+            "futuristic",
+            "--scenario",
+            "futuristic",
+            "--video",
+            str(video),
+            "--fps",
+            "2",
+            "--duration",
+            "3",
+            "--size",
+            "64x48",
+            "--stereo",
+            "side-by-side",
+            "--method",
+            "planes",
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     frames = iio.imread(video, index=None)
     assert frames.shape[:3] == (6, 48, 128)
@@ -153,7 +191,7 @@ def test_every_method_follows_the_accumulation_where_blur_is_large(strong_view, 
     params = replace(base, method="gather", gather_taps=0) if method == "gather-exact" else replace(base, method=method)
     image = renderer.render(frame, params)
     unblurred = _psnr(sharp, reference)
-    assert unblurred <= 30.0                                   # the view is a hard one
+    assert unblurred <= 30.0  # the view is a hard one
     gain = _psnr(image, reference) - unblurred
     assert gain >= tolerance(f"dof gain {method}")["min_db"], gain
     in_focus, far_off = coc < 1.0, coc > 6.0
@@ -212,7 +250,7 @@ def test_figure_11_shows_depth_of_field():
     near, far = min(focuses), max(focuses)
     assert far - near > 10.0, (near, far)
     player.apply(scene, 2.4)
-    ship = player.focus_distance(view, 2.4)          # just before the robot fires, then (the focus moved) on the robot
+    ship = player.focus_distance(view, 2.4)  # just before the robot fires, then (the focus moved) on the robot
     player.apply(scene, 3.4)
     assert ship - player.focus_distance(view, 3.4) > 8.0
     largest = coc_pixels(np.array([far]), near, FIGURE_11_APERTURE / 1000, view.camera.fov_y, 384)[0]

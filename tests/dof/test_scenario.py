@@ -7,8 +7,8 @@ import pytest
 
 from illusio.dof.scenario import ScenarioError, parse_scenario, shipped_scenario
 from illusio.dof.timeline import ScenarioPlayer
-from illusio.scene.camera import Camera, Pose, View
 from illusio.scene.builtin import shapes
+from illusio.scene.camera import Camera, Pose, View
 from illusio.scene.scene import Action, Curve, Node, Scene
 from illusio.scene.transforms import translate
 
@@ -41,14 +41,17 @@ def test_the_papers_script_reads_the_same_in_french_english_and_without_accents(
     assert (start.time, start.ref, start.object, start.line, start.column) == (20000, 1, 0, 4, 13)
 
 
-@pytest.mark.parametrize("text, where, message", [
-    ("temps 0\nnettete objet\n", "2:", "expected a name or a number"),
-    ("temps 0\npositionne objet 1 vecteur [1, 2]\n", "2:33", "expected ','"),
-    ("time 5\ntime 3", "2:1", "goes back before 5 ms"),
-    ("show object 1\n  flyaway object 2", "2:3", "unknown command 'flyaway'"),
-    ("speed object 0 real fast", "1:21", "expected a number"),
-    ("temps 0 # comment", "1:9", "unexpected character '#'"),
-])
+@pytest.mark.parametrize(
+    "text, where, message",
+    [
+        ("temps 0\nnettete objet\n", "2:", "expected a name or a number"),
+        ("temps 0\npositionne objet 1 vecteur [1, 2]\n", "2:33", "expected ','"),
+        ("time 5\ntime 3", "2:1", "goes back before 5 ms"),
+        ("show object 1\n  flyaway object 2", "2:3", "unknown command 'flyaway'"),
+        ("speed object 0 real fast", "1:21", "expected a number"),
+        ("temps 0 # comment", "1:9", "unexpected character '#'"),
+    ],
+)
 def test_mistakes_name_their_line_and_column(text, where, message):
     with pytest.raises(ScenarioError) as err:
         parse_scenario(text, "my.txt")
@@ -67,9 +70,11 @@ def scene():
 
 
 def test_unknown_objects_curves_and_actions_are_named_with_their_place():
-    for text, message in (("temps 0\naffiche objet 7", "my.txt:2:1: no object 7"),
-                          ("trajectoire objet 0 courbe wiggle", "my.txt:1:1: no curve 'wiggle'"),
-                          ("demarre action 3 objet ship", "my.txt:1:1: no action 3")):
+    for text, message in (
+        ("temps 0\naffiche objet 7", "my.txt:2:1: no object 7"),
+        ("trajectoire objet 0 courbe wiggle", "my.txt:1:1: no curve 'wiggle'"),
+        ("demarre action 3 objet ship", "my.txt:1:1: no action 3"),
+    ):
         with pytest.raises(ScenarioError, match=message):
             ScenarioPlayer(parse_scenario(text, "my.txt"), scene())
 
@@ -97,7 +102,7 @@ def test_the_player_moves_shows_fires_and_loops():
 
 def test_the_focus_moves_smoothly_to_the_next_object():
     s = scene()
-    s.nodes[0].transform = translate((0, 0, 6))   # 4 m from the camera
+    s.nodes[0].transform = translate((0, 0, 6))  # 4 m from the camera
     s.nodes[1].transform = translate((0, 0, -10))  # 20 m
     player = ScenarioPlayer(parse_scenario("time 0 focus object ship time 1000 focus object robot"), s, transition=0.5)
     view = s.camera()
@@ -121,7 +126,8 @@ def test_the_shipped_scenario_plays_on_the_futuristic_scene():
     assert np.linalg.norm(player.state(2.0)["ship"].position - player.state(0.0)["ship"].position) > 10
     assert not player.state(2.0)["projectile"].visible and player.state(3.0)["projectile"].visible
     assert player.focus_distance(view, 3.4) == pytest.approx(
-        float(-(view.view_matrix().astype(float) @ np.append(player.state(3.4)["robot"].position, 1))[2]), rel=0.05)
+        float(-(view.view_matrix().astype(float) @ np.append(player.state(3.4)["robot"].position, 1))[2]), rel=0.05
+    )
 
 
 def test_an_incomplete_line_is_reported_at_its_own_line():

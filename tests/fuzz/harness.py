@@ -20,14 +20,36 @@ from illusio.core.errors import IllusioError
 
 # Examples per reader: a few dozen in CI; ILLUSIO_FUZZ_EXAMPLES=N for a longer run.
 EXAMPLES = int(os.environ.get("ILLUSIO_FUZZ_EXAMPLES", "40"))
-FUZZ = settings(max_examples=EXAMPLES, deadline=None, database=None, derandomize=False,
-                suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow,
-                                       HealthCheck.data_too_large])
+FUZZ = settings(
+    max_examples=EXAMPLES,
+    deadline=None,
+    database=None,
+    derandomize=False,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow, HealthCheck.data_too_large],
+)
 CASE_SECONDS = 20  # a case slower than this is a hang
 CORPUS = Path(__file__).parent / "corpus"
 
-NASTY_TOKENS = [b"-1", b"0", b"1", b"2147483648", b"99999999999", b"-99999999", b"nan", b"inf", b"-inf",
-                b"1e309", b"", b"x", b"0.5", b"3", b"\xff", b"4294967295", b"-0", b"1e-320"]
+NASTY_TOKENS = [
+    b"-1",
+    b"0",
+    b"1",
+    b"2147483648",
+    b"99999999999",
+    b"-99999999",
+    b"nan",
+    b"inf",
+    b"-inf",
+    b"1e309",
+    b"",
+    b"x",
+    b"0.5",
+    b"3",
+    b"\xff",
+    b"4294967295",
+    b"-0",
+    b"1e-320",
+]
 
 
 class Hang(Exception):
@@ -56,7 +78,7 @@ def _flip(data: bytes, at: int, value: int) -> bytes:
     if not data:
         return data
     i = at % len(data)
-    return data[:i] + bytes([value]) + data[i + 1:]
+    return data[:i] + bytes([value]) + data[i + 1 :]
 
 
 def _insert(data: bytes, at: int, chunk: bytes) -> bytes:
@@ -66,7 +88,7 @@ def _insert(data: bytes, at: int, chunk: bytes) -> bytes:
 
 def _delete(data: bytes, at: int, length: int) -> bytes:
     i = at % (len(data) + 1)
-    return data[:i] + data[i + length:]
+    return data[:i] + data[i + length :]
 
 
 def _token(data: bytes, at: int, token: bytes) -> bytes:
@@ -101,8 +123,15 @@ MUTATION = st.one_of(
 )
 MUTATIONS = st.lists(MUTATION, min_size=1, max_size=4)
 
-_APPLY = {"truncate": _truncate, "flip": _flip, "insert": _insert, "delete": _delete, "token": _token,
-          "swap-lines": _swap_lines, "empty": lambda data: b""}
+_APPLY = {
+    "truncate": _truncate,
+    "flip": _flip,
+    "insert": _insert,
+    "delete": _delete,
+    "token": _token,
+    "swap-lines": _swap_lines,
+    "empty": lambda data: b"",
+}
 
 
 def mutate(data: bytes, mutations) -> bytes:

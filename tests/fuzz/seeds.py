@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import io
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
 
-@lru_cache(maxsize=None)
+@cache
 def mesh_seeds() -> dict[str, bytes]:
     """A small icosphere in every mesh format illusio reads (name → file bytes; the name's suffix
     is the format)."""
@@ -32,9 +32,11 @@ def mesh_seeds() -> dict[str, bytes]:
 def tristrip_ply(vertices: np.ndarray, binary: bool) -> bytes:
     """A PLY whose faces are one triangle strip (``element tristrips``), as the Igea scan stores."""
     strip = np.array([0, 1, 2, 3, -1, 4, 5, 6, 7, 8], np.int32)
-    head = (f"ply\nformat {'binary_little_endian' if binary else 'ascii'} 1.0\n"
-            f"element vertex {len(vertices)}\nproperty float x\nproperty float y\nproperty float z\n"
-            "element tristrips 1\nproperty list int int vertex_indices\nend_header\n").encode()
+    head = (
+        f"ply\nformat {'binary_little_endian' if binary else 'ascii'} 1.0\n"
+        f"element vertex {len(vertices)}\nproperty float x\nproperty float y\nproperty float z\n"
+        "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+    ).encode()
     if binary:
         body = np.asarray(vertices, "<f4").tobytes() + np.int32(len(strip)).tobytes() + strip.astype("<i4").tobytes()
     else:
@@ -51,19 +53,25 @@ def png_bytes(array: np.ndarray, mode: str | None = None) -> bytes:
     return out.getvalue()
 
 
-@lru_cache(maxsize=None)
+@cache
 def image_seeds() -> dict[str, bytes]:
     """A grey depth ramp (8 and 16-bit PNG), a colour pattern (PNG, JPEG), and .npy arrays."""
     from PIL import Image
 
     rng = np.random.default_rng(0)
     ramp = np.tile(np.linspace(0, 255, 64).astype(np.uint8), (24, 1))
-    ramp16 = (ramp.astype(np.uint16) * 257)
+    ramp16 = ramp.astype(np.uint16) * 257
     colour = rng.integers(0, 256, (16, 20, 3), dtype=np.uint8)
     jpeg = io.BytesIO()
     Image.fromarray(colour).save(jpeg, format="JPEG")
     npy, npy3 = io.BytesIO(), io.BytesIO()
     np.save(npy, ramp.astype(np.float32) / 255)
     np.save(npy3, colour.astype(np.float32) / 255)
-    return {"ramp.png": png_bytes(ramp), "ramp16.png": png_bytes(ramp16), "pattern.png": png_bytes(colour),
-            "pattern.jpg": jpeg.getvalue(), "ramp.npy": npy.getvalue(), "pattern.npy": npy3.getvalue()}
+    return {
+        "ramp.png": png_bytes(ramp),
+        "ramp16.png": png_bytes(ramp16),
+        "pattern.png": png_bytes(colour),
+        "pattern.jpg": jpeg.getvalue(),
+        "ramp.npy": npy.getvalue(),
+        "pattern.npy": npy3.getvalue(),
+    }

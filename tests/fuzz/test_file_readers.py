@@ -64,21 +64,43 @@ def read_quietly(reader):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             return reader(path)
+
     return read
 
 
-PATH_SEED = (b'[{"t": 0, "eye": [0, 1, 3], "target": [0, 0, 0]},\n {"t": 1.5, "eye": [2, 1, 2], "target": [0, 0.5, 0]},\n'
-             b' {"t": 3, "eye": [3, 2, 0], "target": [0, 0, 0]}]\n')
-CAMERAS_SEED = (b'[{"eye": [0, 1, 3], "target": [0, 0, 0], "fov": 45, "near": 0.1, "far": 20},\n'
-                b' {"eye": [1, 1, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 50, "near": 0.05, "far": 30, "shift": [0.1, 0]}]\n')
+PATH_SEED = (
+    b'[{"t": 0, "eye": [0, 1, 3], "target": [0, 0, 0]},\n {"t": 1.5, "eye": [2, 1, 2], "target": [0, 0.5, 0]},\n'
+    b' {"t": 3, "eye": [3, 2, 0], "target": [0, 0, 0]}]\n'
+)
+CAMERAS_SEED = (
+    b'[{"eye": [0, 1, 3], "target": [0, 0, 0], "fov": 45, "near": 0.1, "far": 20},\n'
+    b' {"eye": [1, 1, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 50, "near": 0.05, "far": 30, '
+    b'"shift": [0.1, 0]}]\n'
+)
 
 # reader name → (seed files: name → bytes, reader, check)
 READERS = {
     "image": (lambda: image_seeds(), read_quietly(read_image), valid_image),
-    "depth": (lambda: {k: v for k, v in image_seeds().items() if k.startswith("ramp")}, read_quietly(read_depth), valid_depth),
-    "scene": (lambda: {"still-life.yaml": (REPO / "examples" / "still-life.yaml").read_bytes()}, read_quietly(load_scene), valid_scene),
-    "scenario": (lambda: {"futuristic.txt": shipped_scenario("futuristic").read_bytes()}, load_scenario, valid_scenario),
-    "camera-path": (lambda: {"walk.json": PATH_SEED}, lambda p: CameraPath.parse(Path(p).read_text("utf-8", "replace"), str(p)), valid_path),
+    "depth": (
+        lambda: {k: v for k, v in image_seeds().items() if k.startswith("ramp")},
+        read_quietly(read_depth),
+        valid_depth,
+    ),
+    "scene": (
+        lambda: {"still-life.yaml": (REPO / "examples" / "still-life.yaml").read_bytes()},
+        read_quietly(load_scene),
+        valid_scene,
+    ),
+    "scenario": (
+        lambda: {"futuristic.txt": shipped_scenario("futuristic").read_bytes()},
+        load_scenario,
+        valid_scenario,
+    ),
+    "camera-path": (
+        lambda: {"walk.json": PATH_SEED},
+        lambda p: CameraPath.parse(Path(p).read_text("utf-8", "replace"), str(p)),
+        valid_path,
+    ),
     "cameras": (lambda: {"cameras.json": CAMERAS_SEED}, load_cameras, valid_cameras),
     "batch-job": (lambda: {"job.yaml": (REPO / "examples" / "batch-job.yaml").read_bytes()}, load_job, valid_job),
 }

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import shutil
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +17,7 @@ from tests.conftest import SESSION_SEED
 from tests.fuzz.harness import FUZZ, MUTATIONS, corpus_cases, must_refuse, must_refuse_or_succeed, mutate
 
 
-@lru_cache(maxsize=None)
+@cache
 def reference_files(folder: str) -> dict[str, bytes]:
     """A small two-view reference set, saved by save_references (file name → bytes)."""
     rng = np.random.default_rng(1)
@@ -25,8 +25,15 @@ def reference_files(folder: str) -> dict[str, bytes]:
     for k in range(2):
         view = View(Pose((0.3 * k, 1.0, 3.0), (0.0, 0.0, 0.0)), Camera(45.0, 0.1, 20.0))
         h, w = 6, 8
-        views.append(ReferenceView(view, rng.random((h, w, 4), np.float32), rng.random((h, w, 4), np.float32),
-                                   np.zeros((h, w, 3), np.float32), rng.uniform(1, 4, (h, w)).astype(np.float32)))
+        views.append(
+            ReferenceView(
+                view,
+                rng.random((h, w, 4), np.float32),
+                rng.random((h, w, 4), np.float32),
+                np.zeros((h, w, 3), np.float32),
+                rng.uniform(1, 4, (h, w)).astype(np.float32),
+            )
+        )
     out = Path(folder)
     save_references(ReferenceSet(views), out)
     return {p.name: p.read_bytes() for p in out.iterdir()}
@@ -60,8 +67,7 @@ def test_seed_set_reads(seeds, tmp_path):
 
 @seed(SESSION_SEED)
 @FUZZ
-@given(target=st.sampled_from(["references.json", "view-0.npz", "view-1.npz"]), mutations=MUTATIONS,
-       drop=st.booleans())
+@given(target=st.sampled_from(["references.json", "view-0.npz", "view-1.npz"]), mutations=MUTATIONS, drop=st.booleans())
 def test_mutated_reference_sets_are_read_or_refused(seeds, target, mutations, drop, tmp_path_factory):
     """One file of the set mutated (or, with ``drop``, removed)."""
     files = dict(seeds)

@@ -53,8 +53,16 @@ def test_kept_mesh_cases(case):
         assert "cut short" in message
 
 
-COUNTED = ["sphere-ascii.ply", "sphere-binary.ply", "sphere.off", "sphere-ascii.stl", "sphere-binary.stl",
-           "sphere.glb", "strips-ascii.ply", "strips-binary.ply"]
+COUNTED = [
+    "sphere-ascii.ply",
+    "sphere-binary.ply",
+    "sphere.off",
+    "sphere-ascii.stl",
+    "sphere-binary.stl",
+    "sphere.glb",
+    "strips-ascii.ply",
+    "strips-binary.ply",
+]
 
 
 @pytest.mark.parametrize("name", COUNTED)

@@ -20,7 +20,7 @@ def test_equal_arguments_share_one_render_and_others_do_not():
     first = path_traced.path_traced(scene_polygons(scene), view, (16, 12), samples=2)
     again = path_traced.path_traced(scene_polygons(builtin_scene("cornell-box")), view, (16, 12), samples=2)
     assert again is first and path_traced.renders_made() == made + 1
-    assert not first.flags.writeable          # a section cannot spoil what another reads
+    assert not first.flags.writeable  # a section cannot spoil what another reads
     other = path_traced.path_traced(scene_polygons(scene), view, (16, 12), samples=2, seed=1)
     assert path_traced.renders_made() == made + 2 and other.shape == (12, 16, 3)
     assert not np.array_equal(other, first)

@@ -12,17 +12,17 @@ import pytest
 from illusio.core.errors import InputError
 from illusio.ibr.references import WALL_MARGIN, capture, load_references, orbit_views, rig_placement, save_references
 from illusio.scene import load_scene
-from illusio.scene.raycast import first_hit, world_triangles
 from illusio.scene.builtin import shapes
+from illusio.scene.raycast import first_hit, world_triangles
 from illusio.scene.scene import Node, Scene
 from tests.conftest import call_cli
 
 
 def test_first_hit_finds_the_nearest_face_of_a_box():
     scene = Scene("box")
-    scene.add(Node("box", shapes.box((2.0, 2.0, 2.0))))        # faces at ±1
+    scene.add(Node("box", shapes.box((2.0, 2.0, 2.0))))  # faces at ±1
     triangles = world_triangles(scene)
-    assert first_hit(triangles, (0, 0, 0), (1, 0, 0)) == pytest.approx(1.0)   # from inside, either facing
+    assert first_hit(triangles, (0, 0, 0), (1, 0, 0)) == pytest.approx(1.0)  # from inside, either facing
     assert first_hit(triangles, (-3, 0.2, 0.1), (1, 0, 0)) == pytest.approx(2.0)
     assert first_hit(triangles, (-3, 0, 0), (-1, 0, 0)) == float("inf")
     assert first_hit(triangles, (0, 0, 0), (1, 1, 0)) == pytest.approx(np.sqrt(2.0))
@@ -42,7 +42,7 @@ def test_the_capture_rig_stays_inside_the_room(name):
         if np.linalg.norm(step) > 1e-9:
             assert first_hit(triangles, main, step) > np.linalg.norm(step)
         assert min(first_hit(triangles, eye, right), first_hit(triangles, eye, -right)) >= WALL_MARGIN - 1e-6
-    assert rig_placement(scene, 1.2)[1] == pytest.approx(1.2)     # room for the whole baseline somewhere
+    assert rig_placement(scene, 1.2)[1] == pytest.approx(1.2)  # room for the whole baseline somewhere
 
 
 def test_every_office_reference_sees_the_room(ctx):
@@ -58,10 +58,12 @@ def test_camera_indices_and_t_are_checked_and_files_stay_in_the_folder(ctx, tmp_
     scene = load_scene("cornell-box")
     refs = capture(scene, orbit_views(scene, 2, 0.1), (32, 24), ctx)
     folder = save_references(refs, tmp_path / "refs")
-    for camera, message in (("ref:-1", "reference -1 does not exist; there are 2"),
-                            ("ref:2", "reference 2 does not exist"),
-                            ("between:0,1,5", "T must be in [0, 1]"),
-                            ("between:0,7", "reference 7 does not exist")):
+    for camera, message in (
+        ("ref:-1", "reference -1 does not exist; there are 2"),
+        ("ref:2", "reference 2 does not exist"),
+        ("between:0,1,5", "T must be in [0, 1]"),
+        ("between:0,7", "reference 7 does not exist"),
+    ):
         code, cap = call_cli(["ibr", "render", str(folder), "-o", str(tmp_path / "x.png"), "--camera", camera], capsys)
         assert code == 2 and message in cap.err and cap.err.count("\n") == 1, (camera, cap.err)
     assert not (tmp_path / "x.png").exists()
@@ -71,11 +73,15 @@ def test_camera_indices_and_t_are_checked_and_files_stay_in_the_folder(ctx, tmp_
     a, b = (np.asarray(v.view.pose.position) for v in refs.views)
     beyond = parse_camera("between:0,1,1.5", refs, extrapolate=True)
     assert np.allclose(beyond.pose.position, a + 1.5 * (b - a))
-    code, cap = call_cli(["ibr", "render", str(folder), "-o", str(tmp_path / "x.png"), "--camera", "between:0,1,1.5",
-                          "--extrapolate"], capsys)
+    code, cap = call_cli(
+        ["ibr", "render", str(folder), "-o", str(tmp_path / "x.png"), "--camera", "between:0,1,1.5", "--extrapolate"],
+        capsys,
+    )
     assert code == 0, cap.err
-    code, cap = call_cli(["ibr", "render", str(folder), "-o", str(tmp_path / "y.png"), "--camera", "between:0,1,nan",
-                          "--extrapolate"], capsys)
+    code, cap = call_cli(
+        ["ibr", "render", str(folder), "-o", str(tmp_path / "y.png"), "--camera", "between:0,1,nan", "--extrapolate"],
+        capsys,
+    )
     assert code == 2 and "T must be in [0, 1]" in cap.err
     index = folder / "references.json"
     doc = json.loads(index.read_text())

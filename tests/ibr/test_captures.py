@@ -22,8 +22,8 @@ from illusio.scene.camera import Camera, Pose, View
 from tests.conftest import call_cli
 
 W, H = 96, 72
-INTRINSICS = captures.Intrinsics(W, H, 70.0, 78.0, 50.3, 33.1)      # off centre, f_x ≠ f_y
-FLIP = np.diag([1.0, -1.0, -1.0, 1.0])                               # GL camera axes ↔ OpenCV's
+INTRINSICS = captures.Intrinsics(W, H, 70.0, 78.0, 50.3, 33.1)  # off centre, f_x ≠ f_y
+FLIP = np.diag([1.0, -1.0, -1.0, 1.0])  # GL camera axes ↔ OpenCV's
 
 
 def _views(count: int = 5):
@@ -34,8 +34,10 @@ def _views(count: int = 5):
     ahead = target - eye
     right = np.cross(ahead / np.linalg.norm(ahead), (0, 1, 0))
     lens = INTRINSICS.camera(0.05, 30.0)
-    return scene, [View(Pose(tuple(eye + 0.25 * ahead + (k - count // 2) * 0.12 * right), tuple(target)), lens)
-                   for k in range(count)]
+    return scene, [
+        View(Pose(tuple(eye + 0.25 * ahead + (k - count // 2) * 0.12 * right), tuple(target)), lens)
+        for k in range(count)
+    ]
 
 
 def _camera_to_world(view: View) -> np.ndarray:
@@ -50,8 +52,8 @@ def office_capture(ctx):
     rng = np.random.default_rng(3)
     depths = []
     for v in refs.views:
-        d = v.depth * (1 + rng.normal(0, 0.004, v.depth.shape))      # ~0.4 % noise, as a structured-light sensor
-        d[rng.random(d.shape) < 0.03] = 0.0                           # dropped pixels
+        d = v.depth * (1 + rng.normal(0, 0.004, v.depth.shape))  # ~0.4 % noise, as a structured-light sensor
+        d[rng.random(d.shape) < 0.03] = 0.0  # dropped pixels
         depths.append(np.where(v.depth > 0, d, 0.0))
     return views, [np.clip(v.colour, 0, 1) for v in refs.views], depths
 
@@ -68,7 +70,7 @@ def _write_rgbd(folder, office_capture, open3d_matrix=False):
         log += [f"{k} {k} {len(views)}"] + [" ".join(f"{x:.9f}" for x in row) for row in m]
     (folder / "trajectory.log").write_text("\n".join(log) + "\n")
     i = INTRINSICS
-    if open3d_matrix:       # Open3D's PinholeCameraIntrinsic JSON: the matrix column-major
+    if open3d_matrix:  # Open3D's PinholeCameraIntrinsic JSON: the matrix column-major
         doc = {"width": W, "height": H, "intrinsic_matrix": [i.fx, 0, 0, 0, i.fy, 0, i.cx, i.cy, 1]}
     else:
         doc = {"width": W, "height": H, "fx": i.fx, "fy": i.fy, "cx": i.cx, "cy": i.cy}
@@ -76,8 +78,10 @@ def _write_rgbd(folder, office_capture, open3d_matrix=False):
 
 
 def _score(tmp_path, capsys, refs, frame, extra=()):
-    code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / f"frame-{frame}.png"),
-                          "--compare-photo", str(frame), *extra], capsys)
+    code, cap = call_cli(
+        ["ibr", "render", str(refs), "-o", str(tmp_path / f"frame-{frame}.png"), "--compare-photo", str(frame), *extra],
+        capsys,
+    )
     assert code == 0, cap.err
     psnr = float(re.search(r"PSNR ([\d.]+) dB", cap.out).group(1))
     ssim = float(re.search(r"SSIM ([\d.]+)", cap.out).group(1))
@@ -93,7 +97,7 @@ def test_an_rgbd_folder_imports_and_renders_its_held_out_frames(tmp_path, capsys
     assert refs.albedo_from_photo and len(refs.frames) == 5
     lens = refs.views[0].view.camera
     assert lens.pixel_aspect == pytest.approx(78.0 / 70.0) and lens.shift != (0.0, 0.0)
-    psnr, ssim = _score(tmp_path, capsys, tmp_path / "refs", 1)      # frame 1 is not a reference
+    psnr, ssim = _score(tmp_path, capsys, tmp_path / "refs", 1)  # frame 1 is not a reference
     assert psnr > 24 and ssim > 0.75, (psnr, ssim)
     # the pose of a reference frame gives back its photo closely
     psnr_ref, _ = _score(tmp_path, capsys, tmp_path / "refs", 2)
@@ -127,11 +131,13 @@ def test_a_tum_sequence_associates_by_time_and_reads_quaternions(tmp_path, capsy
         m = _camera_to_world(view)
         qx, qy, qz, qw = Rotation.from_matrix(m[:3, :3]).as_quat()
         truth.append(f"{t - 0.003:.4f} {m[0, 3]:.6f} {m[1, 3]:.6f} {m[2, 3]:.6f} {qx:.8f} {qy:.8f} {qz:.8f} {qw:.8f}")
-    rgb.append("1305031199.000000 rgb/extra.png")            # no depth near it: dropped
+    rgb.append("1305031199.000000 rgb/extra.png")  # no depth near it: dropped
     for name, lines in (("rgb.txt", rgb), ("depth.txt", depth), ("groundtruth.txt", truth)):
         (src / name).write_text("\n".join(lines) + "\n")
     i = INTRINSICS
-    (src / "intrinsic.json").write_text(json.dumps({"width": W, "height": H, "fx": i.fx, "fy": i.fy, "cx": i.cx, "cy": i.cy}))
+    (src / "intrinsic.json").write_text(
+        json.dumps({"width": W, "height": H, "fx": i.fx, "fy": i.fy, "cx": i.cx, "cy": i.cy})
+    )
     frames = captures.read_tum(src)
     assert len(frames) == 5
     assert np.allclose(frames[3].pose, _camera_to_world(views[3]), atol=1e-5)
@@ -154,7 +160,8 @@ def test_a_colmap_workspace_imports(tmp_path, capsys, office_capture):
         (src / d).mkdir(parents=True)
     i = INTRINSICS
     (src / "sparse" / "cameras.txt").write_text(
-        f"# CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]\n1 PINHOLE {W} {H} {i.fx} {i.fy} {i.cx + 0.5} {i.cy + 0.5}\n")
+        f"# CAMERA_ID MODEL WIDTH HEIGHT PARAMS[]\n1 PINHOLE {W} {H} {i.fx} {i.fy} {i.cx + 0.5} {i.cy + 0.5}\n"
+    )
     lines = ["# IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME"]
     for k, (view, photo, d) in enumerate(zip(views, photos, depths)):
         name = f"img{k}.png"
@@ -168,8 +175,10 @@ def test_a_colmap_workspace_imports(tmp_path, capsys, office_capture):
     frames = captures.read_colmap(src)
     assert np.allclose(frames[2].pose, _camera_to_world(views[2]), atol=1e-6)
     assert np.allclose(frames[2].depth, depths[2].astype(np.float32))
-    code, cap = call_cli(["ibr", "import", "colmap", str(src), "-o", str(tmp_path / "refs"), "--frames", "0,2,4",
-                          "--max-depth", "20"], capsys)
+    code, cap = call_cli(
+        ["ibr", "import", "colmap", str(src), "-o", str(tmp_path / "refs"), "--frames", "0,2,4", "--max-depth", "20"],
+        capsys,
+    )
     assert code == 0, cap.err
     psnr, _ = _score(tmp_path, capsys, tmp_path / "refs", 3)
     assert psnr > 24, psnr
@@ -180,7 +189,7 @@ def _distort(image, intr, k1, k2, p1, p2, order):
     pixel's ray undistorted by fixed-point iteration (as OpenCV's undistortPoints), then sampled."""
     from scipy import ndimage
 
-    v, u = np.mgrid[0:intr.height, 0:intr.width].astype(np.float64)
+    v, u = np.mgrid[0 : intr.height, 0 : intr.width].astype(np.float64)
     xd, yd = (u - intr.cx) / intr.fx, (v - intr.cy) / intr.fy
     x, y = xd.copy(), yd.copy()
     for _ in range(20):
@@ -196,10 +205,15 @@ def _distort(image, intr, k1, k2, p1, p2, order):
 
 def test_opencv_distortion_is_undone(office_capture):
     _, photos, depths = office_capture
-    k = (-0.35, 0.1, 0.004, -0.003)           # a strong barrel: corners move by pixels
+    k = (-0.35, 0.1, 0.004, -0.003)  # a strong barrel: corners move by pixels
     lens = captures.Intrinsics(W, H, INTRINSICS.fx, INTRINSICS.fy, INTRINSICS.cx, INTRINSICS.cy, "OPENCV", k)
-    recorded = captures.CaptureFrame("d", _distort(photos[0], lens, *k, order=1).astype(np.float32),
-                                     _distort(depths[0], lens, *k, order=0).astype(np.float32), lens, np.eye(4))
+    recorded = captures.CaptureFrame(
+        "d",
+        _distort(photos[0], lens, *k, order=1).astype(np.float32),
+        _distort(depths[0], lens, *k, order=0).astype(np.float32),
+        lens,
+        np.eye(4),
+    )
     fixed = captures.undistort(recorded)
     inner = (slice(8, H - 8), slice(8, W - 8))
     before = np.abs(recorded.colour - photos[0])[inner].mean()
@@ -213,7 +227,7 @@ def test_normals_from_depth_of_a_tilted_plane():
     intr = captures.Intrinsics(40, 30, 30.0, 30.0, 19.5, 14.5)
     v, u = np.mgrid[0:30, 0:40].astype(np.float64)
     y_over_z = (v - intr.cy) / intr.fy
-    z = 2.0 / (1 - 0.5 * y_over_z)                              # on the plane z = 2 + 0.5 y
+    z = 2.0 / (1 - 0.5 * y_over_z)  # on the plane z = 2 + 0.5 y
     z[10, 10] = 0.0
     n = captures.normals_from_depth(z.astype(np.float32), intr)
     want = -np.array([0.0, -0.5, 1.0]) / np.linalg.norm([0.0, -0.5, 1.0])
@@ -222,13 +236,23 @@ def test_normals_from_depth_of_a_tilted_plane():
     assert np.allclose(n[10, 10], -ray / np.linalg.norm(ray), atol=1e-5)
 
 
-@pytest.mark.parametrize("break_it, message", [
-    (lambda f: (f / "trajectory.log").write_text("0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n"), "1 poses for 5 frames"),
-    (lambda f: write_image(f / "depth" / "00002.png", np.zeros((10, 10)), bit_depth=16, srgb=False),
-     "depth is 10×10, its colour 00002.png 96×72"),
-    (lambda f: (f / "trajectory.log").write_text((f / "trajectory.log").read_text().replace("0.", "nan", 1)),
-     "frame 0"),
-])
+@pytest.mark.parametrize(
+    "break_it, message",
+    [
+        (
+            lambda f: (f / "trajectory.log").write_text("0 0 1\n1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n"),
+            "1 poses for 5 frames",
+        ),
+        (
+            lambda f: write_image(f / "depth" / "00002.png", np.zeros((10, 10)), bit_depth=16, srgb=False),
+            "depth is 10×10, its colour 00002.png 96×72",
+        ),
+        (
+            lambda f: (f / "trajectory.log").write_text((f / "trajectory.log").read_text().replace("0.", "nan", 1)),
+            "frame 0",
+        ),
+    ],
+)
 def test_bad_captures_say_where(tmp_path, capsys, office_capture, break_it, message):
     src = tmp_path / "capture"
     _write_rgbd(src, office_capture)
@@ -236,7 +260,9 @@ def test_bad_captures_say_where(tmp_path, capsys, office_capture, break_it, mess
     code, cap = call_cli(["ibr", "import", "rgbd", str(src), "-o", str(tmp_path / "refs")], capsys)
     assert code == 2 and message in cap.err and cap.err.count("\n") == 1, cap.err
     assert not (tmp_path / "refs").exists()
-    code, cap = call_cli(["ibr", "import", "rgbd", str(src), "-o", str(tmp_path / "refs"), "--depth-scale", "0"], capsys)
+    code, cap = call_cli(
+        ["ibr", "import", "rgbd", str(src), "-o", str(tmp_path / "refs"), "--depth-scale", "0"], capsys
+    )
     assert code == 2 and "--depth-scale must be positive" in cap.err
 
 

@@ -9,8 +9,7 @@ import pytest
 from illusio.core.errors import InputError
 from illusio.core.images import read_image
 from illusio.core.renderer import Frame
-from illusio.ibr import IbrParams, IbrRenderer, capture, load_references, orbit_views, save_references
-from illusio.ibr import reference
+from illusio.ibr import IbrParams, IbrRenderer, capture, load_references, orbit_views, reference, save_references
 from illusio.ibr.select import ReferenceArrays, SelectPass
 from illusio.passes import reference as passes_reference
 from illusio.passes.gbuffer import GBufferImages
@@ -40,8 +39,10 @@ def _shifted(view):
     return replace(view, camera=replace(view.camera, shift=(0.07, -0.05), pixel_aspect=1.15))
 
 
-@pytest.mark.parametrize("use_3d, bilinear, single_pass, shifted", [(False, True, False, False), (True, False, False, False),
-                                                                    (False, True, True, False), (False, True, True, True)])
+@pytest.mark.parametrize(
+    "use_3d, bilinear, single_pass, shifted",
+    [(False, True, False, False), (True, False, False, False), (False, True, True, False), (False, True, True, True)],
+)
 def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_pass, shifted):
     """At a new view (and a random reconstructed depth near the true one), the GPU picks the same
     reference per pixel as reference.select, with the same corrected depth and attributes, in the
@@ -71,8 +72,9 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_
     gbuf.release()
     emitters = emitters_from_lights(refs.lights, False, MAX_EMITTERS)
     shading = ShadingParams(refs.ambient, refs.background, 1.3)
-    radiance, shaded_source = select.shaded(tex, view, arrays, emitters, shading, use_3d, bilinear, max_distance,
-                                            single_pass=single_pass)
+    radiance, shaded_source = select.shaded(
+        tex, view, arrays, emitters, shading, use_3d, bilinear, max_distance, single_pass=single_pass
+    )
     got_radiance = ctx.readback(radiance)[..., :3]
     np.testing.assert_array_equal(np.rint(ctx.readback(shaded_source)[..., 0]).astype(int), source)
     ctx.release(radiance, shaded_source)
@@ -89,8 +91,16 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_
     # half floats; a point whose four texels sit at the 1 % depth threshold may interpolate on one side only
     assert (np.abs(got_albedo[both] - want["albedo"][both]) > 2e-3).mean() < 1e-3
     # lit in the resolve draw: what the deferred shading (passes.reference.shading) makes of the choice
-    chosen = GBufferImages(want["albedo"][..., :3], want["albedo"][..., 3], want["depth"], want["normal"][..., :3],
-                           want["normal"][..., 3], want["position"], want["source"], want["emission"])
+    chosen = GBufferImages(
+        want["albedo"][..., :3],
+        want["albedo"][..., 3],
+        want["depth"],
+        want["normal"][..., :3],
+        want["normal"][..., 3],
+        want["position"],
+        want["source"],
+        want["emission"],
+    )
     lit = passes_reference.shading(chosen, emitters, view.pose.position, shading)
     assert np.median(lit[both]) > 0.05 and len(emitters) > 0  # lit, not black
     off = (np.abs(got_radiance - lit) > 1e-3 + 3e-3 * np.abs(lit)).any(-1)  # the G-buffer's half floats
@@ -166,20 +176,28 @@ def test_ibr_commands(tmp_path, capsys):
     code, cap = call_cli(["ibr", "capture", "office", "-o", str(refs), "--views", "3", "--size", "64x48"], capsys)
     assert code == 0, cap.err
     out = tmp_path / "new.png"
-    code, cap = call_cli(["ibr", "render", str(refs), "-o", str(out), "--camera", "between:0,2,0.25", "--show-sources"], capsys)
+    code, cap = call_cli(
+        ["ibr", "render", str(refs), "-o", str(out), "--camera", "between:0,2,0.25", "--show-sources"], capsys
+    )
     assert code == 0, cap.err
     shown = read_image(out)
     assert shown.shape[:2] == (48, 64)
     # the source-view colouring: more than one reference's colour among the pixels
     assert len(np.unique((shown[..., :3] * 4).round().reshape(-1, 3), axis=0)) >= 3
-    for args, message in ((["--camera", "ref:7"], "reference 7 does not exist"), (["--light-x", "40"], "--light-x = 40 m is out of range"),
-                          (["--distance", "4d"], "distance"), (["--selection", "one"], "selection")):
+    for args, message in (
+        (["--camera", "ref:7"], "reference 7 does not exist"),
+        (["--light-x", "40"], "--light-x = 40 m is out of range"),
+        (["--distance", "4d"], "distance"),
+        (["--selection", "one"], "selection"),
+    ):
         code, cap = call_cli(["ibr", "render", str(refs), "-o", str(tmp_path / "x.png"), *args], capsys)
         assert code == 2 and message in cap.err and cap.err.count("\n") == 1, cap.err
     # cameras from a file: a references.json gives the same cameras again; a bad entry is named
     again = tmp_path / "again"
-    code, cap = call_cli(["ibr", "capture", "office", "-o", str(again), "--cameras", str(refs / "references.json"),
-                          "--size", "32x24"], capsys)
+    code, cap = call_cli(
+        ["ibr", "capture", "office", "-o", str(again), "--cameras", str(refs / "references.json"), "--size", "32x24"],
+        capsys,
+    )
     assert code == 0, cap.err
     cameras = lambda folder: [v["camera"] for v in json.loads((folder / "references.json").read_text())["views"]]  # noqa: E731
     assert cameras(again) == cameras(refs)
@@ -190,8 +208,14 @@ def test_ibr_commands(tmp_path, capsys):
     # a camera path played into a video: duration × fps + 1 frames
     walk = tmp_path / "walk.json"
     eye = cameras(refs)
-    walk.write_text(json.dumps([{"t": 0, "eye": eye[0]["eye"], "target": eye[0]["target"]},
-                                {"t": 0.25, "eye": eye[2]["eye"], "target": eye[2]["target"]}]))
+    walk.write_text(
+        json.dumps(
+            [
+                {"t": 0, "eye": eye[0]["eye"], "target": eye[0]["target"]},
+                {"t": 0.25, "eye": eye[2]["eye"], "target": eye[2]["target"]},
+            ]
+        )
+    )
     video = tmp_path / "walk.gif"
     code, cap = call_cli(["ibr", "render", str(refs), "-o", str(video), "--path", str(walk), "--fps", "8"], capsys)
     assert code == 0, cap.err
@@ -308,10 +332,28 @@ def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ct
     again = renderer.render(Frame(p.view, size), IbrParams(relight=False))
     assert np.abs(again - np.clip(p.colour, 0, 1))[interior].mean() < 0.01
     renderer.release()
-    code, cap = call_cli(["ibr", "capture", "sphere", "-o", str(tmp_path / "photo"), "--views", "2", "--size", "32x24",
-                          "--renderer", "mitsuba", "--samples", "4"], capsys)
+    code, cap = call_cli(
+        [
+            "ibr",
+            "capture",
+            "sphere",
+            "-o",
+            str(tmp_path / "photo"),
+            "--views",
+            "2",
+            "--size",
+            "32x24",
+            "--renderer",
+            "mitsuba",
+            "--samples",
+            "4",
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
-    code, cap = call_cli(["ibr", "render", str(tmp_path / "photo"), "-o", str(tmp_path / "p.png"), "--photographic"], capsys)
+    code, cap = call_cli(
+        ["ibr", "render", str(tmp_path / "photo"), "-o", str(tmp_path / "p.png"), "--photographic"], capsys
+    )
     assert code == 0, cap.err
     assert read_image(tmp_path / "p.png").shape[:2] == (24, 32) and read_image(tmp_path / "p.png").max() > 0.05
 
@@ -348,7 +390,9 @@ def test_photographic_colour_is_resampled_bilinearly_like_the_reference(ctx, roo
     truth.prepare(scene)
     g = truth.gbuffer(Frame(view, SIZE))
     hit = ctx.readback(g["object_id"])[..., 0] > 0.5
-    depth = (np.where(hit, ctx.readback(g["depth"])[..., 0], 0.0) * rng.uniform(0.995, 1.005, SIZE[::-1])).astype(np.float32)
+    depth = (np.where(hit, ctx.readback(g["depth"])[..., 0], 0.0) * rng.uniform(0.995, 1.005, SIZE[::-1])).astype(
+        np.float32
+    )
     g.release()
     tex = ctx.upload(depth, filter="nearest")
     arrays = ReferenceArrays(ctx, refs.views)

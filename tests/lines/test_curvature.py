@@ -13,8 +13,14 @@ def mean_relative_error(k, ref):
     return float(np.mean(np.abs(k - ref) / np.maximum(np.abs(ref), 0.1 * np.abs(ref).max())))
 
 
-@pytest.mark.parametrize("make, bound", [(lambda: analytic.icosphere(4, 2.0), 0.03), (lambda: analytic.torus(1.0, 0.35, 96, 32), 0.12),
-                                         (lambda: analytic.ellipsoid((1.0, 0.7, 0.5), 4), 0.05)])
+@pytest.mark.parametrize(
+    "make, bound",
+    [
+        (lambda: analytic.icosphere(4, 2.0), 0.03),
+        (lambda: analytic.torus(1.0, 0.35, 96, 32), 0.12),
+        (lambda: analytic.ellipsoid((1.0, 0.7, 0.5), 4), 0.05),
+    ],
+)
 def test_principal_curvatures_of_analytic_surfaces(make, bound):
     mesh, k_min, k_max = make()
     c = estimate_curvature(mesh, cache=False)
@@ -71,9 +77,11 @@ def test_tensor_smoothing_removes_noise_left_by_the_fits():
     """Averaging the fits' tensors over the 1-ring, three times: on noise the error falls well
     below the raw quartic's, also on the coarse torus (768 vertices, a ring spans 22° of the tube)
     at 10 % noise, where every single fit was poor (libigl's 5-ring quadric: 0.36, benchmarks)."""
-    for make, amount, bound in ((lambda: analytic.ellipsoid((1.0, 0.7, 0.5), 4), 0.05, None),
-                                (lambda: analytic.torus(1.0, 0.35, 96, 32), 0.05, None),
-                                (lambda: analytic.torus(1.0, 0.35, 48, 16), 0.1, 0.25)):
+    for make, amount, bound in (
+        (lambda: analytic.ellipsoid((1.0, 0.7, 0.5), 4), 0.05, None),
+        (lambda: analytic.torus(1.0, 0.35, 96, 32), 0.05, None),
+        (lambda: analytic.torus(1.0, 0.35, 48, 16), 0.1, 0.25),
+    ):
         mesh, k_min, k_max = make()
         noisy = analytic.add_noise(mesh, amount, seed=2)
         raw = estimate_curvature(noisy, smoothing=0, cache=False)

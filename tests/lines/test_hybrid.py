@@ -3,20 +3,20 @@
 import numpy as np
 import pytest
 
-from illusio.lines.curvature import Curvature
 from illusio.core.renderer import Frame
-from tests.conftest import tolerance
+from illusio.lines.curvature import Curvature
 from illusio.lines.drawing import LineRenderer, framing_view
+from illusio.lines.gpu_mesh import CurvatureMesh
 from illusio.lines.params import LineParams
 from illusio.lines.reference import image_silhouettes
 from illusio.lines.reference import ridge_filter as adaptive_laplacian
 from illusio.lines.reference import view_curvature as view_dependent_curvature
-from illusio.lines.gpu_mesh import CurvatureMesh
 from illusio.lines.ridge_filter import RidgeFilterPass
 from illusio.lines.view_curvature import ViewCurvaturePass
 from illusio.scene.builtin import shape
 from illusio.scene.camera import Camera, Pose, View
 from illusio.scene.mesh import Mesh
+from tests.conftest import tolerance
 
 
 def random_curvature(rng, n):
@@ -27,8 +27,15 @@ def random_curvature(rng, n):
     e_max /= np.linalg.norm(e_max, axis=1, keepdims=True)
     e_min = np.cross(normals, e_max)
     k = np.sort(rng.normal(0, 2, size=(n, 2)), axis=1)
-    return Curvature(normals.astype(np.float32), k[:, 0].astype(np.float32), k[:, 1].astype(np.float32),
-                     e_min.astype(np.float32), e_max.astype(np.float32), np.zeros((n, 4), np.float32), np.ones(n, bool))
+    return Curvature(
+        normals.astype(np.float32),
+        k[:, 0].astype(np.float32),
+        k[:, 1].astype(np.float32),
+        e_min.astype(np.float32),
+        e_max.astype(np.float32),
+        np.zeros((n, 4), np.float32),
+        np.ones(n, bool),
+    )
 
 
 def test_view_curvature_vertex_stage_matches_numpy(ctx, rng):
@@ -42,7 +49,9 @@ def test_view_curvature_vertex_stage_matches_numpy(ctx, rng):
     tau, scale = float(rng.uniform(-2, 1)), float(rng.uniform(0.5, 3))
     gm = CurvatureMesh(ctx, mesh, curv)
     gpu = ViewCurvaturePass(ctx).per_vertex(gm, view, (512, 512), tau, scale)
-    ref = view_dependent_curvature(positions, curv.normals, curv.e_min, curv.e_max, curv.k_min, curv.k_max, view, tau, scale)
+    ref = view_dependent_curvature(
+        positions, curv.normals, curv.e_min, curv.e_max, curv.k_min, curv.k_max, view, tau, scale
+    )
     ok = (np.abs(ref.ndotv) > 0.02) & (np.abs(ref.ndotv) < 0.9998)
     raw = 2.0**tau * ref.q1 / scale
     ok &= (raw < 0.999) | (raw > 1.001)  # at the clamp both sides agree anyway; keep the test strict elsewhere
@@ -69,8 +78,12 @@ def test_q1_is_the_largest_singular_value_of_q(rng):
         u, v = float(curv.e_min[i] @ vdir), float(curv.e_max[i] @ vdir)
         s2 = u * u + v * v
         sec1 = 1 / abs(ndotv) - 1
-        q = np.array([[curv.k_min[i] * (1 + sec1 * u * u / s2), curv.k_min[i] * sec1 * u * v / s2],
-                      [curv.k_max[i] * sec1 * u * v / s2, curv.k_max[i] * (1 + sec1 * v * v / s2)]])
+        q = np.array(
+            [
+                [curv.k_min[i] * (1 + sec1 * u * u / s2), curv.k_min[i] * sec1 * u * v / s2],
+                [curv.k_max[i] * sec1 * u * v / s2, curv.k_max[i] * (1 + sec1 * v * v / s2)],
+            ]
+        )
         assert ref.q1[i] == pytest.approx(np.linalg.svd(q, compute_uv=False)[0], rel=1e-6)
 
 
@@ -100,8 +113,8 @@ def test_adaptive_laplacian_weights_follow_the_report():
     response, _ = adaptive_laplacian(q_t1, lam)
     assert response[2, 2] == pytest.approx(8 + 8 * lam)
     assert response[2, 1] == pytest.approx(-(1 + 2 * lam))  # left neighbour: along t1
-    assert response[1, 2] == pytest.approx(-1.0)            # above: across t1
-    assert response[1, 1] == pytest.approx(-(1 + lam))      # diagonal
+    assert response[1, 2] == pytest.approx(-1.0)  # above: across t1
+    assert response[1, 1] == pytest.approx(-(1 + lam))  # diagonal
 
 
 def test_image_silhouettes_match_numpy(ctx):
@@ -213,14 +226,15 @@ def test_segments_pass_matches_reference(ctx, rng):
         fbo.use()
         fbo.viewport = (0, 0, *size)
         fbo.clear(0.0, 0.0, 0.0, 1.0, depth=1.0)
-        SegmentsPass(ctx)(Segments(points, np.zeros((8, 2, 2), np.int64), np.ones(8)), view, size, (1.0, 1.0, 1.0), width)
+        SegmentsPass(ctx)(
+            Segments(points, np.zeros((8, 2, 2), np.int64), np.ones(8)), view, size, (1.0, 1.0, 1.0), width
+        )
         got = ctx.readback(target)[..., 0] > 0.5
         ctx.release(target)
         want = reference.segments(points.reshape(-1, 3), view, size, width)
         either = got | want
         assert either.sum() > 100
         assert (got == want)[either].mean() >= 0.97, width
-
 
 
 def test_fragment_filter_matches_its_scipy_reference(rng):
@@ -230,7 +244,9 @@ def test_fragment_filter_matches_its_scipy_reference(rng):
 
     for density, smallest in ((0.02, 3), (0.1, 8), (0.3, 24), (0.5, 100)):
         mask = rng.random((97, 131)) < density
-        np.testing.assert_array_equal(drop_short_fragments(mask, smallest), drop_short_fragments_reference(mask, smallest))
+        np.testing.assert_array_equal(
+            drop_short_fragments(mask, smallest), drop_short_fragments_reference(mask, smallest)
+        )
     assert not drop_short_fragments(np.zeros((5, 5), bool), 2).any()
 
 

@@ -3,14 +3,22 @@
 import numpy as np
 import pytest
 
+from illusio.core.renderer import Frame
 from illusio.lines import analytic
 from illusio.lines.compare import line_mask, score
 from illusio.lines.curvature import estimate_curvature
-from illusio.core.renderer import Frame
 from illusio.lines.drawing import LineRenderer, framing_view
+from illusio.lines.object_space import (
+    boundaries,
+    chain,
+    contours,
+    ridges,
+    suggestive_contours,
+    valleys,
+    vertex_gradient,
+    zero_crossings,
+)
 from illusio.lines.params import LineParams
-from illusio.lines.object_space import (boundaries, chain, contours, ridges, suggestive_contours, valleys, vertex_gradient,
-                                        zero_crossings)
 from illusio.scene.builtin import shape
 from illusio.scene.mesh import load_mesh
 
@@ -26,7 +34,7 @@ def test_sphere_contour_lies_on_the_tangent_cone():
     p = segs.points.reshape(-1, 3)
     np.testing.assert_allclose(p @ eye, 1.0, atol=0.02)
     lines = chain(segs)
-    assert len(lines) <= 3 and sum(len(l) for l in lines) >= len(segs)  # one closed loop (or few pieces)
+    assert len(lines) <= 3 and sum(len(line) for line in lines) >= len(segs)  # one closed loop (or few pieces)
 
 
 def test_zero_crossings_interpolate_linearly(rng):
@@ -76,7 +84,9 @@ def test_hybrid_and_object_space_apparent_ridges_agree(ctx, models, name):
     renderer.prepare(mesh)
     view = framing_view(mesh)
     hybrid = renderer.render(Frame(view, (512, 512)), LineParams(lines=("apparent-ridges",)))
-    judd = renderer.render(Frame(view, (512, 512)), LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space"))
+    judd = renderer.render(
+        Frame(view, (512, 512)), LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space")
+    )
     s = score(line_mask(hybrid), line_mask(judd), 3.0)
     assert s.f1 >= 0.8, str(s)
     renderer.release()
@@ -96,10 +106,10 @@ def test_boundaries_are_the_edges_one_face_uses(ctx):
     loops = chain(segs)
     assert len(loops) == 1 and np.allclose(loops[0][0], loops[0][-1])
     border = np.maximum(np.abs(segs.points[..., 0]) / 1.0, np.abs(segs.points[..., 2]) / 0.5)
-    assert np.allclose(border, 1.0)                                          # every end on the rim
+    assert np.allclose(border, 1.0)  # every end on the rim
     assert len(boundaries(analytic.icosphere(3)[0])) == 0
     assert len(boundaries(shapes.box((1, 1, 1)))) == 0
-    for name in ("sphere", "torus", "blob", "torus-knot"):     # seams of sin 0 against sin 2π, −0.0 against 0.0
+    for name in ("sphere", "torus", "blob", "torus-knot"):  # seams of sin 0 against sin 2π, −0.0 against 0.0
         assert len(boundaries(shape(name))) == 0, name
     renderer = LineRenderer(ctx)
     renderer.prepare(plane)
@@ -107,16 +117,16 @@ def test_boundaries_are_the_edges_one_face_uses(ctx):
     image = renderer.render(Frame(view, (200, 200)), LineParams(lines=("boundaries",)))
     ink = image.max(axis=-1) < 0.5
     rows, cols = np.nonzero(ink)
-    assert ink.mean() > 0.005 and ink[90:110, 90:110].sum() == 0            # an outline, empty inside
-    assert (cols.max() - cols.min()) > 1.5 * (rows.max() - rows.min())      # 2 m wide, 1 m deep
+    assert ink.mean() > 0.005 and ink[90:110, 90:110].sum() == 0  # an outline, empty inside
+    assert (cols.max() - cols.min()) > 1.5 * (rows.max() - rows.min())  # 2 m wide, 1 m deep
 
 
 def test_k_zero_and_h_zero_curves_of_tori_where_geometry_puts_them():
     """A torus (axis y, tube radius r around a circle of radius R): K = 0 on its top and bottom
     circles (|y| = r, R from the axis); H = 0, for a fat torus (R < 2r), where cos v = −R/(2r) (the
     circles R + r cos v from the axis, |y| = r sin v). Estimated curvature, so within a few %."""
-    from illusio.scene.builtin import shapes
     from illusio.lines.object_space import mean_zero_lines, parabolic_lines
+    from illusio.scene.builtin import shapes
 
     thin = shapes.torus(1.0, 0.35, 160, 64)
     segs = parabolic_lines(thin, estimate_curvature(thin, cache=False))
@@ -131,7 +141,7 @@ def test_k_zero_and_h_zero_curves_of_tori_where_geometry_puts_them():
     assert len(segs) > 100
     np.testing.assert_allclose(np.hypot(p[:, 0], p[:, 2]), 1.0 + 0.7 * np.cos(v), atol=0.03)
     np.testing.assert_allclose(np.abs(p[:, 1]), 0.7 * np.sin(v), atol=0.03)
-    assert len(mean_zero_lines(thin, estimate_curvature(thin, cache=False))) == 0   # R > 2r: none
+    assert len(mean_zero_lines(thin, estimate_curvature(thin, cache=False))) == 0  # R > 2r: none
 
 
 def test_isophotes_of_a_sphere_are_circles_of_constant_n_dot_l(rng):
@@ -205,7 +215,10 @@ def test_principal_highlights_where_the_surface_faces_the_eye():
     assert len(phase) > 100
     np.testing.assert_allclose(phase, expected, atol=0.06)
     # none on a concave part: the sheet seen from below (normals away) has no convex face towards it
-    assert len(principal_highlights(sheet, curv, -50 * np.array([np.sin(tilt), 0.0, np.cos(tilt)]), 0.05, curv.scale())) == 0
+    assert (
+        len(principal_highlights(sheet, curv, -50 * np.array([np.sin(tilt), 0.0, np.cos(tilt)]), 0.05, curv.scale()))
+        == 0
+    )
 
 
 def test_zero_crossing_kernel_matches_its_numpy_reference(rng):

@@ -14,9 +14,9 @@ def page(h=32, w=32):
 
 def test_coverage_and_ink_of_paper_and_inks():
     img = page(1, 4)
-    img[0, 1] = 0.0                       # black
-    img[0, 2] = (1.0, 0.0, 0.0)           # red
-    img[0, 3] = 0.5                       # half-covered black
+    img[0, 1] = 0.0  # black
+    img[0, 2] = (1.0, 0.0, 0.0)  # red
+    img[0, 3] = 0.5  # half-covered black
     cover, ink = coverage_and_ink(img)
     assert np.allclose(cover[0], [0, 1, 1, 0.5])
     assert np.allclose(ink[0, 1], 0) and np.allclose(ink[0, 2], [1, 0, 0]) and np.allclose(ink[0, 3], 0)
@@ -44,8 +44,10 @@ def test_antialiasing_gives_edges_fractional_coverage_and_keeps_the_ink(rng):
     aa = stylise(big, LineStyle(supersample=2))
     plain = stylise(small, LineStyle())
     cover_aa, cover_plain = 1 - aa[..., 0], 1 - plain[..., 0]
-    assert ((cover_aa > 0.05) & (cover_aa < 0.95)).sum() > 10 and ((cover_plain > 0.05) & (cover_plain < 0.95)).sum() == 0
-    assert cover_aa.sum() == pytest.approx(cover_plain.sum(), rel=0.4)      # a diagonal widens a little more
+    assert ((cover_aa > 0.05) & (cover_aa < 0.95)).sum() > 10 and (
+        (cover_plain > 0.05) & (cover_plain < 0.95)
+    ).sum() == 0
+    assert cover_aa.sum() == pytest.approx(cover_plain.sum(), rel=0.4)  # a diagonal widens a little more
     with pytest.raises(InputError):
         stylise(page(33, 32), LineStyle(supersample=2))
 
@@ -70,7 +72,7 @@ def test_colour_transparency_and_fade():
 def test_colour_parsing():
     assert parse_colour("0,0.5,1") == (0.0, 0.5, 1.0)
     assert np.allclose(parse_colour("#ffffff"), 1) and np.allclose(parse_colour("#000000"), 0)
-    assert parse_colour("#808080")[0] == pytest.approx(0.2159, abs=1e-3)      # sRGB 128 is linear 0.216
+    assert parse_colour("#808080")[0] == pytest.approx(0.2159, abs=1e-3)  # sRGB 128 is linear 0.216
     for bad in ("red", "1,2,3", "#12345", "0,0"):
         with pytest.raises(InputError):
             parse_colour(bad)
@@ -95,11 +97,11 @@ def test_debug_maps_carry_a_colour_legend(ctx):
         shown = debug_view(kind, drawing, mesh, curvature)
         band = 20
         assert shown.shape == plain.shape and np.array_equal(shown[:-band], plain[:-band])
-        bar = shown[-band:-band // 2]
+        bar = shown[-band : -band // 2]
         if kind == "curvature":
             assert bar[0, 2, 2] > bar[0, 2, 0] + 0.3 and bar[0, -3, 0] > bar[0, -3, 2] + 0.3
         if kind == "q1":
             assert bar[0, 2].max() < 0.05 and bar[0, -3].min() > 0.95
-        labels = shown[-band // 2:]
-        assert (labels.max(axis=-1) < 0.2).sum() > 20                      # dark text under the bar
+        labels = shown[-band // 2 :]
+        assert (labels.max(axis=-1) < 0.2).sum() > 20  # dark text under the bar
     renderer.release()

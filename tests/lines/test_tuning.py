@@ -3,10 +3,9 @@ never worse than where it starts, a local best on its grid, clearly better than 
 the CLI's --auto draws with what it chose."""
 
 import re
-
-import numpy as np
 from dataclasses import replace
 
+import numpy as np
 import pytest
 
 from illusio.core.errors import InputError
@@ -42,7 +41,7 @@ def test_auto_is_a_local_best_and_never_worse_than_its_start(knot):
     assert result.converged and result.scores.f1 >= result.start.f1
     assert result.start.f1 == pytest.approx(f1(renderer, view, target, start))
     assert result.scores.f1 == pytest.approx(f1(renderer, view, target, result.params))
-    for name, values in AUTO_GRID:                   # no single parameter moved scores higher
+    for name, values in AUTO_GRID:  # no single parameter moved scores higher
         for value in values:
             assert f1(renderer, view, target, replace(result.params, **{name: value})) <= result.scores.f1 + 1e-9
     # only the three tuned fields changed
@@ -71,28 +70,59 @@ def test_lines_cli_auto(tmp_path, capsys):
     """--auto prints what it chose and draws with it: the drawing scores what it printed, above the
     defaults' score from the same command without --auto."""
     out = tmp_path / "knot.png"
-    code, printed = call_cli(["lines", "torus-knot", "-o", str(out), "--size", "256x256", "--auto", "--compare", "canny",
-                              "--antialias", "1"], capsys)
+    code, printed = call_cli(
+        [
+            "lines",
+            "torus-knot",
+            "-o",
+            str(out),
+            "--size",
+            "256x256",
+            "--auto",
+            "--compare",
+            "canny",
+            "--antialias",
+            "1",
+        ],
+        capsys,
+    )
     assert code == 0, printed.err
-    chosen = re.search(r"auto against canny: tau (\S+), lambda (\S+), threshold (\S+): F1 ([\d.]+) \(from ([\d.]+)",
-                       printed.out)
+    chosen = re.search(
+        r"auto against canny: tau (\S+), lambda (\S+), threshold (\S+): F1 ([\d.]+) \(from ([\d.]+)", printed.out
+    )
     assert chosen, printed.out
     scored = float(re.search(r"against canny: precision .* F1 ([\d.]+)", printed.out.split("\n", 1)[1]).group(1))
     assert scored == pytest.approx(float(chosen.group(4)), abs=1e-3)
     assert float(chosen.group(4)) >= float(chosen.group(5))
-    code, printed = call_cli(["lines", "torus-knot", "-o", str(tmp_path / "default.png"), "--size", "256x256",
-                              "--compare", "canny", "--antialias", "1"], capsys)
+    code, printed = call_cli(
+        [
+            "lines",
+            "torus-knot",
+            "-o",
+            str(tmp_path / "default.png"),
+            "--size",
+            "256x256",
+            "--compare",
+            "canny",
+            "--antialias",
+            "1",
+        ],
+        capsys,
+    )
     default = float(re.search(r"F1 ([\d.]+)", printed.out).group(1))
     assert default == pytest.approx(float(chosen.group(5)), abs=1e-3)
-    code, printed = call_cli(["lines", "torus-knot", "-o", str(tmp_path / "x.png"), "--auto", "--method", "object"], capsys)
+    code, printed = call_cli(
+        ["lines", "torus-knot", "-o", str(tmp_path / "x.png"), "--auto", "--method", "object"], capsys
+    )
     assert code == 2 and "hybrid" in printed.err
 
 
 def test_registered_score_finds_the_shift(rng):
     """Random lines moved by a random whole-pixel shift: the registered score finds that shift and
     F1 1, where the plain score at tolerance 1 px falls."""
-    from illusio.lines.compare import registered_score, shift_mask
     from skimage.draw import line
+
+    from illusio.lines.compare import registered_score, shift_mask
 
     a = np.zeros((120, 160), bool)
     for _ in range(6):

@@ -2,11 +2,11 @@ import numpy as np
 
 from illusio.core.renderer import Frame
 from illusio.passes import SceneRenderer, reference
-from tests.conftest import prepared, tolerance
 from illusio.scene import Camera, Material, Node, Pose, Scene, View
 from illusio.scene.builtin import shapes
 from illusio.scene.mesh import Mesh
 from illusio.scene.transforms import compose, rotate_euler, translate
+from tests.conftest import prepared, tolerance
 
 
 def _scene(*nodes):

@@ -7,18 +7,23 @@ from illusio.passes.gbuffer import GBuffer, GBufferImages
 from illusio.scene import AreaLight, Camera, Material, Node, PointLight, Pose, Scene, View
 from illusio.scene.builtin import shapes
 from illusio.scene.transforms import translate
-from tests.conftest import tolerance, prepared
+from tests.conftest import prepared, tolerance
 
 
 def _random_gbuffer(rng, w, h) -> GBufferImages:
     n = rng.normal(size=(h, w, 3))
     n /= np.linalg.norm(n, axis=-1, keepdims=True)
     mask = rng.random((h, w)) > 0.1
-    return GBufferImages(colour=rng.random((h, w, 3)).astype(np.float32), specular=rng.random((h, w)).astype(np.float32),
-                         depth=np.where(mask, 1.0, np.inf).astype(np.float32), normal=n.astype(np.float32),
-                         shininess=rng.uniform(1, 60, (h, w)).astype(np.float32),
-                         position=rng.uniform(-1, 1, (h, w, 3)).astype(np.float32), object_id=mask.astype(np.int32),
-                         emission=(rng.random((h, w, 3)) * 0.2).astype(np.float32))
+    return GBufferImages(
+        colour=rng.random((h, w, 3)).astype(np.float32),
+        specular=rng.random((h, w)).astype(np.float32),
+        depth=np.where(mask, 1.0, np.inf).astype(np.float32),
+        normal=n.astype(np.float32),
+        shininess=rng.uniform(1, 60, (h, w)).astype(np.float32),
+        position=rng.uniform(-1, 1, (h, w, 3)).astype(np.float32),
+        object_id=mask.astype(np.int32),
+        emission=(rng.random((h, w, 3)) * 0.2).astype(np.float32),
+    )
 
 
 def _upload_gbuffer(ctx, g: GBufferImages) -> GBuffer:
@@ -39,8 +44,13 @@ def test_shading_pass_matches_reference_on_random_gbuffers(ctx, rng):
     normals = np.zeros((k, 3), np.float32)
     normals[2:] = rng.normal(size=(k - 2, 3))
     normals[2:] /= np.linalg.norm(normals[2:], axis=1, keepdims=True)
-    emitters = Emitters(rng.uniform(-3, 3, (k, 3)).astype(np.float32), normals,
-                        rng.uniform(0.1, 3, (k, 3)).astype(np.float32), np.full(k, -1, np.int32), np.zeros((k, 3), np.float32))
+    emitters = Emitters(
+        rng.uniform(-3, 3, (k, 3)).astype(np.float32),
+        normals,
+        rng.uniform(0.1, 3, (k, 3)).astype(np.float32),
+        np.full(k, -1, np.int32),
+        np.zeros((k, 3), np.float32),
+    )
     params = ShadingParams(tuple(rng.random(3) * 0.1), (0.2, 0.3, 0.4), float(rng.uniform(0.5, 2)), 0.1)
     camera = rng.uniform(-4, 4, 3)
     gpu_gb = _upload_gbuffer(ctx, g)
@@ -57,8 +67,12 @@ def _shading(ctx):
 
 
 def _plane_scene(light) -> Scene:
-    s = Scene("lit-plane", nodes=[Node("floor", shapes.plane((40, 40)), material=Material((0.5, 0.5, 0.5)))],
-              lights=[light], ambient=(0, 0, 0))
+    s = Scene(
+        "lit-plane",
+        nodes=[Node("floor", shapes.plane((40, 40)), material=Material((0.5, 0.5, 0.5)))],
+        lights=[light],
+        ambient=(0, 0, 0),
+    )
     s.cameras["main"] = View(Pose((0, 6, 0.001), (0, 0, 0)), Camera(90.0, 0.1, 50.0))
     return s
 
@@ -98,13 +112,22 @@ def _random_scene(rng) -> Scene:
     makers = (lambda: shapes.sphere(0.5), lambda: shapes.box((0.8, 0.5, 0.6)), lambda: shapes.torus(0.5, 0.18))
     nodes = [Node("floor", shapes.plane((6, 6)), material=Material(tuple(rng.random(3)), specular=0.0))]
     for i in range(4):
-        mat = Material(tuple(rng.random(3)), specular=float(rng.choice([0.0, rng.uniform(0.1, 0.8)])),
-                       shininess=float(rng.uniform(5, 80)))
-        nodes.append(Node(f"shape-{i}", makers[i % 3](), translate(rng.uniform((-1.5, 0.3, -1.5), (1.5, 1.0, 1.5))), mat))
-    lights = [PointLight(tuple(rng.uniform((-2, 1.5, -2), (2, 3, 2))), tuple(rng.random(3)), float(rng.uniform(2, 8))),
-              AreaLight((0.0, 2.8, 0.0), (0.6, 0, 0), (0, 0, 0.6), (1, 1, 1), float(rng.uniform(5, 20)), samples=2)]
+        mat = Material(
+            tuple(rng.random(3)),
+            specular=float(rng.choice([0.0, rng.uniform(0.1, 0.8)])),
+            shininess=float(rng.uniform(5, 80)),
+        )
+        nodes.append(
+            Node(f"shape-{i}", makers[i % 3](), translate(rng.uniform((-1.5, 0.3, -1.5), (1.5, 1.0, 1.5))), mat)
+        )
+    lights = [
+        PointLight(tuple(rng.uniform((-2, 1.5, -2), (2, 3, 2))), tuple(rng.random(3)), float(rng.uniform(2, 8))),
+        AreaLight((0.0, 2.8, 0.0), (0.6, 0, 0), (0, 0, 0.6), (1, 1, 1), float(rng.uniform(5, 20)), samples=2),
+    ]
     s = Scene("random", nodes=nodes, lights=lights, ambient=tuple(rng.random(3) * 0.1))
-    s.cameras["main"] = View(Pose.orbit((0, 0.5, 0), 5.0, float(rng.uniform(0, 360)), float(rng.uniform(15, 50))), Camera(45.0, 0.1, 50.0))
+    s.cameras["main"] = View(
+        Pose.orbit((0, 0.5, 0), 5.0, float(rng.uniform(0, 360)), float(rng.uniform(15, 50))), Camera(45.0, 0.1, 50.0)
+    )
     return s
 
 
@@ -125,8 +148,9 @@ def test_forward_pass_matches_shading_reference_on_random_scenes(ctx, rng):
     gbuf = renderer.gbuffer(Frame(view, size))
     g = gbuf.read()
     gbuf.release()
-    expected = reference.shading(g, emitters_from_lights(scene.lights, False), view.pose.position,
-                                 ShadingParams(scene.ambient, scene.background))
+    expected = reference.shading(
+        g, emitters_from_lights(scene.lights, False), view.pose.position, ShadingParams(scene.ambient, scene.background)
+    )
     interior = ndimage.minimum_filter(g.object_id, 3) == ndimage.maximum_filter(g.object_id, 3)
     same = interior & (forward_ids == g.object_id)
     assert same.mean() > 0.8
@@ -152,8 +176,11 @@ def test_screen_material_colours_its_nodes_from_a_screen_space_texture(ctx, rng)
     screen = rng.random((size[1], size[0], 3)).astype(np.float32)
     tex = ctx.upload(screen, filter="nearest")
     renderer = prepared(SceneRenderer(ctx), scene)
-    out, _ = renderer.render_forward(Frame(scene.camera(), size), RenderSettings(shadows=False),
-                                     ScreenMaterial(tex, frozenset({0}), (0.5, 0.5, 0.5), emission=1.0))
+    out, _ = renderer.render_forward(
+        Frame(scene.camera(), size),
+        RenderSettings(shadows=False),
+        ScreenMaterial(tex, frozenset({0}), (0.5, 0.5, 0.5), emission=1.0),
+    )
     got = ctx.readback(out, 3)
     ctx.release(out)
     tex.release()
@@ -213,7 +240,9 @@ def test_gbuffer_hook_replaces_attachments_before_shading(ctx, rng):
     g = renderer.gbuffer(Frame(scene.camera(), size))
     hit = g.read().mask
     g.release()
-    np.testing.assert_allclose(got[hit], np.broadcast_to(np.asarray(scene.ambient, np.float32), got[hit].shape), **tolerance("same arithmetic"))
+    np.testing.assert_allclose(
+        got[hit], np.broadcast_to(np.asarray(scene.ambient, np.float32), got[hit].shape), **tolerance("same arithmetic")
+    )
     with pytest.raises(InputError):
         renderer.render_texture(Frame(scene.camera(), size), RenderSettings(forward=True), gbuffer_hook=white_albedo)
 
@@ -251,8 +280,15 @@ def test_frustum_culling_skips_only_nodes_that_draw_no_pixel(ctx, rng):
     gpu = GpuScene(ctx, scene)
     culled = 0
     for _ in range(20):
-        view = View(Pose.orbit(tuple(rng.normal(0, 1, 3)), float(rng.uniform(0.5, 4)), float(rng.uniform(0, 360)),
-                               float(rng.uniform(-30, 60))), Camera(float(rng.uniform(20, 70)), 0.1, 50.0))
+        view = View(
+            Pose.orbit(
+                tuple(rng.normal(0, 1, 3)),
+                float(rng.uniform(0.5, 4)),
+                float(rng.uniform(0, 360)),
+                float(rng.uniform(-30, 60)),
+            ),
+            Camera(float(rng.uniform(20, 70)), 0.1, 50.0),
+        )
         vp = view.view_projection((64, 48)).astype(np.float64)
         keep = gpu.in_frustum(vp)
         for node, kept in zip(scene.nodes, keep):

@@ -44,7 +44,9 @@ def test_footprint_on_a_plane_parallel_to_the_image_is_round_everywhere(rng):
     for _ in range(5):  # anywhere in the frame, off the axis too
         triangle = np.c_[rng.uniform(-3, 3, (3, 2)), np.full(3, rng.uniform(-2, 2))]
         texels = triangle[:, :2] * 100.0
-        assert footprint_anisotropy(triangle, ONE, texels, view, SIZE) == pytest.approx(1.0, abs=1e-6)  # closed-form singular values: ~sqrt(eps) near round
+        assert footprint_anisotropy(triangle, ONE, texels, view, SIZE) == pytest.approx(
+            1.0, abs=1e-6
+        )  # closed-form singular values: ~sqrt(eps) near round
 
 
 @pytest.mark.parametrize("tilt", [10.0, 30.0, 60.0])
@@ -71,16 +73,24 @@ def test_footprint_matches_finite_differences_of_rays_through_neighbouring_pixel
         if abs(normal @ direction) < 0.2 * np.linalg.norm(normal) * np.linalg.norm(direction):
             continue  # nearly edge-on: finite differences are poorly conditioned there
         # texel coordinates where the rays through pixel ± 1/2 meet the plane (barycentric solve)
-        to_texels = np.linalg.lstsq(np.c_[triangle[1] - triangle[0], triangle[2] - triangle[0]], np.eye(3), rcond=None)[0]
+        to_texels = np.linalg.lstsq(np.c_[triangle[1] - triangle[0], triangle[2] - triangle[0]], np.eye(3), rcond=None)[
+            0
+        ]
 
         def texel_at(px):
             e, d = _ray(view, px)
             hit = e + d * (normal @ (triangle[0] - e)) / (normal @ d)
-            return texels[0] + (to_texels @ (hit - triangle[0])) @ np.array([texels[1] - texels[0], texels[2] - texels[0]])
+            return texels[0] + (to_texels @ (hit - triangle[0])) @ np.array(
+                [texels[1] - texels[0], texels[2] - texels[0]]
+            )
 
         step = 1e-3
-        jac = np.column_stack([(texel_at(pixel + o) - texel_at(pixel - o)) / (2 * step)
-                               for o in (np.array([step, 0.0]), np.array([0.0, step]))])
+        jac = np.column_stack(
+            [
+                (texel_at(pixel + o) - texel_at(pixel - o)) / (2 * step)
+                for o in (np.array([step, 0.0]), np.array([0.0, step]))
+            ]
+        )
         s = np.linalg.svd(jac, compute_uv=False)
         tiny, tiny_texels = _at(point, uv, triangle, texels)
         assert footprint_anisotropy(tiny, ONE, tiny_texels, view, SIZE) == pytest.approx(s[0] / s[1], rel=2e-3)
@@ -112,7 +122,14 @@ def _two_planes(texture) -> tuple[Scene, View]:
     """A wall facing the camera and a floor seen at a grazing angle, one texture shared by both."""
     scene = Scene("footprint", ambient=(1.0, 1.0, 1.0), background=(0.0, 0.0, 0.0))
     material = Material(texture=texture, colour=(1.0, 1.0, 1.0))
-    scene.add(Node("wall", shapes.plane((4.0, 1.5), uv_scale=0.05), compose(translate((0.0, 0.75, -3.0)), rotate_euler((90, 0, 0))), material))
+    scene.add(
+        Node(
+            "wall",
+            shapes.plane((4.0, 1.5), uv_scale=0.05),
+            compose(translate((0.0, 0.75, -3.0)), rotate_euler((90, 0, 0))),
+            material,
+        )
+    )
     scene.add(Node("floor", shapes.plane((4.0, 6.0), uv_scale=0.05), translate((0.0, -0.5, 0.0)), material))
     return scene, View(Pose((0.0, 0.6, 2.0), (0.0, 0.6, -3.0)), Camera(50.0, 0.05, 50.0))
 

@@ -6,10 +6,16 @@ against a fresh build after a move."""
 import numpy as np
 import pytest
 
-from illusio.radiosity import HierarchyParams, Radiosity, scene_polygons
-from illusio.radiosity import reference
-from illusio.radiosity.clusters import (ClusteredGather, ClusterLinks, ClusterTree, cluster_kernel, cluster_node,
-                                        mean_cosine, transfer_bound)
+from illusio.radiosity import HierarchyParams, Radiosity, reference, scene_polygons
+from illusio.radiosity.clusters import (
+    ClusteredGather,
+    ClusterLinks,
+    ClusterTree,
+    cluster_kernel,
+    cluster_node,
+    mean_cosine,
+    transfer_bound,
+)
 from illusio.radiosity.formfactor import point_polygon
 from illusio.radiosity.hierarchy import Hierarchy
 from illusio.radiosity.links import Links
@@ -40,7 +46,7 @@ def test_the_tree_partitions_the_roots_and_bounds_them():
         kids = []
         for node in (tree.left[c], tree.right[c]):
             kids += [int(node)] if node >= 0 else members(tree, -1 - node)
-        assert sorted(kids) == members(tree, c)                   # the children split the run
+        assert sorted(kids) == members(tree, c)  # the children split the run
         m = members(tree, c)
         corners = h.corners[m].reshape(-1, 3)
         assert (corners >= tree.lo[c] - 1e-12).all() and (corners <= tree.hi[c] + 1e-12).all()
@@ -90,9 +96,9 @@ def test_cluster_kernel_matches_element_form_factors_far_away():
     polygons = scene_polygons(room_with_sphere(12, centre=(0.278, 0.3, 0.28), radius=0.02))
     h = Hierarchy(polygons)
     ball = np.flatnonzero(polygons.group == polygons.names.index("ball"))
-    tree = ClusterTree.build(h, ball)           # one cluster over the ball's polygons
+    tree = ClusterTree.build(h, ball)  # one cluster over the ball's polygons
     patch = np.flatnonzero(polygons.group == polygons.names.index("floor"))[:1]
-    for _ in range(3):                          # down to the 1/64 of the floor right below the ball
+    for _ in range(3):  # down to the 1/64 of the floor right below the ball
         kids = h.subdivide(patch)[0] + np.arange(4)
         patch = kids[[np.argmin(np.linalg.norm(h.centre[kids][:, [0, 2]] - (0.278, 0.28), axis=1))]]
     floor = int(patch[0])
@@ -102,7 +108,7 @@ def test_cluster_kernel_matches_element_form_factors_far_away():
         p_src = h.area[ball].sum() if src < 0 else h.area[src]
         if recv >= 0:
             model = g[0] * p_src * h.area[recv]
-        else:                                   # each member by its own orientation (the push)
+        else:  # each member by its own orientation (the push)
             cosine = np.maximum(h.normal[ball] @ d[0], 0)
             model = g[0] * p_src * (h.area[ball] * cosine).sum()
         exact = _exact_transfer(h, ball if recv < 0 else [recv], ball if src < 0 else [src], b)
@@ -146,8 +152,9 @@ def test_clustered_gather_equals_the_plain_reference():
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
     b = rng.random((n, 3))
     gather = ClusteredGather(Links().gather_operator(n), ClusterLinks(recv, src, kernel, vis, direction), tree, h)
-    plain = reference.cluster_gather([tree.members(c) for c in range(len(tree))], recv, src, kernel, vis,
-                                     direction, h.area, h.normal, b, n)
+    plain = reference.cluster_gather(
+        [tree.members(c) for c in range(len(tree))], recv, src, kernel, vis, direction, h.area, h.normal, b, n
+    )
     assert np.allclose(gather @ b, plain, rtol=1e-10, atol=1e-12)
 
 
@@ -168,8 +175,10 @@ def _error(truth, sol, where=slice(None)) -> tuple[float, float]:
     """(area-weighted mean absolute, signed) difference of the roots' B, relative to ``truth``'s."""
     (a, area), (b, _) = _root_b(truth), _root_b(sol)
     scale = a[where].sum(axis=1) @ area[where]
-    return (float(np.abs(b - a)[where].sum(axis=1) @ area[where] / scale),
-            float((b - a)[where].sum(axis=1) @ area[where] / scale))
+    return (
+        float(np.abs(b - a)[where].sum(axis=1) @ area[where] / scale),
+        float((b - a)[where].sum(axis=1) @ area[where] / scale),
+    )
 
 
 def test_a_clustered_solve_matches_every_pair_of_polygons(ball_room):

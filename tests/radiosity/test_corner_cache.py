@@ -24,20 +24,23 @@ def test_kept_form_factors_give_the_plain_gather_after_each_change():
         assert (gather.reused > 0) == expect_reuse and gather.computed + gather.reused > 0
 
     check(False)
-    sol.set_lamps({sol.lamp_names[0]: 0.3})          # B changes, links and geometry do not
+    sol.set_lamps({sol.lamp_names[0]: 0.3})  # B changes, links and geometry do not
     check(True)
     assert gather.computed == 0
-    corners, triangle = quads_from_triangles(np.asarray(shapes.box((0.1, 0.1, 0.1)).vertices) + [0.25, 0.05, 0.3],
-                                             shapes.box((0.1, 0.1, 0.1)).faces)
+    corners, triangle = quads_from_triangles(
+        np.asarray(shapes.box((0.1, 0.1, 0.1)).vertices) + [0.25, 0.05, 0.3], shapes.box((0.1, 0.1, 0.1)).faces
+    )
     n = len(corners)
-    sol.add_object(Polygons(corners, triangle, np.full((n, 3), 0.5), np.zeros((n, 3)), np.zeros(n, int), ["crate"]), "crate")
+    sol.add_object(
+        Polygons(corners, triangle, np.full((n, 3), 0.5), np.zeros((n, 3)), np.zeros(n, int), ["crate"]), "crate"
+    )
     check(True)
     move = np.eye(4)
     move[0, 3] = -0.1
     sol.move_object("crate", move)
     check(True)
     assert 0 < gather.computed < gather.reused
-    for _ in range(5):                   # a drag: the arena fills with fresh blocks and is compacted
+    for _ in range(5):  # a drag: the arena fills with fresh blocks and is compacted
         sol.move_object("crate", move if _ % 2 else np.linalg.inv(move))
         check(True)
         assert gather._used <= 2 * gather.pairs + 1024
@@ -48,12 +51,16 @@ def test_kept_form_factors_give_the_plain_gather_after_each_change():
     sol.links.visibility[dark] = 0.5
     check(True)
     assert gather.computed > 0
-    other = CornerGather()               # another cache over the same links: its own blocks, exact
+    other = CornerGather()  # another cache over the same links: its own blocks, exact
     h = sol.hierarchy
-    assert np.allclose(other(h, sol.links, h.leaves(), sol.exitance()), corner_gather(h, sol.links, h.leaves(), sol.exitance()),
-                       rtol=1e-6, atol=1e-12)
+    assert np.allclose(
+        other(h, sol.links, h.leaves(), sol.exitance()),
+        corner_gather(h, sol.links, h.leaves(), sol.exitance()),
+        rtol=1e-6,
+        atol=1e-12,
+    )
     assert other.reused == 0
-    check(False)                         # and the first, whose tags the other took, starts afresh
+    check(False)  # and the first, whose tags the other took, starts afresh
 
 
 def test_gathering_only_the_shown_leaves_keeps_their_corners_exact(rng):
@@ -72,7 +79,7 @@ def test_gathering_only_the_shown_leaves_keeps_their_corners_exact(rng):
         shown[rng.choice(leaves, len(leaves) // 2, replace=False)] = True
         part = vertex_radiosity(h, leaves, sol.links, sol.exitance(), gather=gather, shown=shown)
         assert np.allclose(part[shown[leaves]], full[shown[leaves]], rtol=1e-6, atol=1e-12)
-        if call:                        # another half: the blocks of the links above both kept
+        if call:  # another half: the blocks of the links above both kept
             assert gather.reused > 0 and gather.computed > 0
     # and the leaves left out were left out: fewer pairs than the full gather
     every = CornerGather()

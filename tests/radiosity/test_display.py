@@ -7,8 +7,7 @@ import pytest
 
 from illusio.core.images import read_image
 from illusio.core.renderer import Frame
-from illusio.radiosity import HierarchyParams, Radiosity, RadiosityParams, RadiosityRenderer, scene_polygons
-from illusio.radiosity import reference
+from illusio.radiosity import HierarchyParams, Radiosity, RadiosityParams, RadiosityRenderer, reference, scene_polygons
 from illusio.radiosity.display import DisplayPass, leaf_mesh
 from illusio.scene import load_scene
 from tests.conftest import call_cli, tolerance
@@ -40,6 +39,7 @@ def test_display_pass_matches_ray_cast_reference(ctx, cornell, rng, smooth):
     display.release()
     want, face = reference.display(mesh.positions, mesh.radiance * exposure, mesh.faces, scene.camera("main"), size)
     from scipy import ndimage
+
     leaf = np.where(face >= 0, mesh.face_element[np.maximum(face, 0)], -1)
     inner = (face >= 0) & (ndimage.maximum_filter(leaf, 3) == ndimage.minimum_filter(leaf, 3))
     assert inner.mean() > 0.2
@@ -54,6 +54,7 @@ def test_corner_gather_of_a_constant_field(cornell):
     scene, sol = cornell
     h = sol.hierarchy
     from illusio.radiosity.display import corner_gather
+
     leaves = h.leaves()
     wall = leaves[h.polygon[leaves] == sol.polygons.names.index("back-wall")]
     corners = corner_gather(h, sol.links, wall, sol.exitance())
@@ -65,14 +66,14 @@ def test_renderer_protocol_and_lamp_resolves(ctx):
     scene = load_scene("cornell-box")
     renderer = RadiosityRenderer(ctx)
     assert renderer.prepare(scene)
-    assert not renderer.prepare(load_scene("cornell-box"))              # the same scene by value
+    assert not renderer.prepare(load_scene("cornell-box"))  # the same scene by value
     bright = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE))
     built = renderer.result()
     dim = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE, lamp_scales=(("lamp", 0.5),)))
-    assert renderer.result() is built                                    # links kept: re-solved, not rebuilt
+    assert renderer.result() is built  # links kept: re-solved, not rebuilt
     lit = bright.max(axis=-1) > 0.02
     ratio = dim[lit & (bright < 0.99).all(axis=-1)] / bright[lit & (bright < 0.99).all(axis=-1)]
-    assert np.median(ratio) == pytest.approx(0.5, abs=0.02)              # B is linear in the lamp's exitance
+    assert np.median(ratio) == pytest.approx(0.5, abs=0.02)  # B is linear in the lamp's exitance
     mesh = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE, show="mesh"))
     links = renderer.render(Frame(None, SIZE), RadiosityParams(COARSE, show="links"))
     assert np.abs(mesh - bright).mean() > 1e-3 and np.abs(links - bright).mean() > 1e-3
@@ -103,29 +104,54 @@ def test_score_against_mitsuba(ctx):
 
 def test_command(tmp_path, capsys):
     out = tmp_path / "cb.png"
-    code, cap = call_cli(["radiosity", "cornell-box", "-o", str(out), "--size", "64x64", "--epsilon", "3e-4",
-                          "--set-lamp", "lamp=0.5", "--stats"], capsys)
+    code, cap = call_cli(
+        [
+            "radiosity",
+            "cornell-box",
+            "-o",
+            str(out),
+            "--size",
+            "64x64",
+            "--epsilon",
+            "3e-4",
+            "--set-lamp",
+            "lamp=0.5",
+            "--stats",
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     assert read_image(out).shape == (64, 64, 3)
     assert "elements" in cap.out and "links" in cap.out and "refine" in cap.out
     mesh = tmp_path / "mesh.png"
-    assert call_cli(["radiosity", "cornell-box", "-o", str(mesh), "--size", "64x64", "--epsilon", "3e-4", "--show", "mesh"], capsys)[0] == 0
+    assert (
+        call_cli(
+            ["radiosity", "cornell-box", "-o", str(mesh), "--size", "64x64", "--epsilon", "3e-4", "--show", "mesh"],
+            capsys,
+        )[0]
+        == 0
+    )
     assert np.abs(read_image(mesh) - read_image(out)).mean() > 0.01
 
 
-@pytest.mark.parametrize("args, message", [
-    (["--set-lamp", "lamp-9=1"], "no lamp named"),
-    (["--set-lamp", "lamp"], "NAME=SCALE"),
-    (["--set-lamp", "lamp=inf"], "finite SCALE"),          # not "image holds NaN values" later
-    (["--criterion", "bff"], "criterion"),
-    (["--epsilon", "0"], "--epsilon = 0 is out of range"),
-    (["--show", "wires"], "show"),
-    (["--reference", "SAME"], "choose another output path"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--set-lamp", "lamp-9=1"], "no lamp named"),
+        (["--set-lamp", "lamp"], "NAME=SCALE"),
+        (["--set-lamp", "lamp=inf"], "finite SCALE"),  # not "image holds NaN values" later
+        (["--criterion", "bff"], "criterion"),
+        (["--epsilon", "0"], "--epsilon = 0 is out of range"),
+        (["--show", "wires"], "show"),
+        (["--reference", "SAME"], "choose another output path"),
+    ],
+)
 def test_command_refuses_bad_input_and_writes_nothing(tmp_path, capsys, args, message):
     out = tmp_path / "x.png"
     args = [str(out) if a == "SAME" else a for a in args]
-    code, cap = call_cli(["radiosity", "cornell-box", "-o", str(out), "--size", "32x32", "--epsilon", "3e-4"] + args, capsys)
+    code, cap = call_cli(
+        ["radiosity", "cornell-box", "-o", str(out), "--size", "32x32", "--epsilon", "3e-4"] + args, capsys
+    )
     assert code == 2 and message in cap.err and "Traceback" not in cap.err
     assert not out.exists()
 
@@ -148,10 +174,13 @@ lights:
 """
 
 
-@pytest.mark.parametrize("colour, radiance, shape, options, message", [
-    ("[1.0, 0.5, 0.5]", 5, "box", [], "reflectance"),          # ρ = 1 would make energy grow
-    ("[0.5, 0.5, 0.5]", 5, "sphere", ["--no-clusters"], "without clusters radiosity takes at most 4000"),
-])
+@pytest.mark.parametrize(
+    "colour, radiance, shape, options, message",
+    [
+        ("[1.0, 0.5, 0.5]", 5, "box", [], "reflectance"),  # ρ = 1 would make energy grow
+        ("[0.5, 0.5, 0.5]", 5, "sphere", ["--no-clusters"], "without clusters radiosity takes at most 4000"),
+    ],
+)
 def test_command_refuses_scenes_radiosity_cannot_take(tmp_path, capsys, colour, radiance, shape, options, message):
     scene = tmp_path / "room.yaml"
     text = BOX_ROOM.format(colour=colour, radiance=radiance)
@@ -192,7 +221,7 @@ def test_display_pass_loads_into_its_own_context(ctx):
     frame = Frame(scene.camera("main"), (48, 48))
     params = RadiosityParams(HierarchyParams(epsilon=1e-3))
     first = other.readback_image(renderer.render_texture(frame, params), 3)
-    ctx.make_current()                                   # the other context is current now
+    ctx.make_current()  # the other context is current now
     dimmed = replace(params, lamp_scales=(("lamp", 0.5),))
     second = other.readback_image(renderer.render_texture(frame, dimmed), 3)
     other.make_current()
@@ -203,7 +232,7 @@ def test_display_pass_loads_into_its_own_context(ctx):
     np.testing.assert_allclose(second, expected, **tolerance("same arithmetic"))
     fresh.release()
     renderer.release()
-    ctx.make_current()                  # leave the suite's context current before the other one goes
+    ctx.make_current()  # leave the suite's context current before the other one goes
     other.gl.release()
 
 
@@ -225,7 +254,7 @@ def test_corner_ids_group_equal_rows_as_lexsort_does(rng, monkeypatch):
 
     assert 50 < len(np.unique(want)) < 4000
     assert same_partition(display.corner_ids(key))
-    monkeypatch.setattr(display, "_row_hashes", lambda k: np.zeros(len(k), np.uint64))   # all collide
+    monkeypatch.setattr(display, "_row_hashes", lambda k: np.zeros(len(k), np.uint64))  # all collide
     assert same_partition(display.corner_ids(key))
 
 
@@ -235,8 +264,12 @@ def test_a_solution_with_no_leaf_shown_draws_black(ctx):
     from illusio.radiosity.display import LeafMesh
     from illusio.scene.builtin import builtin_scene
 
-    empty = LeafMesh(*(np.zeros((0, 3), np.float32) for _ in range(3)), np.zeros(0, np.float32),
-                     np.zeros((0, 3), np.int32), np.zeros(0, np.int64))
+    empty = LeafMesh(
+        *(np.zeros((0, 3), np.float32) for _ in range(3)),
+        np.zeros(0, np.float32),
+        np.zeros((0, 3), np.int32),
+        np.zeros(0, np.int64),
+    )
     display = DisplayPass(ctx)
     display.load(empty)
     colour, element = display(builtin_scene("cornell-box").camera("main"), (16, 12))
@@ -271,7 +304,7 @@ def test_score_leaves_the_callers_mask_alone(rng):
     from illusio.radiosity.mitsuba import score
 
     truth = rng.random((32, 32, 3)) + 0.01
-    truth[:4] = 0.0                                   # below the floor: not scored, in either call
+    truth[:4] = 0.0  # below the floor: not scored, in either call
     mask = np.ones((32, 32), bool)
     before = mask.copy()
     first = score(truth * 1.1, truth, mask, block=1)

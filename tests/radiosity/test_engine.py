@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 
 from illusio.core.errors import InputError
-from illusio.radiosity import HierarchyParams, Polygons, Radiosity, scene_polygons
-from illusio.radiosity import reference
+from illusio.radiosity import HierarchyParams, Polygons, Radiosity, reference, scene_polygons
 from illusio.radiosity.dynamic import shaft_meets_box
 from illusio.radiosity.formfactor import point_polygon
 from illusio.radiosity.polygons import _cube, quads_from_triangles
@@ -22,10 +21,16 @@ from illusio.scene.scene import Material, Node, PointLight, Scene
 
 
 def closed_cube(reflectance=0.5, exitance=1.0) -> Polygons:
-    corners = _cube((0, 0, 0), 1.0)[:, ::-1]           # facing inward
+    corners = _cube((0, 0, 0), 1.0)[:, ::-1]  # facing inward
     n = len(corners)
-    return Polygons(corners, np.zeros(n, bool), np.full((n, 3), reflectance), np.full((n, 3), exitance),
-                    np.arange(n), [f"face-{k}" for k in range(n)])
+    return Polygons(
+        corners,
+        np.zeros(n, bool),
+        np.full((n, 3), reflectance),
+        np.full((n, 3), exitance),
+        np.arange(n),
+        [f"face-{k}" for k in range(n)],
+    )
 
 
 def per_polygon_radiosity(sol: Radiosity) -> tuple[np.ndarray, np.ndarray]:
@@ -41,6 +46,7 @@ def per_polygon_radiosity(sol: Radiosity) -> tuple[np.ndarray, np.ndarray]:
 
 # --- input -------------------------------------------------------------------------------------
 
+
 def test_triangles_pair_back_into_quads():
     box = shapes.box((1.0, 2.0, 3.0))
     corners, triangle = quads_from_triangles(box.vertices, box.faces)
@@ -50,8 +56,15 @@ def test_triangles_pair_back_into_quads():
     sphere = shapes.sphere(1.0, 8, 4)
     corners, triangle = quads_from_triangles(sphere.vertices, sphere.faces)
     # pairs or singles, the area is kept
-    tri_area = 0.5 * np.linalg.norm(np.cross(*(sphere.vertices[sphere.faces[:, k]] - sphere.vertices[sphere.faces[:, 0]] for k in (1, 2))), axis=1).sum()
+    tri_area = (
+        0.5
+        * np.linalg.norm(
+            np.cross(*(sphere.vertices[sphere.faces[:, k]] - sphere.vertices[sphere.faces[:, 0]] for k in (1, 2))),
+            axis=1,
+        ).sum()
+    )
     from illusio.radiosity.polygons import polygon_areas
+
     assert np.isclose(polygon_areas(corners, triangle).sum(), tri_area, rtol=1e-5)
 
 
@@ -74,6 +87,7 @@ def test_point_lamp_keeps_its_power():
     p = scene_polygons(scene)
     lamp = p.group == p.names.index("bulb")
     from illusio.radiosity.polygons import polygon_areas
+
     power = (p.exitance[lamp] * polygon_areas(p.corners[lamp], p.triangle[lamp])[:, None]).sum(axis=0)
     assert np.allclose(power, 4 * np.pi * 3.0 * np.array([1.0, 0.5, 0.25]))
 
@@ -82,11 +96,14 @@ def _collapse(p):
     p.corners[0] = p.corners[0, :1]
 
 
-@pytest.mark.parametrize("edit, message", [
-    (_collapse, "degenerate polygon"),
-    (lambda p: p.reflectance.__setitem__(2, 1.0), "reflectance"),
-    (lambda p: p.exitance.__setitem__(1, -1.0), "exitance"),
-])
+@pytest.mark.parametrize(
+    "edit, message",
+    [
+        (_collapse, "degenerate polygon"),
+        (lambda p: p.reflectance.__setitem__(2, 1.0), "reflectance"),
+        (lambda p: p.exitance.__setitem__(1, -1.0), "exitance"),
+    ],
+)
 def test_bad_polygons_are_refused(edit, message):
     p = closed_cube(exitance=0.0)
     edit(p)
@@ -102,6 +119,7 @@ def test_zero_area_emitter_is_named():
 
 
 # --- form factors --------------------------------------------------------------------------------
+
 
 def test_contour_integral_matches_its_reference(rng):
     """The numba kernel against the loop of reference.point_polygon_form_factor, on random polygons
@@ -138,9 +156,11 @@ def test_point_to_parallel_rectangle_closed_form():
     (1/2π)[X/√(1+X²)·atan(Y/√(1+X²)) + Y/√(1+Y²)·atan(X/√(1+Y²))], X = a/c, Y = b/c."""
     for a, b, c in ((1.0, 2.0, 1.0), (0.3, 0.5, 2.0), (4.0, 4.0, 0.1)):
         X, Y = a / c, b / c
-        want = (X / np.sqrt(1 + X * X) * np.arctan(Y / np.sqrt(1 + X * X))
-                + Y / np.sqrt(1 + Y * Y) * np.arctan(X / np.sqrt(1 + Y * Y))) / (2 * np.pi)
-        corners = np.array([[[0, 0, c], [0, b, c], [a, b, c], [a, 0, c]]], float)     # facing the point
+        want = (
+            X / np.sqrt(1 + X * X) * np.arctan(Y / np.sqrt(1 + X * X))
+            + Y / np.sqrt(1 + Y * Y) * np.arctan(X / np.sqrt(1 + Y * Y))
+        ) / (2 * np.pi)
+        corners = np.array([[[0, 0, c], [0, b, c], [a, b, c], [a, 0, c]]], float)  # facing the point
         got = point_polygon(np.zeros((1, 1, 3)), np.array([[0, 0, 1.0]]), corners, np.array([False]))[0]
         assert got == pytest.approx(want, rel=1e-9)
 
@@ -152,8 +172,12 @@ def test_point_polygon_cut_by_the_tangent_plane_matches_monte_carlo(rng):
     Without the clipping the part behind counts negatively: 0.348 instead of 0.394 on the second
     case, and on the third (a face standing on the floor, receiving from it) the two halves cancel:
     0 instead of 0.443."""
-    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)      # facing +z
-    for x, nx in (((0.3, 0.5, 0.5), (0.6, 0, -0.8)), ((0.7, 0.4, 0.3), (-0.9, 0.2, -0.3)), ((0.5, 0.5, 0.05), (1.0, 0, 0))):
+    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)  # facing +z
+    for x, nx in (
+        ((0.3, 0.5, 0.5), (0.6, 0, -0.8)),
+        ((0.7, 0.4, 0.3), (-0.9, 0.2, -0.3)),
+        ((0.5, 0.5, 0.05), (1.0, 0, 0)),
+    ):
         x, nx = np.array(x), np.array(nx) / np.linalg.norm(nx)
         y = rng.random((4_000_000, 2)) @ np.array([[1.0, 0, 0], [0, 1.0, 0]])
         d = y - x
@@ -175,15 +199,17 @@ def test_form_factors_close_and_are_reciprocal():
     assert np.average(row[leaves], weights=h.area[leaves]) == pytest.approx(1.0, abs=0.02)
     # reciprocity on two opposite faces, at the root level, from many samples
     from illusio.radiosity.visibility import Visibility
+
     vis = Visibility(h, samples=1024, seed=3, form_factor_points=1024)
-    a, b = h.roots[0], h.roots[1]                    # +x and -x faces: parallel, 1 apart
+    a, b = h.roots[0], h.roots[1]  # +x and -x faces: parallel, 1 apart
     f_ab, _ = vis(np.array([a]), np.array([b]))
     f_ba, _ = vis(np.array([b]), np.array([a]))
     assert h.area[a] * f_ab[0] == pytest.approx(h.area[b] * f_ba[0], rel=0.02)
-    assert f_ab[0] == pytest.approx(0.1998, abs=0.005)   # the tabulated value for unit squares 1 apart
+    assert f_ab[0] == pytest.approx(0.1998, abs=0.005)  # the tabulated value for unit squares 1 apart
 
 
 # --- the radiosity equation -----------------------------------------------------------------
+
 
 def test_radiosity_equation_furnace():
     """B = E + ρ Σ_j F_ij V_ij B_j in a closed box of uniform ρ and E has the solution E / (1 − ρ)."""
@@ -194,7 +220,9 @@ def test_radiosity_equation_furnace():
 
 def test_gather_and_push_pull_match_the_loops(rng):
     """The sparse gather and the level-by-level push-pull give the loop references' values."""
-    sol = Radiosity(scene_polygons(load_scene("cornell-box")), HierarchyParams(epsilon=3e-4, seed=int(rng.integers(1000)))).build()
+    sol = Radiosity(
+        scene_polygons(load_scene("cornell-box")), HierarchyParams(epsilon=3e-4, seed=int(rng.integers(1000)))
+    ).build()
     h, L = sol.hierarchy, sol.links
     b = rng.random((len(h), 3))
     got = np.asarray(sol.matrix() @ b)
@@ -229,6 +257,7 @@ def test_hierarchical_solve_equals_the_dense_solve(rng):
 
 # --- refinement ------------------------------------------------------------------------------
 
+
 @pytest.fixture(scope="module")
 def cornell():
     return scene_polygons(load_scene("cornell-box"))
@@ -241,7 +270,7 @@ def test_refinement_respects_the_minimum_area_and_types(cornell):
     types = L.type
     assert set(np.unique(types)) <= {VISIBLE, PARTIAL, INVISIBLE}
     assert (L.visibility[types == VISIBLE] == 1).all() and (L.visibility[types == INVISIBLE] == 0).all()
-    assert (types == PARTIAL).any()            # the blocks cast shadows
+    assert (types == PARTIAL).any()  # the blocks cast shadows
 
 
 def test_criteria_bf_is_b_f_a_and_bfv_is_b_f_v_a():
@@ -288,7 +317,9 @@ def test_lights_to_leaves(cornell):
     h, L = leaves.hierarchy, leaves.links
     from_lamp = h.exitance[L.source].max(axis=1) > 0
     assert (h.child[L.receiver[from_lamp]] < 0).all()
-    assert (plain.hierarchy.child[plain.links.receiver[plain.hierarchy.exitance[plain.links.source].max(axis=1) > 0]] >= 0).any()
+    assert (
+        plain.hierarchy.child[plain.links.receiver[plain.hierarchy.exitance[plain.links.source].max(axis=1) > 0]] >= 0
+    ).any()
     a, area = per_polygon_radiosity(plain)
     b, _ = per_polygon_radiosity(leaves)
     reflector = cornell.exitance.max(axis=1) == 0
@@ -296,6 +327,7 @@ def test_lights_to_leaves(cornell):
 
 
 # --- interactive relighting ----------------------------------------------------------------------
+
 
 def test_lamp_changes_resolve_linearly():
     """With the links kept, B is linear in the exitances: the office with lamps 0 and 1 off plus the
@@ -308,18 +340,21 @@ def test_lamp_changes_resolve_linearly():
     back = sol.hierarchy.radiosity.copy()
     sol.set_lamps({"lamp-2": 0, "lamp-3": 0}, **kw)
     front = sol.hierarchy.radiosity.copy()
-    screens = sol.exitance().max(axis=1) > 0          # the monitors glow in both halves
+    screens = sol.exitance().max(axis=1) > 0  # the monitors glow in both halves
     glow = np.where(screens[:, None], 0, 1)
     sol.set_lamps({n: 0 for n in sol.lamp_names}, **kw)
     dark = sol.hierarchy.radiosity.copy()
     assert np.allclose(back + front - dark, full, rtol=1e-5, atol=1e-7 * full.max())
     sol.set_lamps({n: 2 for n in sol.lamp_names}, **kw)
-    assert np.allclose((sol.hierarchy.radiosity - dark) * glow, 2 * (full - dark) * glow, rtol=1e-5, atol=1e-7 * full.max())
+    assert np.allclose(
+        (sol.hierarchy.radiosity - dark) * glow, 2 * (full - dark) * glow, rtol=1e-5, atol=1e-7 * full.max()
+    )
     with pytest.raises(InputError, match="no lamp named"):
         sol.set_lamps({"lamp-9": 1})
 
 
 # --- dynamic updates -----------------------------------------------------------------------------
+
 
 def test_shaft_test_is_conservative(rng):
     """Every segment between a point of box i and a point of box j that crosses the object's box is
@@ -335,7 +370,7 @@ def test_shaft_test_is_conservative(rng):
     seg = a[:, None] + t * (b - a)[:, None]
     crosses = ((seg >= box_lo) & (seg <= box_hi)).all(axis=2).any(axis=1)
     assert crosses.any() and (meets[crosses]).all()
-    assert not meets.all()                    # and it does cull
+    assert not meets.all()  # and it does cull
 
 
 def test_shaft_test_over_links_matches_the_reference(rng):
@@ -365,14 +400,14 @@ def test_moving_an_object_matches_a_full_rebuild(scene, name, epsilon):
     move = np.eye(4)
     move[:3, 3] = (0.08, 0.0, 0.05)
     sol.move_object(name, move)
-    assert np.array_equal(p.corners, scene_polygons(load_scene(scene)).corners)    # the input is untouched
+    assert np.array_equal(p.corners, scene_polygons(load_scene(scene)).corners)  # the input is untouched
     moved = p.corners.copy()
     rows = p.group == p.names.index(name)
     moved[rows] += move[:3, 3]
     fresh = Radiosity(dataclasses.replace(p, corners=moved), params).build()
     a, area = per_polygon_radiosity(sol)
     b, _ = per_polygon_radiosity(fresh)
-    reflector = sol.polygons.exitance.max(axis=1) == 0      # per polygon as the solution cut them
+    reflector = sol.polygons.exitance.max(axis=1) == 0  # per polygon as the solution cut them
     # a face black in the rebuild (a chair leg's foot on the floor: 1e-5 W/m² through a cluster's
     # push) is measured against a thousandth of the mean B, not against 0
     floor = 1e-3 * np.average(b.mean(axis=1)[reflector], weights=area[reflector])
@@ -387,12 +422,18 @@ def test_removing_then_adding_back_and_adding_a_lamp(cornell):
     sol = Radiosity(cornell, params).build()
     before, area = per_polygon_radiosity(sol)
     rows = cornell.group == cornell.names.index("tall-block")
-    block = Polygons(cornell.corners[rows], cornell.triangle[rows], cornell.reflectance[rows], cornell.exitance[rows],
-                     np.zeros(rows.sum(), int), ["tall-block"])
+    block = Polygons(
+        cornell.corners[rows],
+        cornell.triangle[rows],
+        cornell.reflectance[rows],
+        cornell.exitance[rows],
+        np.zeros(rows.sum(), int),
+        ["tall-block"],
+    )
     sol.remove_object("tall-block")
     without, _ = per_polygon_radiosity(sol)
     floor = cornell.names.index("floor")
-    assert without[floor].mean() > 1.02 * before[floor].mean()          # its shadow is gone
+    assert without[floor].mean() > 1.02 * before[floor].mean()  # its shadow is gone
     sol.add_object(block, "tall-block-again")
     again, _ = per_polygon_radiosity(sol)
     keep = ~rows & (cornell.exitance.max(axis=1) == 0)
@@ -403,8 +444,15 @@ def test_removing_then_adding_back_and_adding_a_lamp(cornell):
     dyn = Radiosity(cornell, params).build()
     dyn.add_lamp(name="virtual", **lamp)
     from illusio.radiosity.polygons import rectangle
-    lamp_polygon = Polygons(rectangle(lamp["centre"], lamp["edge_u"], lamp["edge_v"])[None], [False], np.zeros((1, 3)),
-                            np.array([lamp["exitance"]]), [0], ["virtual"])
+
+    lamp_polygon = Polygons(
+        rectangle(lamp["centre"], lamp["edge_u"], lamp["edge_v"])[None],
+        [False],
+        np.zeros((1, 3)),
+        np.array([lamp["exitance"]]),
+        [0],
+        ["virtual"],
+    )
     fresh = Radiosity(cornell.extended(lamp_polygon, "virtual", lamp=True), params).build()
     a, area = per_polygon_radiosity(dyn)
     b, _ = per_polygon_radiosity(fresh)
@@ -422,7 +470,7 @@ def test_a_solve_stopped_at_its_cap_says_so(cornell):
         sol.build(1e-6, 2)
     assert sol.stats.residual > 1e-6 and "residual" in sol.stats.lines()[0]
     with warnings.catch_warnings():
-        warnings.simplefilter("error")                # converged: no warning
+        warnings.simplefilter("error")  # converged: no warning
         sol.solve(1e-4, 500)
     assert sol.stats.residual < 1e-4
 
@@ -433,7 +481,7 @@ def test_a_lamp_facing_away_from_everything_is_named():
     from illusio.scene.scene import AreaLight, Scene
 
     scene = Scene("away")
-    scene.lights.append(AreaLight((0, 2, 0), (0.5, 0, 0), (0, 0, -0.5), (1, 1, 1), 5.0))    # faces up
+    scene.lights.append(AreaLight((0, 2, 0), (0.5, 0, 0), (0, 0, -0.5), (1, 1, 1), 5.0))  # faces up
     from illusio.scene.builtin import shapes
     from illusio.scene.scene import Node
 

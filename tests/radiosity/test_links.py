@@ -15,7 +15,7 @@ def test_in_place_edits_equal_masks_and_concatenation(rng):
     names = ("receiver", "source", "form_factor", "visibility", "tag", "rays")
     for _ in range(6):
         drop = rng.random(len(links)) < 0.2
-        if _ == 3:                       # only the newest links (a drag removes its object's)
+        if _ == 3:  # only the newest links (a drag removes its object's)
             drop[: len(links) * 9 // 10] = False
         gone = links.remove(drop)
         for name, column in zip(names, plain):
@@ -60,7 +60,7 @@ def test_facing_pairs_equal_the_numpy_facing_test(rng):
 
     n = 300
     centre = rng.uniform(-1, 1, (n, 3))
-    centre[: n // 3, 1] = 0.0                                    # a third on one plane (the floor)
+    centre[: n // 3, 1] = 0.0  # a third on one plane (the floor)
     normal = rng.normal(size=(n, 3))
     normal[: n // 3] = (0, 1, 0)
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
@@ -68,8 +68,9 @@ def test_facing_pairs_equal_the_numpy_facing_test(rng):
     u /= np.linalg.norm(u, axis=1, keepdims=True)
     v = np.cross(normal, u)
     size = rng.uniform(0.05, 0.8, (n, 1))
-    corners = centre[:, None] + size[:, None] * (np.array([-1, 1, 1, -1])[None, :, None] * u[:, None]
-                                                 + np.array([-1, -1, 1, 1])[None, :, None] * v[:, None])
+    corners = centre[:, None] + size[:, None] * (
+        np.array([-1, 1, 1, -1])[None, :, None] * u[:, None] + np.array([-1, -1, 1, 1])[None, :, None] * v[:, None]
+    )
     recv, src = rng.integers(0, n, 4000), rng.integers(0, n, 4000)
     want = facing(corners[recv], normal[recv], centre[recv], corners[src], normal[src], centre[src])
     got = facing_pairs(corners, normal, centre, recv, src)

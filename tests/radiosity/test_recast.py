@@ -15,7 +15,7 @@ def test_pair_grids_are_per_pair_stratified_and_repeatable(rng):
     receivers, sources = rng.integers(0, 10_000, 500), rng.integers(0, 10_000, 500)
     uv_r, uv_s = pair_grids(receivers, sources, 16, seed=3)
     assert uv_r.shape == (500, 16, 2) and (uv_r >= 0).all() and (uv_r < 1).all() and (uv_s < 1).all()
-    for uv in (uv_r, uv_s):                      # one point per cell of the 4×4 grid
+    for uv in (uv_r, uv_s):  # one point per cell of the 4×4 grid
         cell = (np.floor(uv[..., 1] * 4) * 4 + np.floor(uv[..., 0] * 4)).astype(int)
         assert (np.sort(cell, axis=1) == np.arange(16)).all()
     # the source's cells in another order than the receiver's, and pairs drawn apart
@@ -39,7 +39,9 @@ def _crate_in_cornell():
     box = shapes.box((0.12, 0.12, 0.12))
     corners, triangle = quads_from_triangles(np.asarray(box.vertices) + [0.3, 0.06, 0.3], box.faces)
     n = len(corners)
-    sol.add_object(Polygons(corners, triangle, np.full((n, 3), 0.5), np.zeros((n, 3)), np.zeros(n, int), ["crate"]), "crate")
+    sol.add_object(
+        Polygons(corners, triangle, np.full((n, 3), 0.5), np.zeros((n, 3)), np.zeros(n, int), ["crate"]), "crate"
+    )
     return sol
 
 

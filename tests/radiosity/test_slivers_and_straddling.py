@@ -15,16 +15,17 @@ def _polygons(rects, exitance=None, reflectance=0.5):
     corners = np.stack(rects)
     n = len(corners)
     e = np.zeros((n, 3)) if exitance is None else np.asarray(exitance, float)
-    return Polygons(corners, np.zeros(n, bool), np.full((n, 3), reflectance), e, np.arange(n),
-                    [f"p{k}" for k in range(n)])
+    return Polygons(
+        corners, np.zeros(n, bool), np.full((n, 3), reflectance), e, np.arange(n), [f"p{k}" for k in range(n)]
+    )
 
 
 def test_a_face_standing_on_the_floor_sees_the_floor_clear():
     """A 20 cm board standing upright in the middle of a 2 m floor: half the floor lies behind the
     board's plane, where its rays would go back through the board. Only rays front to front count
     in V, so the pair is clear (V = 1); counting the others as blocked gave V ≈ 0.5."""
-    floor = rectangle((0, 0, 0), (2, 0, 0), (0, 0, -2))               # facing +y
-    board = rectangle((0, 0.1, 0), (0, 0, -0.2), (0, 0.2, 0))        # facing +x, standing on the floor
+    floor = rectangle((0, 0, 0), (2, 0, 0), (0, 0, -2))  # facing +y
+    board = rectangle((0, 0.1, 0), (0, 0, -0.2), (0, 0.2, 0))  # facing +x, standing on the floor
     p = _polygons([floor, board])
     assert np.allclose(p.normals(), [[0, 1, 0], [1, 0, 0]], atol=1e-12)
     h = Hierarchy(p)
@@ -44,7 +45,9 @@ def test_split_slivers_keeps_area_plane_and_material():
     p = _polygons([strip, square], reflectance=0.3)
     cut = p.split_slivers(0.1)
     assert len(cut) == 1 + 10
-    assert polygon_areas(cut.corners, cut.triangle).sum() == pytest.approx(polygon_areas(p.corners, p.triangle).sum(), rel=1e-12)
+    assert polygon_areas(cut.corners, cut.triangle).sum() == pytest.approx(
+        polygon_areas(p.corners, p.triangle).sum(), rel=1e-12
+    )
     assert np.allclose(cut.normals(), p.normals()[cut.group])
     assert np.array_equal(np.bincount(cut.group), [10, 1]) and np.allclose(cut.reflectance, 0.3)
     assert len(p.split_slivers(0.5)) == 1 + 2 and p.split_slivers(0.0) is p
@@ -55,13 +58,15 @@ def test_a_pole_lit_at_one_end_is_not_lit_along_its_length():
     radiosity falls along it, near the lamp at least 20× what it is at its foot. With A_ε = 50 cm²
     (the living room's) and uncut (sliver_piece = 0) the pole is one element, lit uniformly."""
     floor = rectangle((0, 0, 0), (3, 0, 0), (0, 0, -3))
-    pole = rectangle((0, 0.7, 0.005), (0.01, 0, 0), (0, 1.4, 0))                 # facing +z
-    lamp = rectangle((0, 1.4 + 1e-3, 0.03), (0.06, 0, 0), (0, 0, 0.06))            # facing down
+    pole = rectangle((0, 0.7, 0.005), (0.01, 0, 0), (0, 1.4, 0))  # facing +z
+    lamp = rectangle((0, 1.4 + 1e-3, 0.03), (0.06, 0, 0), (0, 0, 0.06))  # facing down
     p = _polygons([floor, pole, lamp], exitance=[[0] * 3, [0] * 3, [500.0] * 3])
     assert p.normals()[2, 1] < -0.99 and p.normals()[1, 2] > 0.99
 
     def pole_radiosity(sliver_piece):
-        sol = Radiosity(p, HierarchyParams(epsilon=1e-5, min_area=0.005, sliver_piece=sliver_piece, clusters=False)).build()
+        sol = Radiosity(
+            p, HierarchyParams(epsilon=1e-5, min_area=0.005, sliver_piece=sliver_piece, clusters=False)
+        ).build()
         h = sol.hierarchy
         leaves = h.leaves()
         on_pole = leaves[sol.polygons.group[h.polygon[leaves]] == 1]

@@ -18,22 +18,32 @@ def test_a_triangulated_model_has_the_surfaces_of_its_quads():
     s = tris.surfaces()
     assert len(np.unique(s)) == len(np.unique(quads.surfaces())) == len(quads)
     quad = ~quads.triangle
-    assert np.array_equal(s[:len(quads)][quad], s[len(quads):])          # the two halves of each quad
+    assert np.array_equal(s[: len(quads)][quad], s[len(quads) :])  # the two halves of each quad
 
 
 def test_only_flat_neighbours_join():
     def fold(degrees):
         a = np.radians(degrees)
-        flat = [[0, 0, 0], [1, 0, 0], [1, 0, -1], [0, 0, -1]]                   # facing +y
-        bent = [[1, 0, 0], [2, np.sin(a), 0], [2, np.sin(a), -1], [1, 0, -1]]   # shares the edge x = 1
-        return Polygons(np.array([flat, bent], float), np.zeros(2, bool), np.full((2, 3), 0.5), np.zeros((2, 3)),
-                        [0, 0], ["sheet"])
+        flat = [[0, 0, 0], [1, 0, 0], [1, 0, -1], [0, 0, -1]]  # facing +y
+        bent = [[1, 0, 0], [2, np.sin(a), 0], [2, np.sin(a), -1], [1, 0, -1]]  # shares the edge x = 1
+        return Polygons(
+            np.array([flat, bent], float), np.zeros(2, bool), np.full((2, 3), 0.5), np.zeros((2, 3)), [0, 0], ["sheet"]
+        )
+
     assert len(np.unique(fold(0.5).surfaces())) == 1
     assert len(np.unique(fold(2.0).surfaces())) == 2
     apart = fold(0.0)
-    apart.corners[1] += (0.001, 0, 0)                                          # no shared edge
-    assert len(np.unique(Polygons(apart.corners, apart.triangle, apart.reflectance, apart.exitance, apart.group,
-                                  apart.names).surfaces())) == 2
+    apart.corners[1] += (0.001, 0, 0)  # no shared edge
+    assert (
+        len(
+            np.unique(
+                Polygons(
+                    apart.corners, apart.triangle, apart.reflectance, apart.exitance, apart.group, apart.names
+                ).surfaces()
+            )
+        )
+        == 2
+    )
 
 
 def test_neighbours_cross_the_diagonal_of_a_split_quad():
@@ -50,4 +60,4 @@ def test_neighbours_cross_the_diagonal_of_a_split_quad():
     row = {int(e): k for k, e in enumerate(leaves)}
     first = [e for e in leaves if h.polygon[e] == halves[0]]
     crossing = [e for e in first if any(h.polygon[leaves[n]] == halves[1] for n in near[row[int(e)]])]
-    assert len(crossing) >= 2                                            # the leaves along the cut
+    assert len(crossing) >= 2  # the leaves along the cut

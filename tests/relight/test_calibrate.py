@@ -9,11 +9,11 @@ import pytest
 
 pytest.importorskip("cv2", reason="calibration uses OpenCV (the photo extra)")
 
-from illusio.core.errors import InputError  # noqa: E402
-from illusio.relight.calibrate import calibrate, read_camera, read_points  # noqa: E402
-from illusio.scene.camera import Pose, View  # noqa: E402
-from illusio.scene.intrinsics import Intrinsics  # noqa: E402
-from tests.conftest import call_cli  # noqa: E402
+from illusio.core.errors import InputError
+from illusio.relight.calibrate import calibrate, read_camera, read_points
+from illusio.scene.camera import Pose, View
+from illusio.scene.intrinsics import Intrinsics
+from tests.conftest import call_cli
 
 SIZE = (320, 240)
 TRUE = Intrinsics(320, 240, 262.0, 270.0, 168.5, 114.0, "OPENCV", (-0.12, 0.03, 0.0, 0.0))
@@ -56,7 +56,7 @@ def test_a_known_camera_is_found_from_its_projections(rng):
     assert i.distortion[0] < 0 and i.distortion[2:] == (0.0, 0.0)
     assert np.linalg.norm(np.subtract(result.view.pose.position, VIEW.pose.position)) < 0.05
     held_out = np.linalg.norm(project(xyz[30:], result.view, i) - project(xyz[30:]), axis=1)
-    assert np.median(held_out) < 0.4 and held_out.max() < 5          # 60 seeds: at most 0.19 and 1.9 px
+    assert np.median(held_out) < 0.4 and held_out.max() < 5  # 60 seeds: at most 0.19 and 1.9 px
 
 
 def test_few_points_fit_one_focal_length_and_the_centre(rng):
@@ -69,8 +69,10 @@ def test_few_points_fit_one_focal_length_and_the_centre(rng):
 
 
 def _write_points(path, uv, xyz):
-    path.write_text("u v x y z   # picked in an image editor\n" + "".join(
-        f"{a:.3f}, {b:.3f}, {x:.4f}, {y:.4f}, {z:.4f}\n" for (a, b), (x, y, z) in zip(uv, xyz)))
+    path.write_text(
+        "u v x y z   # picked in an image editor\n"
+        + "".join(f"{a:.3f}, {b:.3f}, {x:.4f}, {y:.4f}, {z:.4f}\n" for (a, b), (x, y, z) in zip(uv, xyz))
+    )
 
 
 def test_the_command_writes_camera_json_that_a_folder_reads(tmp_path, capsys, rng):
@@ -80,30 +82,45 @@ def test_the_command_writes_camera_json_that_a_folder_reads(tmp_path, capsys, rn
     _write_points(tmp_path / "points.txt", project(xyz), xyz)
     write_image(tmp_path / "photo.png", np.full((240, 320, 3), 0.5, np.float32))
     out = tmp_path / "camera.json"
-    code, cap = call_cli(["relight", "calibrate", str(tmp_path / "photo.png"), "--points", str(tmp_path / "points.txt"),
-                          "-o", str(out)], capsys)
+    code, cap = call_cli(
+        ["relight", "calibrate", str(tmp_path / "photo.png"), "--points", str(tmp_path / "points.txt"), "-o", str(out)],
+        capsys,
+    )
     assert code == 0, cap.err
     assert "reprojection error" in cap.out and "px RMS over 14 points" in cap.out
     doc = json.loads(out.read_text())
     assert doc["width"] == 320 and len(doc["distortion"]) == 4
     view, intr, size = read_camera(out)
     assert size == SIZE and intr.distorted and intr.fx == pytest.approx(TRUE.fx, rel=0.02)
-    assert view.camera.shift != (0.0, 0.0)                    # the principal point off centre, kept
+    assert view.camera.shift != (0.0, 0.0)  # the principal point off centre, kept
     # points paired wrongly: refused, nothing written
     shuffled = xyz[np.roll(np.arange(14), 3)]
     _write_points(tmp_path / "bad.txt", project(xyz), shuffled)
-    code, cap = call_cli(["relight", "calibrate", str(tmp_path / "photo.png"), "--points", str(tmp_path / "bad.txt"),
-                          "-o", str(tmp_path / "other.json")], capsys)
+    code, cap = call_cli(
+        [
+            "relight",
+            "calibrate",
+            str(tmp_path / "photo.png"),
+            "--points",
+            str(tmp_path / "bad.txt"),
+            "-o",
+            str(tmp_path / "other.json"),
+        ],
+        capsys,
+    )
     assert code == 2 and "check that each u, v is paired with its x, y, z" in cap.err and "Traceback" not in cap.err
     assert not (tmp_path / "other.json").exists()
 
 
-@pytest.mark.parametrize("text, message", [
-    ("1 2 3 4\n", ":1:1: a point is 'u v x y z', got 4 values"),
-    ("1 2 3 4 x\n", ":1:9: 'x' is not a finite number"),
-    ("1 2 3 4 nan\n", ":1:9: 'nan' is not a finite number"),
-    ("1 2 0 0 0\n" * 3, "3 points; the camera needs at least 6"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("1 2 3 4\n", ":1:1: a point is 'u v x y z', got 4 values"),
+        ("1 2 3 4 x\n", ":1:9: 'x' is not a finite number"),
+        ("1 2 3 4 nan\n", ":1:9: 'nan' is not a finite number"),
+        ("1 2 0 0 0\n" * 3, "3 points; the camera needs at least 6"),
+    ],
+)
 def test_bad_points_say_where(tmp_path, text, message):
     (tmp_path / "p.txt").write_text(text)
     with pytest.raises(InputError, match=message.replace("(", r"\(").replace(")", r"\)")):
@@ -125,8 +142,18 @@ def test_the_worked_example_from_photograph_to_relit_image(tmp_path, capsys):
     pytest.importorskip("mitsuba", reason="the example's photograph is path-traced (photo extra)")
     room = tmp_path / "my-room"
     assert call_cli(["relight", "example", str(room), "--samples", "4"], capsys)[0] == 0
-    code, cap = call_cli(["relight", "calibrate", str(room / "photograph.png"), "--points", str(room / "points.txt"),
-                          "-o", str(room / "camera.json")], capsys)
+    code, cap = call_cli(
+        [
+            "relight",
+            "calibrate",
+            str(room / "photograph.png"),
+            "--points",
+            str(room / "points.txt"),
+            "-o",
+            str(room / "camera.json"),
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     _, found, _ = read_camera(room / "camera.json")
     _, true, _ = read_camera(room / "true-camera.json")
@@ -134,8 +161,21 @@ def test_the_worked_example_from_photograph_to_relit_image(tmp_path, capsys):
     assert abs(found.cx - true.cx) < 3 and abs(found.cy - true.cy) < 3
     assert found.distortion[0] == pytest.approx(true.distortion[0], abs=0.02)
     out = tmp_path / "relit.png"
-    code, cap = call_cli(["relight", str(room), "-o", str(out), "--set", "reading-lamp=0", "--method", "baseline",
-                          "--photograph", str(tmp_path / "photo.png")], capsys)
+    code, cap = call_cli(
+        [
+            "relight",
+            str(room),
+            "-o",
+            str(out),
+            "--set",
+            "reading-lamp=0",
+            "--method",
+            "baseline",
+            "--photograph",
+            str(tmp_path / "photo.png"),
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     import dataclasses
 
@@ -150,10 +190,10 @@ def test_the_worked_example_from_photograph_to_relit_image(tmp_path, capsys):
     truth = pinhole_photograph(dataclasses.replace(p, exitance=p.exitance * off[:, None]), true_camera()[1], 16, 1)
     relit, photo = read_image(out), read_image(tmp_path / "photo.png")
     inner = np.zeros(truth.shape[:2], bool)
-    inner[16:-16, 16:-16] = True                     # the undistorted photograph's border is stretched
+    inner[16:-16, 16:-16] = True  # the undistorted photograph's border is stretched
     # the exposure is the estimate's (Loscos 4.2): compared after one scale each, what matters is where
     # the light went
-    fit = lambda image: image * (truth[inner].mean() / image[inner].mean())      # noqa: E731
+    fit = lambda image: image * (truth[inner].mean() / image[inner].mean())  # noqa: E731
     before = score(fit(photo), truth, inner, block=4).mean_relative_error
     after = score(fit(relit), truth, inner, block=4).mean_relative_error
     assert after < 0.5 * before, (after, before)

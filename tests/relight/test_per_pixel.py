@@ -11,20 +11,34 @@ from illusio.scene.camera import Camera, Pose, View
 
 def _quad(centre, half_u, half_v, down=False):
     c, u, v = (np.asarray(x, float) for x in (centre, half_u, half_v))
-    q = np.array([c - u + v, c + u + v, c + u - v, c - u - v])        # facing +y for u = x, v = z
+    q = np.array([c - u + v, c + u + v, c + u - v, c - u - v])  # facing +y for u = x, v = z
     return q[::-1] if down else q
 
 
 def _floor_under_lamp(lamp_faces_down: bool):
-    corners = np.array([_quad((0, 0, 0), (2, 0, 0), (0, 0, 2)),                           # floor, up
-                        _quad((0.3, 1.5, 0), (0.2, 0, 0), (0, 0, 0.2), down=lamp_faces_down)])
-    polygons = Polygons(corners, np.zeros(2, bool), np.array([[0.5] * 3, [0.0] * 3]),
-                        np.array([[0.0] * 3, [50.0] * 3]), np.arange(2), ["floor", "lamp"], [1])
+    corners = np.array(
+        [
+            _quad((0, 0, 0), (2, 0, 0), (0, 0, 2)),  # floor, up
+            _quad((0.3, 1.5, 0), (0.2, 0, 0), (0, 0, 0.2), down=lamp_faces_down),
+        ]
+    )
+    polygons = Polygons(
+        corners,
+        np.zeros(2, bool),
+        np.array([[0.5] * 3, [0.0] * 3]),
+        np.array([[0.0] * 3, [50.0] * 3]),
+        np.arange(2),
+        ["floor", "lamp"],
+        [1],
+    )
     view = View(Pose((0.0, 4.0, 0.01), (0.0, 0.0, 0.0)), Camera(fov_y=40.0))
     points, normals, polygon = surface_points(polygons, view, (32, 32))
     seen = polygon == 0
-    return polygons, lamp_irradiance(polygons, np.array([1]), polygons.exitance[[1]], points, normals, seen,
-                                     samples=16)[:, 0], points[seen]
+    return (
+        polygons,
+        lamp_irradiance(polygons, np.array([1]), polygons.exitance[[1]], points, normals, seen, samples=16)[:, 0],
+        points[seen],
+    )
 
 
 def test_a_lamp_facing_away_lights_nothing():

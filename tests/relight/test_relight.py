@@ -8,11 +8,9 @@ import pytest
 
 from illusio.core.errors import InputError
 from illusio.core.images import read_image
-from illusio.relight import RealScene, RelightSession
-from illusio.relight import estimate
+from illusio.relight import RealScene, RelightSession, estimate
 from tests.conftest import call_cli
 from tests.relight.conftest import COARSE, prepared
-
 
 
 def test_eq_4_1_reflectance_from_the_photograph(rng):
@@ -43,7 +41,7 @@ def test_eq_4_3_shows_the_photograph_when_nothing_changed(session):
     image = session.image({})
     seen = session.pixel_polygon >= 0
     assert np.abs(image - session.real.photograph)[seen].mean() < 1e-4
-    doubled = session.image({n: 2.0 for n in session.lamp_names})     # B is linear in E: twice the light
+    doubled = session.image({n: 2.0 for n in session.lamp_names})  # B is linear in E: twice the light
     ratio = doubled[seen].sum() / session.real.photograph[seen].sum()
     assert ratio == pytest.approx(2.0, rel=0.01)
 
@@ -59,8 +57,11 @@ def test_the_estimates_are_near_the_truth(session):
     assert session.mean_reflectance.shape == (3,) and 0.2 < session.mean_reflectance.mean() < 0.8
 
 
-FIGURE_4_17 = ({"lamp-0": 0.0, "lamp-1": 0.0}, {"lamp-0": 0.0, "lamp-2": 0.0, "lamp-1": 2.0, "lamp-3": 2.0},
-               {"lamp-1": 0.0, "lamp-3": 0.0, "lamp-0": 2.0, "lamp-2": 2.0})
+FIGURE_4_17 = (
+    {"lamp-0": 0.0, "lamp-1": 0.0},
+    {"lamp-0": 0.0, "lamp-2": 0.0, "lamp-1": 2.0, "lamp-3": 2.0},
+    {"lamp-1": 0.0, "lamp-3": 0.0, "lamp-0": 2.0, "lamp-2": 2.0},
+)
 
 
 @pytest.fixture(scope="module")
@@ -99,7 +100,9 @@ def test_loscos_removes_the_photographed_shadows_where_the_baseline_keeps_them(s
 
     def errors(method, **changes):
         s = sessions(method, **changes)
-        return np.array([score(s.image(edit), truth, shadow).mean_relative_error for edit, truth in zip(FIGURE_4_17, truths)])
+        return np.array(
+            [score(s.image(edit), truth, shadow).mean_relative_error for edit, truth in zip(FIGURE_4_17, truths)]
+        )
 
     baseline, loscos, without_4_9 = errors("baseline"), errors("loscos"), errors("loscos", reference_correction=False)
     assert (loscos < 0.97 * baseline).all(), (loscos, baseline)
@@ -111,6 +114,7 @@ def test_loscos_removes_the_photographed_shadows_where_the_baseline_keeps_them(s
 def test_a_bad_real_scene_is_refused():
     from illusio.radiosity import scene_polygons
     from illusio.scene import load_scene
+
     p = scene_polygons(load_scene("office"))
     view = load_scene("office").camera()
     with pytest.raises(InputError, match="H×W×3"):
@@ -126,31 +130,68 @@ def test_a_bad_real_scene_is_refused():
 def test_command(tmp_path, capsys):
     pytest.importorskip("mitsuba", reason="the built-in photograph is rendered by Mitsuba (photo extra)")
     out = tmp_path / "relit.png"
-    code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--samples", "8",
-                          "--epsilon", "3e-4", "--set", "lamp-0=0", "--photograph", str(tmp_path / "photo.png")], capsys)
+    code, cap = call_cli(
+        [
+            "relight",
+            "office",
+            "-o",
+            str(out),
+            "--size",
+            "64x48",
+            "--samples",
+            "8",
+            "--epsilon",
+            "3e-4",
+            "--set",
+            "lamp-0=0",
+            "--photograph",
+            str(tmp_path / "photo.png"),
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     relit, photo = read_image(out), read_image(tmp_path / "photo.png")
     assert relit.shape == photo.shape == (48, 64, 3)
-    assert relit.mean() < photo.mean()                       # lamp-0 off: darker than the photograph
+    assert relit.mean() < photo.mean()  # lamp-0 off: darker than the photograph
     code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--set", "lamp-7=0"], capsys)
     assert code == 2 and "no lamp named" in cap.err
     code, cap = call_cli(["relight", "office", "-o", str(out), "--size", "64x48", "--set", "lamp-0=inf"], capsys)
-    assert code == 2 and "--set takes NAME=SCALE with a finite SCALE" in cap.err     # refused when parsed
+    assert code == 2 and "--set takes NAME=SCALE with a finite SCALE" in cap.err  # refused when parsed
     # prepare once, then edit from the saved session: the same image as preparing in the same command
     saved = tmp_path / "office.npz"
-    code, cap = call_cli(["relight", "prepare", "office", "-o", str(saved), "--size", "64x48", "--samples", "8",
-                          "--method", "loscos"], capsys)
+    code, cap = call_cli(
+        ["relight", "prepare", "office", "-o", str(saved), "--size", "64x48", "--samples", "8", "--method", "loscos"],
+        capsys,
+    )
     assert code == 0, cap.err
     direct, again = tmp_path / "direct.npy", tmp_path / "again.npy"
-    assert call_cli(["relight", "office", "-o", str(direct), "--size", "64x48", "--samples", "8", "--method", "loscos",
-                     "--set", "lamp-2=0.5"], capsys)[0] == 0
+    assert (
+        call_cli(
+            [
+                "relight",
+                "office",
+                "-o",
+                str(direct),
+                "--size",
+                "64x48",
+                "--samples",
+                "8",
+                "--method",
+                "loscos",
+                "--set",
+                "lamp-2=0.5",
+            ],
+            capsys,
+        )[0]
+        == 0
+    )
     code, cap = call_cli(["relight", str(saved), "-o", str(again), "--set", "lamp-2=0.5"], capsys)
     assert code == 0 and "loaded in" in cap.out
     assert np.allclose(np.load(again), np.load(direct), atol=1e-5)
     code, cap = call_cli(["relight", str(saved), "-o", str(tmp_path / "mesh.png"), "--show", "mesh"], capsys)
     assert code == 0
     mesh = read_image(tmp_path / "mesh.png")
-    assert mesh.shape == (48, 64, 3) and (mesh.max(axis=-1) < 0.02).mean() > 0.05      # the leaves' outlines
+    assert mesh.shape == (48, 64, 3) and (mesh.max(axis=-1) < 0.02).mean() > 0.05  # the leaves' outlines
     code, cap = call_cli(["relight", str(saved), "-o", str(saved)], capsys)
     assert code == 2 and saved.stat().st_size > 0
     code, cap = call_cli(["relight", str(saved), "-o", str(out), "--show", "normals"], capsys)
@@ -159,9 +200,10 @@ def test_command(tmp_path, capsys):
 
 def test_eq_4_4_colour_distance_in_lab():
     from illusio.relight.textures import colour_distance, srgb_to_lab
+
     lab = srgb_to_lab(np.array([[1.0, 1.0, 1.0], [0.0, 0.0, 0.0], [0.18, 0.18, 0.18]]))
     assert np.allclose(lab[0], [100, 0, 0], atol=0.05) and np.allclose(lab[1], 0, atol=1e-9)
-    assert lab[2, 0] == pytest.approx(49.5, abs=0.2) and np.allclose(lab[2, 1:], 0, atol=0.05)   # 18 % grey
+    assert lab[2, 0] == pytest.approx(49.5, abs=0.2) and np.allclose(lab[2, 1:], 0, atol=0.05)  # 18 % grey
     assert colour_distance(np.array([[0.5, 0.5, 0.5]]), np.array([[0.5, 0.5, 0.5]]))[0] == 0
     red, grey = np.array([[0.5, 0.05, 0.05]]), np.array([[0.2, 0.2, 0.2]])
     assert colour_distance(red, grey)[0] > 40 > colour_distance(grey, grey * 1.1)[0]
@@ -174,7 +216,8 @@ def loscos(sessions):
 
 def test_loscos_textures(loscos):
     """Eq. (4.6)/(4.9): the shadowed leaves' textures are brightened (the blocked light added), the
-    lit ones are left as they were, up to the little blocked light a leaf in no shadow has; every reference is a lit frontier leaf of the same object;
+    lit ones are left as they were, up to the little blocked light a leaf in no shadow has; every reference is a lit
+    frontier leaf of the same object;
     with nothing changed the shadows are re-projected: the photograph comes back within a few per cent
     (Loscos 4.3.3, Figure 4.14)."""
     s = loscos
@@ -184,6 +227,7 @@ def test_loscos_textures(loscos):
     assert s.shadowed.any() and (~s.shadowed).any()
     # a leaf that is not shadowed has under BLOCKED_SHARE of its light blocked: eq. 4.6 adds at most that
     from illusio.relight.textures import BLOCKED_SHARE
+
     unchanged = BLOCKED_SHARE / (1 - BLOCKED_SHARE) + 0.01
     assert np.median(factor[s.shadowed]) > 1.0 and np.allclose(factor[~s.shadowed], 1.0, atol=unchanged)
     chosen = ref[ref >= 0]
@@ -222,8 +266,9 @@ def test_loscos_textures_are_modulated_at_the_vertices(loscos):
     ceiling = (s.pixel_polygon >= 0) & (m.group[np.maximum(s.pixel_polygon, 0)] == m.names.index("ceiling"))
     mask = ceiling & ~ndimage.binary_dilation(s._rims.coverage.sum(axis=-1) > 0, iterations=2)
     ratio = s.texture.mean(axis=-1) / np.maximum(s.real.photograph.mean(axis=-1), 1e-6)
-    steps = np.r_[np.abs(np.diff(ratio, axis=1))[mask[:, 1:] & mask[:, :-1]],
-                  np.abs(np.diff(ratio, axis=0))[mask[1:] & mask[:-1]]]
+    steps = np.r_[
+        np.abs(np.diff(ratio, axis=1))[mask[:, 1:] & mask[:, :-1]], np.abs(np.diff(ratio, axis=0))[mask[1:] & mask[:-1]]
+    ]
     assert mask.sum() > 500 and np.percentile(steps, 99) < 0.15, np.percentile(steps, 99)
 
 
@@ -239,18 +284,24 @@ def test_per_pixel_method(per_pixel):
     screens keep their photographed colour."""
     s = per_pixel
     same = s.image({})
-    assert np.abs(same - s.real.photograph).max() < 1e-3 * s.real.photograph.max()     # up to the re-solve's tolerance
+    assert np.abs(same - s.real.photograph).max() < 1e-3 * s.real.photograph.max()  # up to the re-solve's tolerance
     dark = s.image({n: 0.0 for n in s.lamp_names})
     m = s.model
     polygon = np.maximum(s.pixel_polygon, 0)
-    screen = (s.pixel_polygon >= 0) & np.isin(m.group[polygon], [m.names.index(n) for n in ("monitor-0-screen", "monitor-1-screen")])
+    screen = (s.pixel_polygon >= 0) & np.isin(
+        m.group[polygon], [m.names.index(n) for n in ("monitor-0-screen", "monitor-1-screen")]
+    )
     lamp = (s.pixel_polygon >= 0) & np.isin(m.group[polygon], m.lamps)
     assert screen.any() and np.allclose(dark[screen], s.real.photograph[screen])
-    whole = s._rims.coverage.sum(axis=-1) >= 1            # a pixel the lamps cover wholly: black with them
-    assert dark[lamp & whole].max() == 0 and dark[lamp].max() < 0.02 * same[s.pixel_seen].max()   # edges: the ceiling's share
+    whole = s._rims.coverage.sum(axis=-1) >= 1  # a pixel the lamps cover wholly: black with them
+    assert (
+        dark[lamp & whole].max() == 0 and dark[lamp].max() < 0.02 * same[s.pixel_seen].max()
+    )  # edges: the ceiling's share
     assert np.median(dark[s.pixel_seen]) < 0.02 * np.median(same[s.pixel_seen])
     one = s.image({n: (1.0 if n == "lamp-3" else 0.0) for n in s.lamp_names})
-    share = s.pixel_lamp[:, list(s.lamp_rows).index(int(np.flatnonzero(s.model.group == s.model.names.index("lamp-3"))[0]))]
+    share = s.pixel_lamp[
+        :, list(s.lamp_rows).index(int(np.flatnonzero(s.model.group == s.model.names.index("lamp-3"))[0]))
+    ]
     lit_by_it = share.sum(axis=1) > 0
     assert (one[s.pixel_seen][lit_by_it].sum(axis=1) > 0).mean() > 0.95
 
@@ -271,9 +322,13 @@ def test_per_pixel_indirect_light_has_no_seams(per_pixel):
     assert mask.sum() > 500
     ratio = s.image({"lamp-0": 0.0, "lamp-1": 0.0}).mean(axis=-1) / np.maximum(s.real.photograph.mean(axis=-1), 1e-6)
     s.image({})
-    steps = np.r_[np.abs(np.diff(ratio, axis=1))[mask[:, 1:] & mask[:, :-1]],
-                  np.abs(np.diff(ratio, axis=0))[mask[1:] & mask[:-1]]]
-    assert np.percentile(steps, 99) < 0.04 and np.ptp(ratio[mask]) > 0.15, (np.percentile(steps, 99), np.ptp(ratio[mask]))
+    steps = np.r_[
+        np.abs(np.diff(ratio, axis=1))[mask[:, 1:] & mask[:, :-1]], np.abs(np.diff(ratio, axis=0))[mask[1:] & mask[:-1]]
+    ]
+    assert np.percentile(steps, 99) < 0.04 and np.ptp(ratio[mask]) > 0.15, (
+        np.percentile(steps, 99),
+        np.ptp(ratio[mask]),
+    )
 
 
 def test_virtual_object_and_lamp(ctx, photograph, tmp_path):
@@ -311,7 +366,9 @@ def test_virtual_object_and_lamp(ctx, photograph, tmp_path):
     loaded = RelightSession.load(tmp_path / "edited.npz", ctx)
     try:
         assert np.allclose(loaded.image({"virtual": 0.5}), s.image({"virtual": 0.5}), atol=1e-6)
-        assert np.allclose(loaded.move_object("crate", (0.3, 0.0, 0.0)), s.move_object("crate", (0.3, 0.0, 0.0)), atol=1e-6)
+        assert np.allclose(
+            loaded.move_object("crate", (0.3, 0.0, 0.0)), s.move_object("crate", (0.3, 0.0, 0.0)), atol=1e-6
+        )
     finally:
         loaded.release()
     s.release()
@@ -338,8 +395,11 @@ def test_a_virtual_object_s_shadow_lands_where_a_path_tracer_puts_it(ctx, photog
         if at is not None:
             corners, tri = quads_from_triangles(np.asarray(crate.vertices, np.float64) + np.asarray(at), crate.faces)
             n = len(corners)
-            polygons = polygons.extended(Polygons(corners, tri, np.full((n, 3), 0.6), np.zeros((n, 3)), np.zeros(n, int),
-                                                  ["crate"]), "crate", False)
+            polygons = polygons.extended(
+                Polygons(corners, tri, np.full((n, 3), 0.6), np.zeros((n, 3)), np.zeros(n, int), ["crate"]),
+                "crate",
+                False,
+            )
         image = render_mitsuba(polygons, photograph.view, photograph.size, 128, seed=3)
         _, _, polygon = surface_points(polygons, photograph.view, photograph.size)
         return image, polygon >= len(photograph.polygons)
@@ -347,6 +407,7 @@ def test_a_virtual_object_s_shadow_lands_where_a_path_tracer_puts_it(ctx, photog
     def shadow(image, empty, on_crate):
         def smooth(a):
             return ndimage.uniform_filter(a.mean(axis=-1), 3)
+
         return (smooth(image) < 0.8 * smooth(empty)) & ~ndimage.binary_dilation(on_crate)
 
     def overlap(a, b):
@@ -382,7 +443,7 @@ def test_session_image_matches_its_reference(ctx, photograph, method, rng):
     want, element = displayed_image(s, scales)
     inner = (element >= 0) & (ndimage.maximum_filter(element, 3) == ndimage.minimum_filter(element, 3))
     assert inner.mean() > 0.1
-    np.testing.assert_allclose(got[inner], want[inner], rtol=5e-3, atol=1e-4)   # rasterised vs ray-cast points
+    np.testing.assert_allclose(got[inner], want[inner], rtol=5e-3, atol=1e-4)  # rasterised vs ray-cast points
     s.release()
 
 
@@ -394,9 +455,15 @@ def _triangulated(polygons):
     first = np.stack([c[:, 0], c[:, 1], c[:, 2], c[:, 2]], axis=1)
     second = np.stack([c[:, 0], c[:, 2], c[:, 3], c[:, 3]], axis=1)[quad]
     rows = np.r_[np.arange(len(polygons)), np.flatnonzero(quad)]
-    return Polygons(np.concatenate([np.where(quad[:, None, None], first, c), second]), np.ones(len(rows), bool),
-                    polygons.reflectance[rows], polygons.exitance[rows], polygons.group[rows], polygons.names,
-                    polygons.lamps)
+    return Polygons(
+        np.concatenate([np.where(quad[:, None, None], first, c), second]),
+        np.ones(len(rows), bool),
+        polygons.reflectance[rows],
+        polygons.exitance[rows],
+        polygons.group[rows],
+        polygons.names,
+        polygons.lamps,
+    )
 
 
 def test_relighting_the_triangulated_office_matches_the_quad_office(ctx, photograph):
@@ -410,9 +477,10 @@ def test_relighting_the_triangulated_office_matches_the_quad_office(ctx, photogr
 
     p = photograph.polygons
     off = np.array([0.0 if n == "lamp-0" else 1.0 for n in p.names])[p.group]
-    truth = render_mitsuba(dataclasses.replace(p, exitance=p.exitance * off[:, None]), photograph.view, (96, 72), 256,
-                           seed=5)
-    blocks = lambda a: a.reshape(18, 4, 24, 4, -1).mean(axis=(1, 3))      # noqa: E731
+    truth = render_mitsuba(
+        dataclasses.replace(p, exitance=p.exitance * off[:, None]), photograph.view, (96, 72), 256, seed=5
+    )
+    blocks = lambda a: a.reshape(18, 4, 24, 4, -1).mean(axis=(1, 3))  # noqa: E731
     triangles = RealScene(_triangulated(p), photograph.view, photograph.photograph)
     error = {}
     for method in ("baseline", "loscos"):
@@ -444,7 +512,7 @@ def test_a_switched_off_lamp_leaves_no_bright_rim(sessions, method):
     assert rim.sum() >= 4
     around = ndimage.binary_dilation(cover > 0, iterations=3) & (rims.coverage.sum(axis=-1) == 0)
     assert relit[rim].max() <= 1.05 * relit[around].max()
-    assert s.real.photograph.mean(axis=-1)[rim].max() > 1.5 * relit[around].max()   # the photograph had the glow
+    assert s.real.photograph.mean(axis=-1)[rim].max() > 1.5 * relit[around].max()  # the photograph had the glow
 
 
 def test_the_built_in_photograph_is_denoised_like_a_camera_s():
@@ -466,8 +534,9 @@ def test_inverse_estimate_reads_reflectance_as_light_explained(rng):
     rho = rng.uniform(0.05, 0.9, (20, 3))
     irradiance = rng.uniform(0.1, 50, (20, 1)) * rng.uniform(0.5, 1.5, (20, 3))
     assert np.allclose(estimate.reflectance_from_irradiance(rho * irradiance / np.pi, irradiance), rho)
-    assert estimate.reflectance_from_irradiance(np.array([[5.0, 0.0, 0.1]]), np.array([[1.0, 0.0, 1.0]])).tolist() == \
-        [[estimate.MAX_REFLECTANCE, 0.0, pytest.approx(0.1 * np.pi)]]
+    assert estimate.reflectance_from_irradiance(np.array([[5.0, 0.0, 0.1]]), np.array([[1.0, 0.0, 1.0]])).tolist() == [
+        [estimate.MAX_REFLECTANCE, 0.0, pytest.approx(0.1 * np.pi)]
+    ]
 
 
 def test_a_lamp_s_exitance_from_its_own_pixels():
@@ -491,7 +560,10 @@ def test_the_inverse_estimate_is_nearer_the_truth_than_eq_4_1(ctx, photograph):
     from benchmarks.relight import reflectance_error
 
     # sessions of its own: the shared ones' B is whatever the last test's edit left
-    inverse, chapter = prepared(ctx, photograph, "baseline"), prepared(ctx, photograph, "baseline", estimate="brightness")
+    inverse, chapter = (
+        prepared(ctx, photograph, "baseline"),
+        prepared(ctx, photograph, "baseline", estimate="brightness"),
+    )
     truth = inverse.real.polygons
     lamps = np.isin(truth.group, truth.lamps)
     read = np.isin(truth.group, [truth.names.index(n) for n in inverse.lamps_read])
@@ -508,8 +580,9 @@ def test_the_inverse_estimate_is_nearer_the_truth_than_eq_4_1(ctx, photograph):
 
     # the estimate settles (INVERSE_TOLERANCE) with the solution explaining the photograph
     from illusio.relight.params import INVERSE_MAX_ITERATIONS
+
     assert inverse.inverse_iterations < INVERSE_MAX_ITERATIONS
-    assert mismatch(inverse) < 0.03 and mismatch(chapter) > 0.1          # measured 0.009 (12 solves) and 0.36
+    assert mismatch(inverse) < 0.03 and mismatch(chapter) > 0.1  # measured 0.009 (12 solves) and 0.36
     inverse.release()
     chapter.release()
 
@@ -529,8 +602,11 @@ def test_eq_4_9_is_taken_in_proportion_to_the_blocked_share(sessions):
     """Each shadowed leaf's final texture factor lies between T_inter's (no correction) and the
     chapter's full eq. 4.9 (w = 1), in log terms at w of the way: the umbra's leaves take the full
     correction, the penumbra's part of it (the three sessions share one mesh: 4.9 does not move it)."""
-    weighted, full, none = (sessions("loscos"), sessions("loscos", reference_weight="full"),
-                            sessions("loscos", reference_correction=False))
+    weighted, full, none = (
+        sessions("loscos"),
+        sessions("loscos", reference_weight="full"),
+        sessions("loscos", reference_correction=False),
+    )
     h = weighted.solution.hierarchy
     leaves, ref = weighted.references
     assert len(h) == len(full.solution.hierarchy) and (full.references[1] == ref).all()
@@ -540,4 +616,4 @@ def test_eq_4_9_is_taken_in_proportion_to_the_blocked_share(sessions):
     share = (f_w - f_none)[corrected] / (f_full - f_none)[corrected]
     assert ((share > -0.05) & (share < 1.05)).all()
     partial = (share > 0.1) & (share < 0.9)
-    assert partial.mean() > 0.3, partial.mean()           # measured 0.91 of 283 leaves; 0 with w = 1
+    assert partial.mean() > 0.3, partial.mean()  # measured 0.91 of 283 leaves; 0 with w = 1

@@ -16,7 +16,7 @@ def test_resample_bilinear_matches_scipy_at_the_pixel_centres(rng):
     expected = np.stack([ndimage.map_coordinates(image[..., c], [yy, xx], order=1) for c in range(4)], axis=-1)
     assert out.shape == (7, 29, 4) and out.dtype == np.float32
     assert np.abs(out - expected).max() < 1e-5
-    assert np.array_equal(resample_bilinear(image, (17, 13)), image)      # the same size: the same pixels
+    assert np.array_equal(resample_bilinear(image, (17, 13)), image)  # the same size: the same pixels
     ramp = np.tile(np.arange(8, dtype=np.float32)[None, :, None], (2, 1, 1))
     assert np.allclose(resample_bilinear(ramp, (4, 2))[0, :, 0], [0.5, 2.5, 4.5, 6.5])  # pairs averaged
 
@@ -35,6 +35,6 @@ def test_another_view_than_the_photographs_is_refused(ctx):
         moved = View(Pose((0.0, 1.5, 0.0), (0.0, 1.5, -1.0)), real.view.camera)
         with pytest.raises(InputError, match="photograph's own camera"):
             renderer.render(Frame(moved, (64, 48)))
-        assert renderer.render(Frame(real.view, (64, 48))).shape == (48, 64, 3)   # its own camera is fine
+        assert renderer.render(Frame(real.view, (64, 48))).shape == (48, 64, 3)  # its own camera is fine
     finally:
         renderer.release()

@@ -16,22 +16,33 @@ from illusio.relight.per_pixel import lamp_irradiance, surface_points
 from illusio.relight.shadow_refine import lamp_visibility, split_decision
 from illusio.scene.camera import Camera, Pose, View
 
-POSTER = (slice(20, 32), slice(70, 84))          # rows, columns of the photograph painted dark
+POSTER = (slice(20, 32), slice(70, 84))  # rows, columns of the photograph painted dark
 
 
 def _quad(centre, half_u, half_v, down=False):
     c, u, v = (np.asarray(x, float) for x in (centre, half_u, half_v))
-    q = np.array([c - u + v, c + u + v, c + u - v, c - u - v])        # facing +y for u = x, v = z
+    q = np.array([c - u + v, c + u + v, c + u - v, c - u - v])  # facing +y for u = x, v = z
     return q[::-1] if down else q
 
 
 @pytest.fixture(scope="module")
 def board_scene():
-    corners = np.array([_quad((0, 0, 0), (2, 0, 0), (0, 0, 2)),                     # floor, facing up
-                        _quad((0, 0.8, 0), (0.4, 0, 0), (0, 0, 0.4), down=True),     # board, facing down
-                        _quad((1.0, 2.0, 0), (0.15, 0, 0), (0, 0, 0.15), down=True)])  # lamp, facing down
-    polygons = Polygons(corners, np.zeros(3, bool), np.array([[0.5] * 3, [0.5] * 3, [0.0] * 3]),
-                        np.array([[0.0] * 3, [0.0] * 3, [60.0] * 3]), np.arange(3), ["floor", "board", "lamp"], [2])
+    corners = np.array(
+        [
+            _quad((0, 0, 0), (2, 0, 0), (0, 0, 2)),  # floor, facing up
+            _quad((0, 0.8, 0), (0.4, 0, 0), (0, 0, 0.4), down=True),  # board, facing down
+            _quad((1.0, 2.0, 0), (0.15, 0, 0), (0, 0, 0.15), down=True),
+        ]
+    )  # lamp, facing down
+    polygons = Polygons(
+        corners,
+        np.zeros(3, bool),
+        np.array([[0.5] * 3, [0.5] * 3, [0.0] * 3]),
+        np.array([[0.0] * 3, [0.0] * 3, [60.0] * 3]),
+        np.arange(3),
+        ["floor", "board", "lamp"],
+        [2],
+    )
     view = View(Pose((-0.4, 5.0, 0.0), (-0.4, 0.0, 0.0), up=(0.0, 0.0, -1.0)), Camera(fov_y=50.0))
     size = (96, 96)
     points, normals, polygon = surface_points(polygons, view, size)
@@ -45,13 +56,17 @@ def board_scene():
 
 # BFV (B·F·V·A): a first mesh as coarse in the shadow as the criterion allows, so what follows the
 # shadow is the texture refinement (BF, B·F·A, would refine the shadow region already)
-PARAMS = RelightParams(method="loscos", hierarchy=HierarchyParams(criterion="bfv", epsilon=3e-2, min_area=1e-3, clusters=False))
+PARAMS = RelightParams(
+    method="loscos", hierarchy=HierarchyParams(criterion="bfv", epsilon=3e-2, min_area=1e-3, clusters=False)
+)
 
 
 @pytest.fixture(scope="module")
 def sessions(ctx, board_scene):
-    made = {flag: RelightSession(board_scene, dataclasses.replace(PARAMS, texture_refinement=flag), ctx)
-            for flag in (False, True)}
+    made = {
+        flag: RelightSession(board_scene, dataclasses.replace(PARAMS, texture_refinement=flag), ctx)
+        for flag in (False, True)
+    }
     yield made
     for s in made.values():
         s.release()
@@ -109,18 +124,36 @@ def test_figure_4_7_split_decision():
     grey, dark = [0.5, 0.5, 0.5], [0.1, 0.1, 0.1]
     colour = np.array([grey, grey, grey, dark, grey, grey, grey, grey])
     vis = np.array([[1.0], [0.0], [1.0], [1.0], [1.0], [1.0], [0.5], [0.0]])
-    kind = np.array([[VISIBLE], [INVISIBLE], [VISIBLE], [VISIBLE], [VISIBLE], [VISIBLE], [PARTIAL], [INVISIBLE]], np.int8)
+    kind = np.array(
+        [[VISIBLE], [INVISIBLE], [VISIBLE], [VISIBLE], [VISIBLE], [VISIBLE], [PARTIAL], [INVISIBLE]], np.int8
+    )
     has = np.array([True] * 7 + [False])
-    near = [np.array([1]), np.array([0]), np.array([3]), np.array([2]), np.array([5]), np.array([4]),
-            np.array([5]), np.array([5])]
+    near = [
+        np.array([1]),
+        np.array([0]),
+        np.array([3]),
+        np.array([2]),
+        np.array([5]),
+        np.array([4]),
+        np.array([5]),
+        np.array([5]),
+    ]
     split = split_decision(colour, has, vis, kind, near, 20.0, 0.3)
     assert split.tolist() == [True, True, True, True, False, False, True, False]
     assert split_decision(colour, has, vis, kind, near, 20.0, 0.3, rows=np.array([0])).tolist() == [True] + [False] * 7
 
 
 def test_collapse_undoes_a_subdivision():
-    h = Hierarchy(Polygons(_quad((0, 0, 0), (1, 0, 0), (0, 0, 1))[None], np.zeros(1, bool), np.full((1, 3), 0.5),
-                           np.zeros((1, 3)), np.zeros(1, int), ["floor"]))
+    h = Hierarchy(
+        Polygons(
+            _quad((0, 0, 0), (1, 0, 0), (0, 0, 1))[None],
+            np.zeros(1, bool),
+            np.full((1, 3), 0.5),
+            np.zeros((1, 3)),
+            np.zeros(1, int),
+            ["floor"],
+        )
+    )
     first = h.subdivide(np.array([0]))[0]
     h.subdivide(np.array([first]))
     assert len(h.leaves()) == 7
@@ -134,7 +167,7 @@ def test_tone_step_recovers_gain_and_gamma(rng):
     from illusio.relight.tone import fit_tone
 
     image = rng.uniform(0.05, 1.0, (32, 32, 3))
-    photo = 1.7 * image ** 0.8 * rng.normal(1.0, 0.01, image.shape)
+    photo = 1.7 * image**0.8 * rng.normal(1.0, 0.01, image.shape)
     tone = fit_tone(image, photo)
     assert tone.gain == pytest.approx(1.7, rel=0.03) and tone.gamma == pytest.approx(0.8, rel=0.03)
     assert np.abs(tone.apply(image) - photo).mean() / photo.mean() < 0.02
@@ -171,14 +204,15 @@ def test_fresh_bfv_solution_reprojects_the_shadows(ctx, board_scene, sessions):
     mesh), D from a first pass with the lamps' links at the leaves, B from a second with the links
     where BFV puts them; with nothing changed the photograph comes back (the shadows re-projected,
     Figure 4.15b), and switching the lamp off still darkens the floor."""
-    params = dataclasses.replace(PARAMS, fresh_solution=True,
-                                 final_hierarchy=HierarchyParams(epsilon=1e-3, min_area=1e-3, clusters=False))
+    params = dataclasses.replace(
+        PARAMS, fresh_solution=True, final_hierarchy=HierarchyParams(epsilon=1e-3, min_area=1e-3, clusters=False)
+    )
     s = RelightSession(board_scene, params, ctx)
     try:
         refined = sessions[True]
         assert s.solution.stats.leaves != refined.solution.stats.leaves
         lamp_links = np.isin(s.solution.polygons.group[s.solution.hierarchy.polygon[s.solution.links.source]], [2])
-        assert (s.solution.hierarchy.child[s.solution.links.receiver[lamp_links]] >= 0).any()   # not all at leaves
+        assert (s.solution.hierarchy.child[s.solution.links.receiver[lamp_links]] >= 0).any()  # not all at leaves
         same = s.image({})
         floor = (s.pixel_polygon == 0) & (s.pixel_element >= 0)
         photo = s.real.photograph
@@ -224,17 +258,21 @@ def test_a_real_scene_folder(tmp_path, capsys):
     photo = np.zeros((48, 64, 3), np.float32)
     photo[seen] = 0.5 * (direct + 1.0) / np.pi
     np.save(tmp_path / "photograph.npy", photo)
-    (tmp_path / "camera.json").write_text(json.dumps({"position": [-0.4, 5.0, 0.01], "target": [-0.4, 0, 0], "fov": 50,
-                                                      "width": 64, "height": 48}))
+    (tmp_path / "camera.json").write_text(
+        json.dumps({"position": [-0.4, 5.0, 0.01], "target": [-0.4, 0, 0], "fov": 50, "width": 64, "height": 48})
+    )
     out = tmp_path.parent / f"{tmp_path.name}-relit.npy"
     lamp_name = polygons.names[polygons.lamps[0]]
-    code, cap = call_cli(["relight", str(tmp_path), "-o", str(out), "--method", "loscos", "--set", f"{lamp_name}=0.5"], capsys)
+    code, cap = call_cli(
+        ["relight", str(tmp_path), "-o", str(out), "--method", "loscos", "--set", f"{lamp_name}=0.5"], capsys
+    )
     assert code == 0, cap.err
     relit = np.load(out)
     floor = seen & (polygon == polygons.names.index("floor"))
     assert relit.shape == photo.shape and 0.4 < relit[floor].sum() / photo[floor].sum() < 0.8
-    (tmp_path / "camera.json").write_text(json.dumps({"position": [0, 5, 0.01], "target": [0, 0, 0], "fov": 50,
-                                                      "width": 640, "height": 480}))
+    (tmp_path / "camera.json").write_text(
+        json.dumps({"position": [0, 5, 0.01], "target": [0, 0, 0], "fov": 50, "width": 640, "height": 480})
+    )
     code, cap = call_cli(["relight", str(tmp_path), "-o", str(out)], capsys)
     assert code == 2 and "64x48 pixels but camera.json says 640x480" in cap.err
     (tmp_path / "photograph.npy").unlink()

@@ -37,17 +37,22 @@ def readable(ctx):
             assert image.shape == session.real.photograph.shape and np.isfinite(image).all()
         finally:
             session.release()
+
     return lambda path: RelightSession.load(path, ctx), check
 
 
 def with_bad_array(arrays, name, bad):
     """``arrays`` with ``name`` replaced by a bad one (or left out)."""
     a = arrays[name]
-    replaced = {"nan": np.full(a.shape, np.nan) if a.dtype.kind == "f" else np.full(a.shape, -1, np.int64),
-                "empty": a[:0], "scalar": np.float64(3.0), "string": np.array("x"),
-                "wrong-shape": a.reshape(-1)[: max(a.size // 2, 1)],
-                "huge-index": np.full_like(a, 2**30) if a.dtype.kind in "iu" else a * 1e30,
-                "missing": None}[bad]
+    replaced = {
+        "nan": np.full(a.shape, np.nan) if a.dtype.kind == "f" else np.full(a.shape, -1, np.int64),
+        "empty": a[:0],
+        "scalar": np.float64(3.0),
+        "string": np.array("x"),
+        "wrong-shape": a.reshape(-1)[: max(a.size // 2, 1)],
+        "huge-index": np.full_like(a, 2**30) if a.dtype.kind in "iu" else a * 1e30,
+        "missing": None,
+    }[bad]
     changed = {k: v for k, v in arrays.items() if k != name}
     if replaced is not None:
         changed[name] = replaced
@@ -59,8 +64,12 @@ BAD_ARRAYS = st.sampled_from(["nan", "empty", "scalar", "string", "wrong-shape",
 
 @seed(SESSION_SEED)
 @FUZZ
-@given(where=st.sampled_from(["bytes", "record", "array"]), mutations=MUTATIONS, bad=BAD_ARRAYS,
-       pick=st.integers(0, 1 << 16))
+@given(
+    where=st.sampled_from(["bytes", "record", "array"]),
+    mutations=MUTATIONS,
+    bad=BAD_ARRAYS,
+    pick=st.integers(0, 1 << 16),
+)
 def test_mutated_sessions_are_read_or_refused(ctx, saved, where, mutations, bad, pick, tmp_path_factory):
     """Bytes of the file, the JSON record inside it, or one of its arrays made wrong: each ends in
     an InputError or a session whose image is finite and the photograph's size."""
@@ -81,9 +90,18 @@ def test_mutated_sessions_are_read_or_refused(ctx, saved, where, mutations, bad,
 
 # what the fuzzer found: NaN corners crashed the ray caster (a segmentation fault); the others ended
 # in IndexError, ValueError or TypeError after loading, or a wrong image
-KEPT = [("hierarchy.corners", "nan"), ("hierarchy.child", "nan"), ("hierarchy.parent", "nan"),
-        ("links.receiver", "empty"), ("session.has_d", "nan"), ("basis_mesh.faces", "huge-index"),
-        ("hierarchy.polygon", "huge-index"), ("solution.group", "huge-index"), ("session.corner_d", "empty"), ("basis", "wrong-shape")]
+KEPT = [
+    ("hierarchy.corners", "nan"),
+    ("hierarchy.child", "nan"),
+    ("hierarchy.parent", "nan"),
+    ("links.receiver", "empty"),
+    ("session.has_d", "nan"),
+    ("basis_mesh.faces", "huge-index"),
+    ("hierarchy.polygon", "huge-index"),
+    ("solution.group", "huge-index"),
+    ("session.corner_d", "empty"),
+    ("basis", "wrong-shape"),
+]
 
 
 @pytest.mark.parametrize("name, bad", KEPT)

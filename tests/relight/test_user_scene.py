@@ -31,9 +31,18 @@ OFF_CENTRE = Intrinsics(W, H, 118.0, 126.0, 91.3, 52.7)
 def _folder(tmp_path, intrinsics: Intrinsics, photo: np.ndarray):
     (tmp_path / "scene.yaml").write_text(ROOM)
     write_image(tmp_path / "photograph.exr", photo)
-    doc = {"position": [0.2, 1.2, 2.6], "target": [0.0, 0.6, -1.0], "up": [0, 1, 0], "width": W, "height": H,
-           "fx": intrinsics.fx, "fy": intrinsics.fy, "cx": intrinsics.cx, "cy": intrinsics.cy,
-           "distortion": list(intrinsics.distortion) or [0, 0, 0, 0]}
+    doc = {
+        "position": [0.2, 1.2, 2.6],
+        "target": [0.0, 0.6, -1.0],
+        "up": [0, 1, 0],
+        "width": W,
+        "height": H,
+        "fx": intrinsics.fx,
+        "fy": intrinsics.fy,
+        "cx": intrinsics.cx,
+        "cy": intrinsics.cy,
+        "distortion": list(intrinsics.distortion) or [0, 0, 0, 0],
+    }
     (tmp_path / "camera.json").write_text(json.dumps(doc))
     return tmp_path
 
@@ -60,8 +69,9 @@ def test_a_distorted_photograph_is_undistorted_on_loading(tmp_path):
     """A pinhole image, distorted by the plain formula (each distorted pixel takes the pinhole pixel
     its undistorted ray hits), comes back within 0.012 (mean absolute) once loaded, where it was 0.027 off."""
     yy, xx = np.mgrid[0:H, 0:W]
-    pinhole = np.stack([0.5 + 0.4 * np.sin(xx / 7.0), 0.5 + 0.4 * np.cos(yy / 9.0),
-                        0.5 + 0.3 * np.sin((xx + yy) / 5.0)], axis=-1).astype(np.float32)
+    pinhole = np.stack(
+        [0.5 + 0.4 * np.sin(xx / 7.0), 0.5 + 0.4 * np.cos(yy / 9.0), 0.5 + 0.3 * np.sin((xx + yy) / 5.0)], axis=-1
+    ).astype(np.float32)
     lens = Intrinsics(W, H, 118.0, 126.0, 81.0, 58.0, "OPENCV", (-0.15, 0.02, 0.0, 0.0))
     # distorted image: for each distorted pixel, invert the distortion by fixed-point iteration
     xd, yd = (xx - lens.cx) / lens.fx, (yy - lens.cy) / lens.fy
@@ -70,13 +80,16 @@ def test_a_distorted_photograph_is_undistorted_on_loading(tmp_path):
         r2 = x * x + y * y
         s = 1 - 0.15 * r2 + 0.02 * r2 * r2
         x, y = xd / s, yd / s
-    u, v = np.clip(np.rint(x * lens.fx + lens.cx), 0, W - 1).astype(int), np.clip(np.rint(y * lens.fy + lens.cy), 0, H - 1).astype(int)
+    u, v = (
+        np.clip(np.rint(x * lens.fx + lens.cx), 0, W - 1).astype(int),
+        np.clip(np.rint(y * lens.fy + lens.cy), 0, H - 1).astype(int),
+    )
     distorted = pinhole[v, u]
     real = load_real_scene(_folder(tmp_path, lens, distorted))
-    inner = (slice(15, H - 15), slice(20, W - 20))             # where the distorted image saw the scene
+    inner = (slice(15, H - 15), slice(20, W - 20))  # where the distorted image saw the scene
     error = np.abs(real.photograph[inner] - pinhole[inner]).mean()
-    assert error < 0.012                                        # measured 0.0077 (nearest-pixel distortion)
-    assert np.abs(distorted[inner] - pinhole[inner]).mean() > 0.02    # the lens did change it: 0.027
+    assert error < 0.012  # measured 0.0077 (nearest-pixel distortion)
+    assert np.abs(distorted[inner] - pinhole[inner]).mean() > 0.02  # the lens did change it: 0.027
 
 
 def _written_by_other_tools(tmp_path, linear: np.ndarray):
@@ -90,13 +103,14 @@ def _written_by_other_tools(tmp_path, linear: np.ndarray):
     out = []
     exr = tmp_path / "exr"
     exr.mkdir()
-    with OpenEXR.File({"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage},
-                      {"RGB": linear.astype(np.float32)}) as f:          # OpenEXR's own writer
+    with OpenEXR.File(
+        {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}, {"RGB": linear.astype(np.float32)}
+    ) as f:  # OpenEXR's own writer
         f.write(str(exr / "photograph.exr"))
     out.append((exr, linear, 1e-6))
     hdr = tmp_path / "hdr"
     hdr.mkdir()
-    cv2.imwrite(str(hdr / "photograph.hdr"), np.ascontiguousarray(linear[..., ::-1], np.float32))   # RGBE: 1 % steps
+    cv2.imwrite(str(hdr / "photograph.hdr"), np.ascontiguousarray(linear[..., ::-1], np.float32))  # RGBE: 1 % steps
     out.append((hdr, linear, 0.01 * linear.max()))
     png16 = tmp_path / "png16"
     png16.mkdir()
@@ -124,7 +138,7 @@ def test_photographs_written_by_other_tools_read_as_linear_radiance(tmp_path):
     png16 = tmp_path / "png16"
     raw = load_real_scene(png16, "linear").photograph
     assert np.abs(raw - linear_encoded(linear)).mean() < 1e-4
-    assert np.abs(load_real_scene(png16, "gamma:2.2").photograph - raw ** 2.2).max() < 1e-5
+    assert np.abs(load_real_scene(png16, "gamma:2.2").photograph - raw**2.2).max() < 1e-5
     with pytest.raises(InputError, match="--response must be one of"):
         load_real_scene(png16, "log")
 
@@ -135,8 +149,16 @@ def linear_encoded(linear):
 
 def _with_model(folder):
     (folder / "scene.yaml").write_text(ROOM)
-    doc = {"position": [0.2, 1.2, 2.6], "target": [0.0, 0.6, -1.0], "width": W, "height": H, "fx": 118.0,
-           "fy": 126.0, "cx": 91.3, "cy": 52.7}
+    doc = {
+        "position": [0.2, 1.2, 2.6],
+        "target": [0.0, 0.6, -1.0],
+        "width": W,
+        "height": H,
+        "fx": 118.0,
+        "fy": 126.0,
+        "cx": 91.3,
+        "cy": 52.7,
+    }
     (folder / "camera.json").write_text(json.dumps(doc))
     return folder
 
@@ -152,16 +174,35 @@ def test_the_viewer_opens_a_users_folder(tmp_path, capsys):
     (tmp_path / "room").mkdir()
     folder = _folder(tmp_path / "room", OFF_CENTRE, photo)
     walk = tmp_path / "walk.json"
-    walk.write_text('[{"t": 0, "eye": [0, 1, 0], "target": [0, 1, -1]}, {"t": 0.1, "eye": [0, 1, 0], "target": [0, 1, -1]}]')
+    walk.write_text(
+        '[{"t": 0, "eye": [0, 1, 0], "target": [0, 1, -1]}, {"t": 0.1, "eye": [0, 1, 0], "target": [0, 1, -1]}]'
+    )
     shot = tmp_path / "shot.png"
-    code, cap = call_cli(["view", str(folder), "-t", "relight", "--view", "baseline", "--path", str(walk), "-o",
-                          str(tmp_path / "v.gif"), "--screenshot", str(shot), "--size", f"{W}x{H}"], capsys)
+    code, cap = call_cli(
+        [
+            "view",
+            str(folder),
+            "-t",
+            "relight",
+            "--view",
+            "baseline",
+            "--path",
+            str(walk),
+            "-o",
+            str(tmp_path / "v.gif"),
+            "--screenshot",
+            str(shot),
+            "--size",
+            f"{W}x{H}",
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     shown = read_image(shot)[..., :3]
     real = load_real_scene(folder)
-    model = polygon_ids(real.polygons, real.view, real.size) >= 0    # where the model is (black elsewhere)
+    model = polygon_ids(real.polygons, real.view, real.size) >= 0  # where the model is (black elsewhere)
     assert model.mean() > 0.5
-    assert np.abs(shown - real.photograph)[model].mean() < 0.03    # the folder's gradient, not the office
+    assert np.abs(shown - real.photograph)[model].mean() < 0.03  # the folder's gradient, not the office
 
 
 def test_registration_scores_a_camera_that_lines_up_above_one_that_does_not(tmp_path, capsys):
@@ -185,7 +226,7 @@ def test_registration_scores_a_camera_that_lines_up_above_one_that_does_not(tmp_
     shade = np.where(ids >= 0, 0.15 + 0.7 * ((polygons.surfaces()[np.maximum(ids, 0)] * 0.37) % 1), 0.02)
     photo = np.repeat(shade[..., None], 3, axis=2).astype(np.float32)
     good = registration(polygons, view, photo)
-    turned = View(Pose(view.pose.position, (0.2, 0.6, -1.0)), view.camera)      # ~3° to the right
+    turned = View(Pose(view.pose.position, (0.2, 0.6, -1.0)), view.camera)  # ~3° to the right
     bad = registration(polygons, turned, photo)
     assert good.score > 0.8 and bad.score < POOR <= good.score
     _folder(folder, OFF_CENTRE, photo)
@@ -194,7 +235,7 @@ def test_registration_scores_a_camera_that_lines_up_above_one_that_does_not(tmp_
     assert code == 0, cap.err
     assert "registration:" in cap.out and "warning" not in cap.err
     red = read_image(out)
-    assert ((red[..., 0] > 0.9) & (red[..., 1] < 0.2)).sum() > 100        # the model's edges drawn
+    assert ((red[..., 0] > 0.9) & (red[..., 1] < 0.2)).sum() > 100  # the model's edges drawn
     doc = json.loads((folder / "camera.json").read_text())
     doc["target"] = [0.2, 0.6, -1.0]
     (folder / "camera.json").write_text(json.dumps(doc))

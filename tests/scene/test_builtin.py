@@ -3,9 +3,9 @@ import pytest
 
 from illusio.core.renderer import Frame
 from illusio.passes import SceneRenderer
-from tests.conftest import prepared
 from illusio.scene import SHAPES, builtin_scene, shape
 from illusio.scene.mesh import face_normals
+from tests.conftest import prepared
 
 
 @pytest.mark.parametrize("name", list(SHAPES))
@@ -31,8 +31,15 @@ def test_gear_has_sharp_creases():
 # Parts that make each scene what it is named, and the share of the main view they must cover.
 RECOGNISABLE = {
     "living-room": {"tv-screen": 0.01, "sofa-back": 0.02, "lamp-shade": 0.001, "cabinet": 0.005},
-    "office": {"table-0-top": 0.002, "table-1-top": 0.005, "chair-seat": 0.0008, "lamp-0": 0.001, "lamp-1": 0.001,
-               "lamp-2": 0.001, "lamp-3": 0.001},
+    "office": {
+        "table-0-top": 0.002,
+        "table-1-top": 0.005,
+        "chair-seat": 0.0008,
+        "lamp-0": 0.001,
+        "lamp-1": 0.001,
+        "lamp-2": 0.001,
+        "lamp-3": 0.001,
+    },
     "museum": {"exhibit-torus-knot": 0.001, "exhibit-blob": 0.001, "exhibit-gear": 0.001, "plinth-blob": 0.003},
     "turntable": {"subject": 0.05, "floor": 0.2},
 }

@@ -37,7 +37,9 @@ def test_stereo_rig_zero_parallax_at_screen_and_no_toe_in(rng):
     rig = StereoRig(base, eye_separation=0.065, screen_distance=2.5)
     left, right = rig.left, rig.right
     np.testing.assert_allclose(left.pose.axes()[2], right.pose.axes()[2], atol=1e-7)  # parallel axes
-    np.testing.assert_allclose(np.subtract(right.pose.position, left.pose.position), base.pose.axes()[0] * 0.065, atol=1e-7)
+    np.testing.assert_allclose(
+        np.subtract(right.pose.position, left.pose.position), base.pose.axes()[0] * 0.065, atol=1e-7
+    )
     size = (800, 600)
     r, u, f = base.pose.axes()
     eye = np.asarray(base.pose.position)

@@ -16,7 +16,7 @@ def test_distort_then_undistort_gives_the_image_back():
     back = undistort_image(distort_image(image, LENS), LENS)
     inner = (slice(12, -12), slice(16, -16))
     assert np.abs(back[inner] - image[inner]).mean() < 0.01
-    assert np.abs(distort_image(image, LENS)[inner] - image[inner]).mean() > 0.05      # it did move (0.078)
+    assert np.abs(distort_image(image, LENS)[inner] - image[inner]).mean() > 0.05  # it did move (0.078)
 
 
 def test_a_pixel_lands_where_the_model_puts_it():

@@ -66,9 +66,11 @@ def test_unreferenced_vertices_and_duplicate_faces_dropped_with_warning(tmp_path
 def test_triangle_strip_ply(tmp_path):
     """PLY files with an ``element tristrips`` (the Igea scan) become triangles."""
     p = tmp_path / "strip.ply"
-    p.write_text("ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
-                 "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
-                 "0 0 0\n1 0 0\n0 1 0\n1 1 0\n1.5 2 0\n5 0 1 2 3 4\n")
+    p.write_text(
+        "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+        "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+        "0 0 0\n1 0 0\n0 1 0\n1 1 0\n1.5 2 0\n5 0 1 2 3 4\n"
+    )
     m = load_mesh(p)
     assert len(m.faces) == 3
     n = np.cross(*(m.vertices[m.faces[:, k]] - m.vertices[m.faces[:, 0]] for k in (1, 2)))

@@ -24,65 +24,84 @@ def _all_points(scene):
     return np.concatenate([n.mesh.vertices for n in scene.nodes]).astype(np.float64)
 
 
-LAMP = "m lamp =\n\tc\n\t\tcxy 0.333333 0.333333\n\ted 683\nv l0 =\n\tp 0 0 3\nv l1 =\n\tp 1 0 3\nv l2 =\n\tp 1 1 3\nv l3 =\n\tp 0 1 3\nf l3 l2 l1 l0\n"
+LAMP = (
+    "m lamp =\n\tc\n\t\tcxy 0.333333 0.333333\n\ted 683\n"
+    "v l0 =\n\tp 0 0 3\nv l1 =\n\tp 1 0 3\nv l2 =\n\tp 1 1 3\nv l3 =\n\tp 0 1 3\nf l3 l2 l1 l0\n"
+)
 
 
 def test_the_classic_scenes_load(mgf_scenes):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         cube = load_scene(mgf_scenes / "cube.mgf")
-    assert sum(len(n.mesh.faces) for n in cube.nodes) == 65 + 2        # 65 triangles and a quad
+    assert sum(len(n.mesh.faces) for n in cube.nodes) == 65 + 2  # 65 triangles and a quad
     assert len(caught) == 1 and "rs (specular) × 7" in str(caught[0].message)
     floor = next(n for n in cube.nodes if n.name.endswith("vloer"))
-    assert np.allclose(floor.mesh.normals.mean(axis=0), (0, 1, 0), atol=1e-6)     # z up turned to y up
+    assert np.allclose(floor.mesh.normals.mean(axis=0), (0, 1, 0), atol=1e-6)  # z up turned to y up
     lamp = next(n for n in cube.nodes if "emitter" in n.tags)
-    assert np.allclose(lamp.mesh.normals.mean(axis=0), (0, -1, 0), atol=1e-6)     # shining down
+    assert np.allclose(lamp.mesh.normals.mean(axis=0), (0, -1, 0), atol=1e-6)  # shining down
     assert np.allclose(lamp.material.emission, np.array([200000.0] * 3) / LUMENS_PER_WATT / np.pi, rtol=0.05)
-    office3 = load_scene(mgf_scenes / "office3.mgf")                    # y up, primitives, xf
+    office3 = load_scene(mgf_scenes / "office3.mgf")  # y up, primitives, xf
     lo, hi = office3.bounds()
     assert hi[1] - lo[1] == pytest.approx((51 - 15.5) * 0.0762, rel=0.01)  # floor to ceiling, in xf -s .0762
 
 
 def test_an_mgf_office_solves_by_radiosity(mgf_scenes, tmp_path, capsys):
-    code, cap = call_cli(["radiosity", str(mgf_scenes / "office2.mgf"), "-o", str(tmp_path / "o.png"),
-                          "--size", "64x48", "--epsilon", "1e-3"], capsys)
+    code, cap = call_cli(
+        [
+            "radiosity",
+            str(mgf_scenes / "office2.mgf"),
+            "-o",
+            str(tmp_path / "o.png"),
+            "--size",
+            "64x48",
+            "--epsilon",
+            "1e-3",
+        ],
+        capsys,
+    )
     assert code == 0, cap.err
     from illusio.core.images import read_image
 
     image = read_image(tmp_path / "o.png")
-    assert 0.05 < image.mean() < 0.9 and image.std() > 0.02           # lit, neither black nor blown out
+    assert 0.05 < image.mean() < 0.9 and image.std() > 0.02  # lit, neither black nor blown out
 
 
 def test_colours_materials_and_emission(tmp_path):
-    path = _write(tmp_path, "m red =\n\tc\n\t\tcxy 0.45 0.33\n\trd 0.3\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\n"
-                            "v c =\n\tp 0 1 0\nf a b c\n" + LAMP)
+    path = _write(
+        tmp_path,
+        "m red =\n\tc\n\t\tcxy 0.45 0.33\n\trd 0.3\nv a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\n"
+        "v c =\n\tp 0 1 0\nf a b c\n" + LAMP,
+    )
     scene = load_mgf(path, up="z")
     red = next(n for n in scene.nodes if n.name.endswith("red"))
-    assert red.material.colour[0] > 2 * red.material.colour[1]          # towards sRGB's red primary
+    assert red.material.colour[0] > 2 * red.material.colour[1]  # towards sRGB's red primary
     lum = np.dot([0.2126, 0.7152, 0.0722], red.material.colour)
-    assert lum == pytest.approx(0.3, rel=0.02)                          # rd is the luminous reflectance
+    assert lum == pytest.approx(0.3, rel=0.02)  # rd is the luminous reflectance
     lamp = next(n for n in scene.nodes if n.name.endswith("lamp"))
-    assert np.allclose(lamp.material.emission, 1 / np.pi)                # ed 683 lm/m² = 1 W/m² of white
+    assert np.allclose(lamp.material.emission, 1 / np.pi)  # ed 683 lm/m² = 1 W/m² of white
     assert np.allclose(chromaticity_rgb(1 / 3, 1 / 3), 1.0)
 
 
 def test_spectra_and_colour_temperature(tmp_path):
-    text = ("m warm =\n\tc\n\t\tcct 2700\n\trd 0.5\n"
-            "m cold =\n\tc\n\t\tcct 12000\n\trd 0.5\n"
-            "m deep =\n\tc\n\t\tcspec 380 780 0 0 0 0 0 0 0 0 0 0 0 0 0 1 1 1 0 0 0 0\n\trd 0.5\n")
+    text = (
+        "m warm =\n\tc\n\t\tcct 2700\n\trd 0.5\n"
+        "m cold =\n\tc\n\t\tcct 12000\n\trd 0.5\n"
+        "m deep =\n\tc\n\t\tcspec 380 780 0 0 0 0 0 0 0 0 0 0 0 0 0 1 1 1 0 0 0 0\n\trd 0.5\n"
+    )
     for name in ("warm", "cold", "deep"):
-        text += f"m {name}\nv {name}a =\n\tp 0 0 0\nv {name}b =\n\tp 1 0 0\nv {name}c =\n\tp 0 1 0\nf {name}a {name}b {name}c\n"
+        text += f"m {name}\nv {name}a =\n\tp 0 0 0\nv {name}b =\n\tp 1 0 0\n"
+        text += f"v {name}c =\n\tp 0 1 0\nf {name}a {name}b {name}c\n"
     scene = load_mgf(_write(tmp_path, text + LAMP), up="z")
     colour = {n.name.split("/")[1]: np.array(n.material.colour) for n in scene.nodes}
-    assert colour["warm"][0] > colour["warm"][2] and colour["cold"][2] > colour["cold"][0]   # Planck's locus
-    assert colour["deep"][0] > 3 * colour["deep"][2]                    # power near 650 nm: red
+    assert colour["warm"][0] > colour["warm"][2] and colour["cold"][2] > colour["cold"][0]  # Planck's locus
+    assert colour["deep"][0] > 3 * colour["deep"][2]  # power near 650 nm: red
 
 
 def test_transforms_objects_and_includes(tmp_path):
     _write(tmp_path, "v a =\n\tp 0 0 0\nv b =\n\tp 1 0 0\nv c =\n\tp 0 1 0\nf a b c\n", "part.mgf")
-    text = ("o outer\nxf -s 2 -rz 90 -t 10 0 0\no inner\ni part.mgf\no\nxf\no\n"
-            "i part.mgf -t 0 0 5\n" + LAMP)
-    scene = load_mgf(_write(tmp_path, text), up="y")                    # y up: coordinates as written
+    text = "o outer\nxf -s 2 -rz 90 -t 10 0 0\no inner\ni part.mgf\no\nxf\no\ni part.mgf -t 0 0 5\n" + LAMP
+    scene = load_mgf(_write(tmp_path, text), up="y")  # y up: coordinates as written
     names = {n.name for n in scene.nodes}
     assert "outer/inner/default" in names and "scene/default" in names
     inner = next(n for n in scene.nodes if n.name == "outer/inner/default").mesh.vertices
@@ -92,14 +111,17 @@ def test_transforms_objects_and_includes(tmp_path):
     assert np.allclose(moved[:, 2], 5.0)
 
 
-@pytest.mark.parametrize("shape, line, radius", [
-    ("sph", "sph c 0.5", 0.5),
-    ("cyl", "cyl c 0.5 top", 0.5),
-    ("cone", "cone c 0.5 top 0.2", None),
-    ("ring", "ring c 0.2 0.5", None),
-    ("torus", "torus c 0.2 0.6", None),
-    ("prism", "prism c e f 0.7", None),
-])
+@pytest.mark.parametrize(
+    "shape, line, radius",
+    [
+        ("sph", "sph c 0.5", 0.5),
+        ("cyl", "cyl c 0.5 top", 0.5),
+        ("cone", "cone c 0.5 top 0.2", None),
+        ("ring", "ring c 0.2 0.5", None),
+        ("torus", "torus c 0.2 0.6", None),
+        ("prism", "prism c e f 0.7", None),
+    ],
+)
 def test_primitives_are_tessellated_where_they_say(tmp_path, shape, line, radius):
     head = "v c =\n\tp 1 2 3\n\tn 0 0 1\nv top =\n\tp 1 2 4\nv e =\n\tp 2 2 3\nv f =\n\tp 1 3 3\n"
     scene = load_mgf(_write(tmp_path, head + line + "\n" + LAMP), up="y", segments=16)
@@ -108,17 +130,23 @@ def test_primitives_are_tessellated_where_they_say(tmp_path, shape, line, radius
     centre = np.array([1, 2, 3.0])
     if shape == "sph":
         assert np.allclose(np.linalg.norm(p - centre, axis=1), radius, atol=1e-5)
-        assert np.all(np.einsum("ij,ij->i", mesh.normals, p - centre) > 0)       # outward
+        assert np.all(np.einsum("ij,ij->i", mesh.normals, p - centre) > 0)  # outward
     elif shape == "cyl":
         assert np.allclose(np.linalg.norm((p - centre)[:, :2], axis=1), radius, atol=1e-5)
         assert set(np.round(p[:, 2], 5)) == {3.0, 4.0}
     elif shape == "cone":
         r = np.linalg.norm((p - centre)[:, :2], axis=1)
-        assert np.allclose(r[np.isclose(p[:, 2], 3)], 0.5, atol=1e-5) and np.allclose(r[np.isclose(p[:, 2], 4)], 0.2, atol=1e-5)
+        assert np.allclose(r[np.isclose(p[:, 2], 3)], 0.5, atol=1e-5) and np.allclose(
+            r[np.isclose(p[:, 2], 4)], 0.2, atol=1e-5
+        )
     elif shape == "ring":
         r = np.linalg.norm((p - centre)[:, :2], axis=1)
-        assert np.allclose(p[:, 2], 3) and r.min() == pytest.approx(0.2, abs=1e-5) and r.max() == pytest.approx(0.5, abs=1e-5)
-        assert np.allclose(mesh.normals[:, 2], 1.0, atol=1e-5)                   # facing its vertex's normal
+        assert (
+            np.allclose(p[:, 2], 3)
+            and r.min() == pytest.approx(0.2, abs=1e-5)
+            and r.max() == pytest.approx(0.5, abs=1e-5)
+        )
+        assert np.allclose(mesh.normals[:, 2], 1.0, atol=1e-5)  # facing its vertex's normal
     elif shape == "torus":
         r = np.linalg.norm((p - centre)[:, :2], axis=1)
         assert r.min() == pytest.approx(0.2, abs=1e-4) and r.max() == pytest.approx(0.6, abs=1e-4)
@@ -129,22 +157,31 @@ def test_primitives_are_tessellated_where_they_say(tmp_path, shape, line, radius
 def test_concave_faces_are_triangulated_inside_their_outline(tmp_path):
     """An L-shaped face (concave): its triangles cover exactly its area (a fan would not)."""
     pts = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
-    text = "".join(f"v p{k} =\n\tp {x} {y} 0\n" for k, (x, y) in enumerate(pts)) + "f " + " ".join(f"p{k}" for k in range(6))
-    mesh = next(n for n in load_mgf(_write(tmp_path, text + "\n" + LAMP), up="y").nodes if n.name == "scene/default").mesh
+    text = (
+        "".join(f"v p{k} =\n\tp {x} {y} 0\n" for k, (x, y) in enumerate(pts))
+        + "f "
+        + " ".join(f"p{k}" for k in range(6))
+    )
+    mesh = next(
+        n for n in load_mgf(_write(tmp_path, text + "\n" + LAMP), up="y").nodes if n.name == "scene/default"
+    ).mesh
     v = mesh.vertices[mesh.faces].astype(np.float64)
     area = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1).sum()
     assert area == pytest.approx(3.0) and np.allclose(mesh.normals[:, 2], 1.0)
 
 
-@pytest.mark.parametrize("text, message", [
-    ("f a b c\n", "s.mgf:1: vertex 'a' is not defined"),
-    ("v a =\n\tp 0 0\n", "s.mgf:2: p takes 3 numbers, got 2"),
-    ("xf -q 3\n", "s.mgf:1: xf -q is not read"),
-    ("m nothing\n", "s.mgf:1: material 'nothing' is not defined"),
-    ("m x =\n\trd 1.5\n", "s.mgf:2: rd must be in [0, 1)"),
-    ("i missing.mgf\n", "s.mgf:1: included file missing.mgf not found"),
-    ("v c =\n\tp 0 0 0\nsph c\n", "s.mgf:3: sph expects a centre vertex and a radius"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("f a b c\n", "s.mgf:1: vertex 'a' is not defined"),
+        ("v a =\n\tp 0 0\n", "s.mgf:2: p takes 3 numbers, got 2"),
+        ("xf -q 3\n", "s.mgf:1: xf -q is not read"),
+        ("m nothing\n", "s.mgf:1: material 'nothing' is not defined"),
+        ("m x =\n\trd 1.5\n", "s.mgf:2: rd must be in [0, 1)"),
+        ("i missing.mgf\n", "s.mgf:1: included file missing.mgf not found"),
+        ("v c =\n\tp 0 0 0\nsph c\n", "s.mgf:3: sph expects a centre vertex and a radius"),
+    ],
+)
 def test_mistakes_name_the_file_and_line(tmp_path, text, message):
     with pytest.raises(InputError) as err:
         load_mgf(_write(tmp_path, text), up="z")

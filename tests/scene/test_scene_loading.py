@@ -22,13 +22,16 @@ def test_yaml_syntax_error_reports_line_and_column(tmp_path):
         load_scene(p)
 
 
-@pytest.mark.parametrize("text,message", [
-    ("nodes:\n  - name: a\n    shape: sphere\n    colour: [1, 0, 0]\n", "unknown key"),
-    ("nodes:\n  - name: a\n    shape: teapot\n", "unknown shape"),
-    ("nodes:\n  - name: a\n    mesh: missing.obj\n", "no such file"),
-    ("nodes: []\n", "no nodes"),
-    ("nodes:\n  - name: a\n    shape: sphere\nlights:\n  - {type: spot, position: [0, 1, 0]}\n", "point or area"),
-])
+@pytest.mark.parametrize(
+    "text,message",
+    [
+        ("nodes:\n  - name: a\n    shape: sphere\n    colour: [1, 0, 0]\n", "unknown key"),
+        ("nodes:\n  - name: a\n    shape: teapot\n", "unknown shape"),
+        ("nodes:\n  - name: a\n    mesh: missing.obj\n", "no such file"),
+        ("nodes: []\n", "no nodes"),
+        ("nodes:\n  - name: a\n    shape: sphere\nlights:\n  - {type: spot, position: [0, 1, 0]}\n", "point or area"),
+    ],
+)
 def test_yaml_mistakes_are_named(tmp_path, text, message):
     p = tmp_path / "s.yaml"
     p.write_text(text)
@@ -54,11 +57,13 @@ def test_a_camera_that_sees_nothing_is_refused_up_front(tmp_path, capsys):
     camera = Camera(45.0, 0.05, 100.0)
     with pytest.raises(InputError, match="sees nothing of scene 'living-room'"):
         scene.check_in_view(View(Pose((0, 100, 0), (0, 200, 0)), camera), (64, 48))
-    with pytest.raises(InputError, match="sees nothing"):   # the scene beyond the far plane
+    with pytest.raises(InputError, match="sees nothing"):  # the scene beyond the far plane
         scene.check_in_view(View(Pose((0, 1, 500), (0, 1, 0)), camera), (64, 48))
-    scene.check_in_view(View(Pose((0, 1, 0), (0, 50, 0)), camera), (64, 48))     # inside, looking up
-    scene.check_in_view(View(Pose((0, 1, 9), (5.5, 1, 0)), camera), (64, 48))    # the room at the edge
-    code, out = call_cli(["render", "living-room", "--camera", "0,100,0:0,200,0", "-o", str(tmp_path / "x.png")], capsys)
+    scene.check_in_view(View(Pose((0, 1, 0), (0, 50, 0)), camera), (64, 48))  # inside, looking up
+    scene.check_in_view(View(Pose((0, 1, 9), (5.5, 1, 0)), camera), (64, 48))  # the room at the edge
+    code, out = call_cli(
+        ["render", "living-room", "--camera", "0,100,0:0,200,0", "-o", str(tmp_path / "x.png")], capsys
+    )
     assert code == 2 and "sees nothing" in out.err and not (tmp_path / "x.png").exists()
     code, out = call_cli(["lines", "torus", "--camera", "0,0,-5,0,0,-10", "-o", str(tmp_path / "l.png")], capsys)
     assert code == 2 and "sees nothing of scene 'torus'" in out.err and not (tmp_path / "l.png").exists()

@@ -4,14 +4,16 @@
 import numpy as np
 import pytest
 
+from illusio.core.renderer import Frame
 from illusio.scene.camera import Screen
 from illusio.sis import reference as R
 from illusio.sis.decode import check
 from illusio.sis.params import StereogramParams
 from illusio.sis.patterns import snow
 from illusio.sis.snow import SnowPass
-from illusio.core.renderer import Frame
 from illusio.sis.stereogram import StereogramRenderer, quantise, stereogram_cpu
+from tests.conftest import tolerance
+from tests.sis.test_reference import smooth_depth
 
 
 def one_frame(ctx, depth, params, index=0):
@@ -19,8 +21,6 @@ def one_frame(ctx, depth, params, index=0):
     renderer = StereogramRenderer(ctx)
     renderer.prepare(depth)
     return renderer.render(Frame(size=(depth.shape[1], depth.shape[0]), index=index), params)
-from tests.conftest import tolerance
-from tests.sis.test_reference import smooth_depth
 
 
 def random_depth(rng, h, w):
@@ -37,8 +37,15 @@ def without_rounding_ties(depth, params, margin=2e-3):
     depth = np.array(depth, np.float32)
     n = params.oversample
     for _ in range(4):
-        sep = R.separation(depth, params.strip_width, params.depth_factor, params.exact, params.screen,
-                           params.invert != params.cross_eyed, n)
+        sep = R.separation(
+            depth,
+            params.strip_width,
+            params.depth_factor,
+            params.exact,
+            params.screen,
+            params.invert != params.cross_eyed,
+            n,
+        )
         tie = np.abs(sep - np.floor(sep) - 0.5) < margin * n
         if not tie.any():
             return depth
@@ -52,9 +59,14 @@ def without_rounding_ties(depth, params, margin=2e-3):
 def test_gpu_matches_reference(ctx, rng, algorithm):
     h, w = int(rng.integers(20, 50)), int(rng.integers(300, 700))
     depth = random_depth(rng, h, w) if algorithm != "symmetric" else smooth_depth(rng, h, w)
-    params = StereogramParams(algorithm=algorithm, strip_width=float(rng.integers(40, 90)),
-                              depth_factor=float(rng.integers(10, 40)), pattern="colour-dots",
-                              dot_size=int(rng.integers(1, 4)), seed=int(rng.integers(1 << 30)))
+    params = StereogramParams(
+        algorithm=algorithm,
+        strip_width=float(rng.integers(40, 90)),
+        depth_factor=float(rng.integers(10, 40)),
+        pattern="colour-dots",
+        dot_size=int(rng.integers(1, 4)),
+        seed=int(rng.integers(1 << 30)),
+    )
     depth = without_rounding_ties(depth, params)
     gpu = one_frame(ctx, depth, params)
     cpu = stereogram_cpu(depth, params)
@@ -76,11 +88,14 @@ def test_chain_pass_matches_reference_with_row_starts(ctx, rng):
     expected = R.sequential(sep, pattern, 50, 80, rows, ends)
     for algorithm in ("chain", "strip", "sequential", "symmetric"):
         p = StereogramParams(strip_width=50, depth_factor=30)
-        out = renderer.compute(sep_t, pat_t, p, rows_t, max_row_start=int(rows.max()), min_row_start=int(rows.min()),
-                               algorithm=algorithm)
+        out = renderer.compute(
+            sep_t, pat_t, p, rows_t, max_row_start=int(rows.max()), min_row_start=int(rows.min()), algorithm=algorithm
+        )
         got = ctx.readback(out, 3)
         ctx.release(out)
-        want = R.symmetric(sep, pattern, 50, p.eye_separation_px, rows, 80, ends) if algorithm == "symmetric" else expected
+        want = (
+            R.symmetric(sep, pattern, 50, p.eye_separation_px, rows, 80, ends) if algorithm == "symmetric" else expected
+        )
         np.testing.assert_array_equal(got, want, err_msg=algorithm)
     for t in (sep_t, pat_t, rows_t):
         t.release()
@@ -122,7 +137,7 @@ def test_row_start_pass_finds_each_rows_first_host_column(ctx, rng):
     for y in range(h):
         if rng.random() < 0.8:  # a host span in this row, inside [first, end)
             a = int(rng.integers(first, end - 1))
-            depth[y, a:int(rng.integers(a + 1, end + 1))] = rng.random()
+            depth[y, a : int(rng.integers(a + 1, end + 1))] = rng.random()
     tex = ctx.upload(depth, filter="nearest")
     for columns, n in ((None, 1), ((first, end), 2)):
         out = RowStartPass(ctx)(tex, n, columns)
@@ -142,8 +157,9 @@ def test_separation_pass_exact_and_oversampled(ctx, rng):
     renderer = StereogramRenderer(ctx)
     tex = ctx.upload(depth, filter="nearest")
     for exact, n, invert in ((False, 1, False), (True, 1, False), (False, 3, True), (True, 2, False)):
-        p = StereogramParams(strip_width=90, depth_factor=60, exact=exact, oversample=n, invert=invert,
-                             screen=Screen(aspect=16 / 10))
+        p = StereogramParams(
+            strip_width=90, depth_factor=60, exact=exact, oversample=n, invert=invert, screen=Screen(aspect=16 / 10)
+        )
         out = renderer.separation_pass(tex, p)
         got = ctx.readback(out)[..., 0]
         ctx.release(out)
@@ -192,8 +208,13 @@ def test_oversampled_stereogram_keeps_its_size_and_guides(ctx, rng):
         assert image[y, cx].max() == 0.0
 
 
-OPTIONS = {"exact": {"exact": True}, "invert": {"invert": True}, "cross-eyed": {"cross_eyed": True},
-           "oversample": {"oversample": 2}, "snow": {"pattern": "snow"}}
+OPTIONS = {
+    "exact": {"exact": True},
+    "invert": {"invert": True},
+    "cross-eyed": {"cross_eyed": True},
+    "oversample": {"oversample": 2},
+    "snow": {"pattern": "snow"},
+}
 
 
 @pytest.mark.parametrize("option", list(OPTIONS))
@@ -203,8 +224,12 @@ def test_gpu_matches_reference_with_every_option(ctx, rng, algorithm, option):
     pattern, whole-pixel separations), oversampling too (the same box reduction on both sides)."""
     h, w = int(rng.integers(20, 40)), int(rng.integers(300, 500))
     depth = random_depth(rng, h, w) if algorithm != "symmetric" else smooth_depth(rng, h, w)
-    params = StereogramParams(algorithm=algorithm, strip_width=float(rng.integers(40, 90)),
-                              depth_factor=float(rng.integers(10, 40)), seed=int(rng.integers(1 << 30)),
-                              **OPTIONS[option])
+    params = StereogramParams(
+        algorithm=algorithm,
+        strip_width=float(rng.integers(40, 90)),
+        depth_factor=float(rng.integers(10, 40)),
+        seed=int(rng.integers(1 << 30)),
+        **OPTIONS[option],
+    )
     depth = without_rounding_ties(depth, params)
     np.testing.assert_array_equal(one_frame(ctx, depth, params), stereogram_cpu(depth, params))

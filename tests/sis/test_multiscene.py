@@ -3,20 +3,23 @@
 import numpy as np
 import pytest
 
+from illusio.core.renderer import Frame
 from illusio.scene import load_scene
 from illusio.scene.builtin import shape
 from illusio.scene.camera import Camera, Pose, View
 from illusio.scene.scene import Node, Scene
 from illusio.sis.decode import check
-from illusio.core.renderer import Frame
 from illusio.sis.multiscene import MultiSceneParams, MultiSceneRenderer, MultiSceneSubject
-from tests.conftest import tolerance
 from illusio.sis.reference import separation
+from tests.conftest import tolerance
 
 
 def hidden_scene():
-    return Scene(name="hidden", nodes=[Node("subject", shape("torus-knot"))],
-                 cameras={"main": View(Pose((0, 0, 4.5), (0, 0, 0)), Camera(35, 0.1, 20))})
+    return Scene(
+        name="hidden",
+        nodes=[Node("subject", shape("torus-knot"))],
+        cameras={"main": View(Pose((0, 0, 4.5), (0, 0, 0)), Camera(35, 0.1, 20))},
+    )
 
 
 def render(renderer, scene, view, size, params, frame, keep=None):
@@ -75,7 +78,9 @@ def test_still_camera_frames_change_only_on_the_host_and_match_whole_renders(ctx
     assert changed.any() and not (changed & ~host).any()  # the snow moves, nothing else
     assert (np.abs(b - whole) <= 1e-6).mean() > 0.999
     multi.release()  # frees the kept layer and the scenes' GPU copies; still usable
-    np.testing.assert_allclose(render(multi, scene, view, size, MultiSceneParams(), 5), whole, **tolerance("same arithmetic"))
+    np.testing.assert_allclose(
+        render(multi, scene, view, size, MultiSceneParams(), 5), whole, **tolerance("same arithmetic")
+    )
 
 
 def test_texture_stereogram_covers_the_whole_host_with_its_texture(ctx, rng, tmp_path):
@@ -132,8 +137,9 @@ def test_host_projection_pass_matches_reference_on_a_tilted_quad(ctx, rng, layou
     got_d, got_p = ctx.readback(d_out)[..., 0], ctx.readback(p_out, 3)
     ctx.release(d_out, p_out)
     d_tex.release(), p_tex.release(), gpu.release()
-    want_d, want_p = reference.host_projection(corners[:3], uvs[:3], view.view_projection(size), size, depth,
-                                               pattern.astype(np.float32) / 255, repeat, box)
+    want_d, want_p = reference.host_projection(
+        corners[:3], uvs[:3], view.view_projection(size), size, depth, pattern.astype(np.float32) / 255, repeat, box
+    )
     on_both = (got_d >= 0) & (want_d >= 0)
     # D is read only inside the host (and, laid out for the viewer, inside the box: as small as 30×20);
     # the random host covers 20–45 % of the frame (a CI run drew 23 %): enough pixels to compare
@@ -156,8 +162,9 @@ def test_shadows_in_the_room_leave_the_host_unshadowed_unless_asked(ctx):
 
     def frame(shadows, host_shadows):
         keep = {}
-        params = MultiSceneParams(host="back-wall", emission=0.0, settings=RenderSettings(shadows=shadows),
-                                  host_shadows=host_shadows)
+        params = MultiSceneParams(
+            host="back-wall", emission=0.0, settings=RenderSettings(shadows=shadows), host_shadows=host_shadows
+        )
         return render(MultiSceneRenderer(ctx), scene, scene.camera("main"), size, params, 3, keep), keep
 
     plain, keep = frame(False, False)
@@ -165,9 +172,9 @@ def test_shadows_in_the_room_leave_the_host_unshadowed_unless_asked(ctx):
     shadowed, _ = frame(True, True)
     host = keep["visible"]
     np.testing.assert_allclose(kept[host], plain[host], **tolerance("same arithmetic"))
-    assert (np.abs(kept[~host] - plain[~host]).max(axis=-1) > 0.01).mean() > 0.01      # the room has its shadows
+    assert (np.abs(kept[~host] - plain[~host]).max(axis=-1) > 0.01).mean() > 0.01  # the room has its shadows
     darker = (shadowed[host].sum(axis=-1) < 0.8 * plain[host].sum(axis=-1)) & (plain[host].sum(axis=-1) > 0.05)
-    assert darker.mean() > 0.01                                                          # shadows on the wall
+    assert darker.mean() > 0.01  # shadows on the wall
 
 
 def test_viewer_layout_keeps_the_hidden_scene_upright_on_a_turned_host(ctx):
@@ -180,8 +187,13 @@ def test_viewer_layout_keeps_the_hidden_scene_upright_on_a_turned_host(ctx):
     from illusio.scene.transforms import compose, rotate
     from illusio.sis.depth import hidden_scene
 
-    panel = Node("panel", shapes.plane((1.6, 0.9)), compose(rotate((0, 1, 0), 45), rotate((1, 0, 0), 90)),
-                 Material((0.8, 0.8, 0.8)), tags=("host",))
+    panel = Node(
+        "panel",
+        shapes.plane((1.6, 0.9)),
+        compose(rotate((0, 1, 0), 45), rotate((1, 0, 0), 90)),
+        Material((0.8, 0.8, 0.8)),
+        tags=("host",),
+    )
     renderer = MultiSceneRenderer(ctx)
     renderer.object_ids = True
     renderer.prepare(MultiSceneSubject(Scene(name="panel", nodes=[panel]), hidden_scene(shape("sphere"))))
@@ -209,6 +221,11 @@ def test_sis_scene_takes_an_eye_target_camera(tmp_path, capsys):
     named, placed = tmp_path / "named.png", tmp_path / "placed.png"
     common = ["--host", "back-wall", "--emission", "0", "--size", "160x90", "--host-layout", "viewer"]
     assert call_cli(["sis-scene", "living-room", "--camera", "main", "-o", str(named)] + common, capsys)[0] == 0
-    assert call_cli(["sis-scene", "living-room", "--camera", "2.62,1.35,-0.38:0.5,1.35,-2.5", "-o", str(placed)] + common,
-                    capsys)[0] == 0
+    assert (
+        call_cli(
+            ["sis-scene", "living-room", "--camera", "2.62,1.35,-0.38:0.5,1.35,-2.5", "-o", str(placed)] + common,
+            capsys,
+        )[0]
+        == 0
+    )
     assert np.abs(read_image(named) - read_image(placed)).mean() > 0.02

@@ -1,6 +1,5 @@
 """Equations (1)–(4) of Dehos et al. 2014, one test each, and the round trip."""
 
-
 import numpy as np
 import pytest
 
@@ -36,8 +35,11 @@ def test_eq3_separation_px():
 
 
 def test_eq4_depth_from_separation_inverts_eq3(rng):
-    s = Screen(diagonal_cm=float(rng.uniform(20, 150)), aspect=float(rng.uniform(1.2, 2.4)),
-               viewing_distance_cm=float(rng.uniform(40, 300)))
+    s = Screen(
+        diagonal_cm=float(rng.uniform(20, 150)),
+        aspect=float(rng.uniform(1.2, 2.4)),
+        viewing_distance_cm=float(rng.uniform(40, 300)),
+    )
     fp = rng.uniform(1, 500, 50)
     np.testing.assert_allclose(physics.depth_from_separation(physics.separation_px(fp, s), s), fp, rtol=1e-9)
     # and the other way round, for separations below e_p

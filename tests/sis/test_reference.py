@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from illusio.sis import reference as R
-from illusio.sis.decode import check, separation_to_depth, decode_separation
+from illusio.sis.decode import check, decode_separation, separation_to_depth
 from illusio.sis.patterns import random_dots
 
 
@@ -110,7 +110,9 @@ def test_symmetric_hides_what_one_eye_cannot_see():
     same_free = R.symmetric(sep, np.arange(w, dtype=np.float32)[None, :, None].repeat(h, 0), 80, 270)
     # every pixel carries the pattern value of the right end of its chain; hidden points make fewer
     # links, so more pixels keep their own value than for a flat plane
-    flat = R.symmetric(np.full((h, w), 120.0, np.float32), np.arange(w, dtype=np.float32)[None, :, None].repeat(h, 0), 80, 270)
+    flat = R.symmetric(
+        np.full((h, w), 120.0, np.float32), np.arange(w, dtype=np.float32)[None, :, None].repeat(h, 0), 80, 270
+    )
     own = lambda img: (img[0, :, 0] == np.arange(w)).sum()  # noqa: E731
     assert own(same_free) > own(flat)
     # the occluding-surface test itself: σ(0) = s, σ(s/2) = 0

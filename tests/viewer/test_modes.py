@@ -34,7 +34,7 @@ def test_every_mode_and_view_draws_something_different(ctx):
     keys = list(images)
     same = {(("ibr", "reconstruction"), ("ibr", "ground-truth"))}  # at a reference's own view: alike by design
     for i, a in enumerate(keys):
-        for b in keys[i + 1:]:
+        for b in keys[i + 1 :]:
             if (a, b) in same:
                 assert np.abs(images[a] - images[b]).mean() < 2e-3, (a, b)
             else:
@@ -112,11 +112,23 @@ def test_lines_panel_changes_show(ctx):
 def test_camera_path_to_video_offscreen(ctx, tmp_path):
     import imageio.v3 as iio
 
-    path = CameraPath.parse('[{"t": 0, "eye": [2.5, 1.6, 2.4], "target": [0, 1.08, -2.2]},'
-                            ' {"t": 1.0, "eye": [0.3, 1.2, -0.8], "target": [0, 1.08, -2.2]}]')
+    path = CameraPath.parse(
+        '[{"t": 0, "eye": [2.5, 1.6, 2.4], "target": [0, 1.08, -2.2]},'
+        ' {"t": 1.0, "eye": [0.3, 1.2, -0.8], "target": [0, 1.08, -2.2]}]'
+    )
     counts = []
-    n = record("sis", None, "tv", SIZE, path, 6, tmp_path / "walk.mp4", tmp_path / "last.png", ctx=ctx,
-               on_frame=lambda i, v: counts.append(host_pixels(v)))
+    n = record(
+        "sis",
+        None,
+        "tv",
+        SIZE,
+        path,
+        6,
+        tmp_path / "walk.mp4",
+        tmp_path / "last.png",
+        ctx=ctx,
+        on_frame=lambda i, v: counts.append(host_pixels(v)),
+    )
     assert n == frame_count(path, 6, None) == 7
     frames = np.stack(list(iio.imiter(tmp_path / "walk.mp4")))
     assert frames.shape == (7, SIZE[1], SIZE[0], 3)
@@ -165,8 +177,8 @@ def test_radiosity_links_follow_the_pointer(ctx):
     pictures, picked = [], []
     for pointer in ((0.3, 0.9), (0.75, 0.2)):
         viewer.pointer = pointer
-        viewer.step()          # the element map of this view
-        viewer.step()          # drawn with the element under the pointer
+        viewer.step()  # the element map of this view
+        viewer.step()  # drawn with the element under the pointer
         pictures.append(viewer.image())
         picked.append(viewer.mode.params.element)
         element = viewer.ctx.readback(viewer.mode.renderer.maps()["element"])[..., 0]
@@ -215,10 +227,10 @@ def test_relight_lamp_and_crate_follow_the_pointer(ctx):
     viewer.step()
     session = viewer.mode.renderer.result()
     assert "virtual-lamp-0" in session.lamp_names and viewer.image().mean() > 1.02 * with_crate.mean()
-    viewer.next_variant()            # per-pixel: no virtual things, and the panel says so
+    viewer.next_variant()  # per-pixel: no virtual things, and the panel says so
     viewer.step()
     assert "switch the view" in viewer.mode.message
-    viewer.next_variant()            # loscos: the lamp and the crate are carried over
+    viewer.next_variant()  # loscos: the lamp and the crate are carried over
     viewer.step()
     session = viewer.mode.renderer.result()
     assert "virtual-lamp-0" in session.lamp_names and "crate" in session.solution.polygons.names
@@ -252,7 +264,7 @@ def test_lines_t_chooses_parameters_that_match_the_view_edges(ctx):
     from illusio.lines.tuning import edge_target
 
     viewer = Viewer(ctx, "lines", "torus-knot", size=SIZE)
-    viewer.mode.params = replace(viewer.mode.params, tau=-4.0, threshold=0.8)   # a poor start
+    viewer.mode.params = replace(viewer.mode.params, tau=-4.0, threshold=0.8)  # a poor start
     viewer.step()
     mode = viewer.mode
     target = edge_target(mode.renderer, mode.mesh, mode._frame.view, mode._frame.size)
@@ -308,7 +320,7 @@ def test_the_sis_mode_takes_a_scene_or_a_hidden_shape_as_its_source(ctx):
     by_shape = SisMode(ctx, "torus", "tv")
     try:
         assert by_scene.source == "torus-knot"
-        assert "lamp-0" in [light.name for light in by_scene.scene.lights]          # the office hosts it
+        assert "lamp-0" in [light.name for light in by_scene.scene.lights]  # the office hosts it
         ctx.release(by_scene.render(Frame(by_scene.home_view(), SIZE)))  # the viewer releases what a mode draws
         assert (ctx.readback(by_scene.renderer.maps()["depth"])[..., 0] >= 0).sum() > 100  # on its back wall
         assert by_shape.source == "torus" and "tv-screen" in [n.name for n in by_shape.scene.nodes]

@@ -34,7 +34,11 @@ def test_mouse_look_turns_and_clamps_the_pitch():
 def test_orbit_keeps_its_target_and_distance_and_zooms():
     view = View(Pose.orbit((1, 2, 3), 4.0, 30, 20), Camera(30, 0.4, 12.0))
     orbit = OrbitCamera.from_view(view)
-    assert orbit.distance == pytest.approx(4.0) and orbit.azimuth == pytest.approx(30) and orbit.elevation == pytest.approx(20)
+    assert (
+        orbit.distance == pytest.approx(4.0)
+        and orbit.azimuth == pytest.approx(30)
+        and orbit.elevation == pytest.approx(20)
+    )
     orbit.look(50, -30)
     orbit.move({"a", "w"}, 0.3)
     v = orbit.view()

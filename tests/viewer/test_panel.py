@@ -65,7 +65,11 @@ def test_widgets_follow_the_metadata():
     widget_value(infos["min_ridge_pixels"], imgui)
     assert imgui.calls[0] == ("slider_float", "τ##tau", -12.0, 12.0, 0)
     assert imgui.calls[1][0] == "checkbox"
-    assert imgui.calls[2] == ("input_int", "min ridge pixels (px)##min_ridge_pixels", 1)  # a range too wide for a slider
+    assert imgui.calls[2] == (
+        "input_int",
+        "min ridge pixels (px)##min_ridge_pixels",
+        1,
+    )  # a range too wide for a slider
     settings = next(i for i in describe(MultiSceneParams()) if i.name == "settings")
     exposure = next(i for i in settings.children if i.name == "exposure")  # a log slider
     imgui = FakeImgui()

@@ -12,8 +12,9 @@ from illusio.viewer.path import CameraPath, Keyframe, PathRecorder
 
 def random_path(rng, n=5):
     times = np.cumsum(rng.uniform(0.3, 2.0, n)) - 0.3
-    return CameraPath([Keyframe(float(t), tuple(rng.uniform(-3, 3, 3)), tuple(rng.uniform(-3, 3, 3) + (0, 0, 10)))
-                       for t in times])
+    return CameraPath(
+        [Keyframe(float(t), tuple(rng.uniform(-3, 3, 3)), tuple(rng.uniform(-3, 3, 3) + (0, 0, 10))) for t in times]
+    )
 
 
 def test_path_passes_through_every_keyframe_and_holds_outside(rng):
@@ -42,12 +43,17 @@ def test_bad_camera_paths_say_where(tmp_path):
     bad_json.write_text('[{"t": 0, "eye": [0, 0, 1], "target": [0, 0, 0]},\n {"t": 1, "eye": [0, 0 1]}]')
     with pytest.raises(InputError, match=r"line 2, column \d+"):
         CameraPath.load(bad_json)
-    for data, message in (([{"t": 0, "eye": [0, 0, 1]}], "keyframe 1 must be an object"),
-                          ([{"t": 0, "eye": [0, 0, 1], "target": [0, 0]}], "keyframe 1: eye and target need 3"),
-                          ([{"t": 1, "eye": [0, 0, 1], "target": [0, 0, 0]}, {"t": 0.5, "eye": [0, 0, 2], "target": [0, 0, 0]}],
-                           "keyframe 2: time 0.5 s is not after"),
-                          ([{"t": 0, "eye": [1, 1, 1], "target": [1, 1, 1]}], "the same point"),
-                          ({"t": 0}, "a JSON list"), ([], "at least one keyframe")):
+    for data, message in (
+        ([{"t": 0, "eye": [0, 0, 1]}], "keyframe 1 must be an object"),
+        ([{"t": 0, "eye": [0, 0, 1], "target": [0, 0]}], "keyframe 1: eye and target need 3"),
+        (
+            [{"t": 1, "eye": [0, 0, 1], "target": [0, 0, 0]}, {"t": 0.5, "eye": [0, 0, 2], "target": [0, 0, 0]}],
+            "keyframe 2: time 0.5 s is not after",
+        ),
+        ([{"t": 0, "eye": [1, 1, 1], "target": [1, 1, 1]}], "the same point"),
+        ({"t": 0}, "a JSON list"),
+        ([], "at least one keyframe"),
+    ):
         with pytest.raises(InputError, match=message):
             CameraPath.parse(json.dumps(data))
     with pytest.raises(InputError, match="no such camera path"):

@@ -72,8 +72,15 @@ def test_walking_looking_switching_and_screenshots(window, tmp_path):
     assert w.viewer.navigation.yaw == pytest.approx(yaw - 40 * 0.2)
     # every technique and view, a screenshot of each (P), all different
     shots = []
-    for number, technique in ((glfw.KEY_1, "plain"), (glfw.KEY_2, "sis"), (glfw.KEY_3, "lines"), (glfw.KEY_4, "dof"),
-                              (glfw.KEY_5, "ibr"), (glfw.KEY_6, "radiosity"), (glfw.KEY_7, "relight")):
+    for number, technique in (
+        (glfw.KEY_1, "plain"),
+        (glfw.KEY_2, "sis"),
+        (glfw.KEY_3, "lines"),
+        (glfw.KEY_4, "dof"),
+        (glfw.KEY_5, "ibr"),
+        (glfw.KEY_6, "radiosity"),
+        (glfw.KEY_7, "relight"),
+    ):
         tap(w, number)
         for _ in w.viewer.mode.variants:
             w.frame(1 / 30)
@@ -83,7 +90,7 @@ def test_walking_looking_switching_and_screenshots(window, tmp_path):
         assert w.viewer.mode.name == technique
     files = sorted(tmp_path.glob("illusio-*.png"))
     assert len(files) == len(shots) == 1 + 4 + 4 + 2 + 3 + 3 + 3
-    assert w.viewer.pointer is not None          # the mouse moves above told the viewer where it is
+    assert w.viewer.pointer is not None  # the mouse moves above told the viewer where it is
     images = [read_image(f) for f in files]
     for i in range(len(images) - 1):
         assert np.abs(images[i] - images[i + 1]).mean() > 1e-3, (shots[i], shots[i + 1])
@@ -132,7 +139,7 @@ def test_escape_closes_and_the_recorded_walk_is_saved(x_display, tmp_path):
     path = CameraPath.load(tmp_path / "walk.json")
     assert len(path.keyframes) >= 4 and path.duration == pytest.approx(1.0)
     last = read_image(tmp_path / "last.png")
-    assert last.ndim == 3 and last.shape[0] > 16 and last.std() > 0.01       # a picture, not a blank
+    assert last.ndim == 3 and last.shape[0] > 16 and last.std() > 0.01  # a picture, not a blank
 
 
 def test_switching_the_scene_and_a_bad_file_in_the_panel(window, tmp_path):
@@ -155,10 +162,27 @@ def test_the_command_opens_the_window_and_saves_the_last_frame(x_display, tmp_pa
     import sys
 
     shot = tmp_path / "shot.png"
-    r = subprocess.run([sys.executable, "-m", "illusio", "view", "--technique", "lines", "--size", "320x240",
-                        "--exit-after", "3", "--screenshot", str(shot)], capture_output=True, text=True, timeout=300,
-                       env={**__import__("os").environ, "DISPLAY": x_display, "XDG_CONFIG_HOME": str(tmp_path / "config")},
-                       cwd=tmp_path)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "illusio",
+            "view",
+            "--technique",
+            "lines",
+            "--size",
+            "320x240",
+            "--exit-after",
+            "3",
+            "--screenshot",
+            str(shot),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        env={**__import__("os").environ, "DISPLAY": x_display, "XDG_CONFIG_HOME": str(tmp_path / "config")},
+        cwd=tmp_path,
+    )
     assert r.returncode == 0, r.stderr
     # the panel's layout goes to the user's config folder, not into the folder the viewer started in
     assert not (tmp_path / "imgui.ini").exists() and (tmp_path / "config" / "illusio" / "imgui.ini").is_file()

@@ -75,10 +75,10 @@ def command_table() -> dict:
     for name, command in group.commands.items():
         subcommands = getattr(command, "commands", None)
         pairs = [(f"{name} {sub}", c) for sub, c in subcommands.items()] if subcommands else [(name, command)]
-        for full, c in pairs:       # "ibr capture", "ibr render": a group's commands by their two words
+        for full, c in pairs:  # "ibr capture", "ibr render": a group's commands by their two words
             if any("--output" in p.opts for p in c.params if hasattr(p, "opts")):
                 out[full] = c
-    for words, target in load(ALIASES).items():        # "relight prepare" for the hidden "relight-prepare"
+    for words, target in load(ALIASES).items():  # "relight prepare" for the hidden "relight-prepare"
         if target in out:
             out[" ".join(words)] = out.pop(target)
     return out
@@ -104,7 +104,9 @@ def _option_args(entry: int, command, name: str, value) -> list[str]:
             if isinstance(value, (list, dict)):
                 raise InputError(f"task {entry}: options: {name} takes one value, got {value!r}")
             return [flag, str(value)]
-    known = sorted(o[2:] for p in command.params for o in getattr(p, "opts", ()) if o.startswith("--") and o != "--output")
+    known = sorted(
+        o[2:] for p in command.params for o in getattr(p, "opts", ()) if o.startswith("--") and o != "--output"
+    )
     raise InputError(f"task {entry}: options: {command.name} has no option {name!r}; it has: {', '.join(known)}")
 
 
@@ -129,11 +131,15 @@ def load_job(path) -> Job:
             raise InputError(f"task {entry}: must be a mapping with at least 'command' and 'output'")
         unknown = set(spec) - _FIELDS
         if unknown:
-            raise InputError(f"task {entry}: unknown field(s) {', '.join(sorted(unknown))}; fields: {', '.join(sorted(_FIELDS))}")
+            raise InputError(
+                f"task {entry}: unknown field(s) {', '.join(sorted(unknown))}; fields: {', '.join(sorted(_FIELDS))}"
+            )
         name = spec.get("command")
         if name not in commands:
-            raise InputError(f"task {entry}: command: {name!r} is not an illusio command that writes a file; "
-                             f"choose one of {', '.join(sorted(commands))}")
+            raise InputError(
+                f"task {entry}: command: {name!r} is not an illusio command that writes a file; "
+                f"choose one of {', '.join(sorted(commands))}"
+            )
         command = commands[name]
         pattern = spec.get("output")
         if not isinstance(pattern, str) or not pattern:
@@ -167,23 +173,35 @@ def load_job(path) -> Job:
         frames = [None]
         if "frames" in spec:
             rng = spec["frames"]
-            if (not isinstance(rng, list) or len(rng) != 2 or not all(isinstance(v, int) for v in rng)
-                    or rng[0] < 0 or rng[1] < rng[0]):
-                raise InputError(f"task {entry}: frames: an inclusive range [first, last] of frame numbers ≥ 0, got {rng!r}")
+            if (
+                not isinstance(rng, list)
+                or len(rng) != 2
+                or not all(isinstance(v, int) for v in rng)
+                or rng[0] < 0
+                or rng[1] < rng[0]
+            ):
+                raise InputError(
+                    f"task {entry}: frames: an inclusive range [first, last] of frame numbers ≥ 0, got {rng!r}"
+                )
             if not any("--frame" in getattr(p, "opts", ()) for p in command.params):
                 raise InputError(f"task {entry}: frames: {name} has no --frame option")
             frames = list(range(rng[0], rng[1] + 1))
         allowed = set(sweep) | {"input_stem", "input_name", "frame"}
         missing = _fields_of(pattern) - allowed
         if missing:
-            raise InputError(f"task {entry}: output: {pattern!r} uses {', '.join(sorted(missing))}; "
-                             f"it may use {', '.join(sorted(allowed))}")
+            raise InputError(
+                f"task {entry}: output: {pattern!r} uses {', '.join(sorted(missing))}; "
+                f"it may use {', '.join(sorted(allowed))}"
+            )
         keys = list(sweep)
         frame_outputs = []
         for source, frame, values in itertools.product(inputs, frames, itertools.product(*(sweep[k] for k in keys))):
             fields = dict(zip(keys, values))
-            fields.update(input_stem=Path(source).stem if source else "", input_name=Path(source).name if source else "",
-                          frame=frame if frame is not None else 0)
+            fields.update(
+                input_stem=Path(source).stem if source else "",
+                input_name=Path(source).name if source else "",
+                frame=frame if frame is not None else 0,
+            )
             try:
                 output = pattern.format(**fields)
             except (ValueError, KeyError, IndexError) as exc:
@@ -191,8 +209,10 @@ def load_job(path) -> Job:
             if Path(output).is_absolute() or ".." in Path(output).parts:
                 raise InputError(f"task {entry}: output: {output!r} must stay inside the out folder")
             if output in seen:
-                raise InputError(f"task {entry}: output: {output!r} is also the output of task {seen[output]}; "
-                                 "add a sweep key, {input_stem} or {frame} to the pattern")
+                raise InputError(
+                    f"task {entry}: output: {output!r} is also the output of task {seen[output]}; "
+                    "add a sweep key, {input_stem} or {frame} to the pattern"
+                )
             seen[output] = entry
             argv = name.split() + ([source] if source else []) + fixed
             argv += [w for k, v in fields.items() if k in sweep for w in _option_args(entry, command, k, v)]

@@ -37,7 +37,7 @@ class Manifest:
                     row = json.loads(line)
                     self.entries[row["task"]] = row
                 except (ValueError, KeyError, TypeError):
-                    continue            # a line cut short by a crash: that task runs again
+                    continue  # a line cut short by a crash: that task runs again
 
     def done(self, key: str, output: Path) -> bool:
         """Is the task finished: recorded, its output present with the recorded bytes?"""
@@ -45,8 +45,14 @@ class Manifest:
         return row is not None and output.exists() and file_hash(output) == row["sha256"]
 
     def record(self, key: str, output: Path, rel: str, seconds: float, worker: str) -> None:
-        row = {"task": key, "output": rel, "sha256": file_hash(output), "seconds": round(seconds, 4),
-               "worker": worker, "time": datetime.now(timezone.utc).isoformat(timespec="seconds")}
+        row = {
+            "task": key,
+            "output": rel,
+            "sha256": file_hash(output),
+            "seconds": round(seconds, 4),
+            "worker": worker,
+            "time": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        }
         self.entries[key] = row
         self.path.parent.mkdir(parents=True, exist_ok=True)
         with open(self.path, "a") as f:

@@ -7,14 +7,15 @@ is partial, and the manifest lists exactly what finished."""
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 from collections import Counter
+from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Callable
 
 from ..core.errors import InputError
 from .job import Job, Task
@@ -28,9 +29,9 @@ __all__ = ["Report", "run_job", "Interrupted"]
 class Report:
     ran: int = 0
     skipped: int = 0
-    failed: dict = field(default_factory=dict)      # output → error line
+    failed: dict = field(default_factory=dict)  # output → error line
     retried: int = 0
-    restarted: int = 0                               # tasks given again after a worker died
+    restarted: int = 0  # tasks given again after a worker died
     videos: list = field(default_factory=list)
     workers: set = field(default_factory=set)
 
@@ -57,7 +58,7 @@ class _Books:
                 advance(1)
             else:
                 self.queue.append(task)
-        self.queue.reverse()            # pop() takes them in the job's order
+        self.queue.reverse()  # pop() takes them in the job's order
         self.tries: Counter = Counter()
 
     def finished(self, task: Task, result) -> None:
@@ -71,7 +72,7 @@ class _Books:
         self.tries[task] += 1
         if self.tries[task] <= self.retries:
             self.report.retried += 1
-            self.queue.insert(0, task)          # again, after the others
+            self.queue.insert(0, task)  # again, after the others
         else:
             self.report.failed[task.output] = message
             self.advance(1)
@@ -108,7 +109,7 @@ def _processes(books: _Books, workers: int) -> None:
                 task = books.queue.pop()
                 try:
                     running[pool.submit(books.task_fn, task, str(books.out))] = task
-                except BrokenProcessPool:   # a worker died before its future said so: the pool is gone
+                except BrokenProcessPool:  # a worker died before its future said so: the pool is gone
                     books.queue.append(task)
                     broken = True
                     break
@@ -123,7 +124,7 @@ def _processes(books: _Books, workers: int) -> None:
                 except BrokenProcessPool:
                     books.lost(task)
                     broken = True
-            if broken:          # a worker died: the others' tasks are lost with the pool, run them again
+            if broken:  # a worker died: the others' tasks are lost with the pool, run them again
                 for task in running.values():
                     books.lost(task)
                 running.clear()
@@ -142,7 +143,7 @@ class _Actor:
         import ray
 
         gpus = ray.get_gpu_ids()
-        if gpus:    # render on the EGL device of the GPU Ray assigned (EGL lists devices as CUDA does)
+        if gpus:  # render on the EGL device of the GPU Ray assigned (EGL lists devices as CUDA does)
             os.environ["ILLUSIO_EGL_DEVICE"] = str(int(gpus[0]))
 
     def run(self, task: Task, out: str, task_fn=run_task):
@@ -191,7 +192,7 @@ def _ray(books: _Books, workers: int, address: str | None, on_start: Callable | 
                 actor, task = running.pop(ref)
                 try:
                     result = ray.get(ref)
-                except ray.exceptions.RayActorError:        # the worker died: a new one, the task again
+                except ray.exceptions.RayActorError:  # the worker died: a new one, the task again
                     books.lost(task)
                     idle.append(actor_class.remote())
                     continue
@@ -202,15 +203,21 @@ def _ray(books: _Books, workers: int, address: str | None, on_start: Callable | 
                     books.finished(task, result)
     finally:
         for actor in actors + idle:
-            try:
+            with contextlib.suppress(Exception):
                 ray.kill(actor)
-            except Exception:
-                pass
 
 
-def run_job(job: Job, out: Path, workers: int = 0, retries: int = 1, use_ray: bool = False,
-            address: str | None = None, advance: Callable[[int], None] = lambda n=1: None,
-            on_start: Callable | None = None, task_fn=run_task) -> Report:
+def run_job(
+    job: Job,
+    out: Path,
+    workers: int = 0,
+    retries: int = 1,
+    use_ray: bool = False,
+    address: str | None = None,
+    advance: Callable[[int], None] = lambda n=1: None,
+    on_start: Callable | None = None,
+    task_fn=run_task,
+) -> Report:
     """Run what ``job`` still lacks in ``out``; assemble its videos. ``workers``: 0 runs in this
     process, N > 0 in N local processes (or N Ray actors with ``use_ray``). ``on_start(actors)`` is
     called with the Ray actors once made; ``task_fn(task, out)`` runs a task (tests wrap it)."""

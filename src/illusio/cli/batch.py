@@ -11,7 +11,6 @@ import typer
 
 from ..core.errors import InputError
 
-
 #: options whose value may be left out, and the value they then take
 OPTIONAL_VALUES = {"--ray": "local"}
 
@@ -27,12 +26,20 @@ def optional_values(argv: list[str]) -> list[str]:
 
 
 def batch(
-    job: Path = typer.Argument(..., help="the job file (YAML: tasks with command, inputs, options, sweep, frames, output, video)"),
+    job: Path = typer.Argument(
+        ..., help="the job file (YAML: tasks with command, inputs, options, sweep, frames, output, video)"
+    ),
     out: Path = typer.Option(..., "--out", help="folder for the outputs and the manifest (manifest.jsonl)"),
-    workers: int = typer.Option(0, "--workers", help="local worker processes (0: run in this process); with --ray, actors"),
-    ray: str = typer.Option(None, "--ray", metavar="[ADDRESS]",
-                            help="run on Ray (pip install 'illusio[cluster]'): --ray alone starts a local cluster; "
-                                 "--ray auto or --ray HOST:PORT joins one"),
+    workers: int = typer.Option(
+        0, "--workers", help="local worker processes (0: run in this process); with --ray, actors"
+    ),
+    ray: str = typer.Option(
+        None,
+        "--ray",
+        metavar="[ADDRESS]",
+        help="run on Ray (pip install 'illusio[cluster]'): --ray alone starts a local cluster; "
+        "--ray auto or --ray HOST:PORT joins one",
+    ),
     retries: int = typer.Option(1, "--retries", help="tries again after a task fails, before reporting it"),
 ) -> None:
     """Run JOB: every task through the illusio command it names, in workers that stay warm; a rerun
@@ -49,16 +56,21 @@ def batch(
         raise InputError("an output of the job would replace the job file")
     with progress(len(spec.tasks), "tasks") as advance:
         try:
-            report = run_job(spec, out, workers, retries, ray is not None, None if ray in (None, "local") else ray, advance)
+            report = run_job(
+                spec, out, workers, retries, ray is not None, None if ray in (None, "local") else ray, advance
+            )
         except Interrupted as stop:
             r = stop.report
-            typer.echo(f"illusio: interrupted: {r.ran} tasks finished, the manifest lists them; run again to resume",
-                       err=True)
-            raise typer.Exit(130)
-    typer.echo(f"{report.ran} ran, {report.skipped} already done, {len(report.failed)} failed"
-               f"{f', {report.retried} retried' if report.retried else ''}"
-               f"{f', {report.restarted} given to another worker' if report.restarted else ''}"
-               f"{f', videos: ' + ', '.join(report.videos) if report.videos else ''}")
+            typer.echo(
+                f"illusio: interrupted: {r.ran} tasks finished, the manifest lists them; run again to resume", err=True
+            )
+            raise typer.Exit(130) from None
+    typer.echo(
+        f"{report.ran} ran, {report.skipped} already done, {len(report.failed)} failed"
+        f"{f', {report.retried} retried' if report.retried else ''}"
+        f"{f', {report.restarted} given to another worker' if report.restarted else ''}"
+        f"{', videos: ' + ', '.join(report.videos) if report.videos else ''}"
+    )
     for output, message in report.failed.items():
         print(f"illusio: failed: {output}: {message}", file=sys.stderr)
     if report.failed:

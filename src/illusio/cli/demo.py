@@ -26,7 +26,10 @@ def demo(
         names = [n.strip() for n in only.split(",") if n.strip()]
         unknown = set(names) - {n for n, _ in SHOWCASES}
         if unknown:
-            raise InputError(f"--only: unknown showcase(s) {', '.join(sorted(unknown))}; choose from {', '.join(n for n, _ in SHOWCASES)}")
+            raise InputError(
+                f"--only: unknown showcase(s) {', '.join(sorted(unknown))}; "
+                f"choose from {', '.join(n for n, _ in SHOWCASES)}"
+            )
         chosen = [(n, f) for n, f in SHOWCASES if n in names]
     ctx = Context()
     sections = []
@@ -38,12 +41,18 @@ def demo(
             made = path_traced.renders_made()
             sections.append(showcase(ctx, out, (w, h)))
             traced = path_traced.renders_made() - made
-            typer.echo(f"demo: [{k}/{len(chosen)}] {name}: {len(sections[-1].items)} images in "
-                       f"{time.perf_counter() - t:.1f} s" + (f" ({traced} path-traced)" if traced else ""))
+            typer.echo(
+                f"demo: [{k}/{len(chosen)}] {name}: {len(sections[-1].items)} images in "
+                f"{time.perf_counter() - t:.1f} s" + (f" ({traced} path-traced)" if traced else "")
+            )
     finally:
         path_traced.clear()
     renderer = ctx.info()["renderer"]
-    page = write_gallery(out, "illusio — demo gallery", sections,
-                         footer=f"Rendered on {renderer} in {time.perf_counter() - t0:.1f} s by `illusio demo`.")
+    page = write_gallery(
+        out,
+        "illusio — demo gallery",
+        sections,
+        footer=f"Rendered on {renderer} in {time.perf_counter() - t0:.1f} s by `illusio demo`.",
+    )
     n = sum(len(s.items) for s in sections)
     typer.echo(f"wrote {n} images and {page}")

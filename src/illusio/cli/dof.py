@@ -14,19 +14,28 @@ from ..dof.params import DofParams
 from .common import parse_size, resolve_scene, scene_inputs
 from .params_options import params_options
 
+
 @params_options(params=DofParams)
 def dof(
     scene: str = typer.Argument("living-room", help="built-in scene, .yaml scene, mesh file or built-in shape"),
-    output: Path = typer.Option(None, "-o", "--output", help="image to write (.png, .exr, .npy); with --scenario, the first frame"),
+    output: Path = typer.Option(
+        None, "-o", "--output", help="image to write (.png, .exr, .npy); with --scenario, the first frame"
+    ),
     focus_object: str = typer.Option(None, "--focus-object", help="focus on this object of the scene (by name or tag)"),
     camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
     size: str = typer.Option("1024x768", "--size", help="WIDTHxHEIGHT of each eye's image"),
-    scenario: str = typer.Option(None, "--scenario", help="a scenario file (or a shipped one: futuristic) driving objects and focus"),
+    scenario: str = typer.Option(
+        None, "--scenario", help="a scenario file (or a shipped one: futuristic) driving objects and focus"
+    ),
     video: Path = typer.Option(None, "--video", help="with --scenario: the video to write (.mp4 or .gif)"),
     fps: float = typer.Option(12.0, "--fps", help="frames per second of the video"),
     duration: float = typer.Option(None, "--duration", help="seconds of video (default: the scenario's length)"),
-    debug: str = typer.Option(None, "--debug", help="write a map instead: coc (pixels / max, white = most blur), depth, "
-                                                    "or planes (each pixel's plane in grey levels, Piranda & Desorbier, Figure 8)"),
+    debug: str = typer.Option(
+        None,
+        "--debug",
+        help="write a map instead: coc (pixels / max, white = most blur), depth, "
+        "or planes (each pixel's plane in grey levels, Piranda & Desorbier, Figure 8)",
+    ),
     *,
     params: DofParams,
 ) -> None:
@@ -55,8 +64,11 @@ def dof(
     if focus_object:
         params = replace(params, focus_distance=object_distance(sc, focus_object, view))
     if debug:  # the maps of the first eye; planes need the planes method, the others any blur method
-        params = replace(params, method="planes" if debug == "planes" else
-                         (params.method if params.method != "accumulation" else "gather"), stereo="none")
+        params = replace(
+            params,
+            method="planes" if debug == "planes" else (params.method if params.method != "accumulation" else "gather"),
+            stereo="none",
+        )
     renderer = default_context().kept(DofRenderer)
     if scenario is not None:
         _play(renderer, sc, view, (w, h), params, scenario, out, video, fps, duration)
@@ -87,13 +99,25 @@ def dof(
         return
     write_image(out, image)
     result = renderer.result()
-    typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.method}, focus {params.focus_distance:.2f} m, "
-               f"aperture {params.aperture_mm:g} mm; screen {result.screen_distance:.2f} m, "
-               f"vergence–accommodation {result.conflict_dioptres:.2f} D)")
+    typer.echo(
+        f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.method}, focus {params.focus_distance:.2f} m, "
+        f"aperture {params.aperture_mm:g} mm; screen {result.screen_distance:.2f} m, "
+        f"vergence–accommodation {result.conflict_dioptres:.2f} D)"
+    )
 
 
-def _play(renderer, scene, view, size, params, scenario: str, first: Path | None, video: Path | None, fps: float,
-          duration: float | None) -> None:
+def _play(
+    renderer,
+    scene,
+    view,
+    size,
+    params,
+    scenario: str,
+    first: Path | None,
+    video: Path | None,
+    fps: float,
+    duration: float | None,
+) -> None:
     """The scenario frame after frame: objects moved and shown as scripted, the focus on the
     scripted object (smoothly), written as a video (and the first frame as an image)."""
     from ..core.images import VideoWriter
@@ -111,7 +135,7 @@ def _play(renderer, scene, view, size, params, scenario: str, first: Path | None
         raise InputError(f"--duration must be positive, got {seconds}")
     count = int(round(seconds * fps)) or 1
     conflicts = []
-    with (VideoWriter(video, fps) if video is not None else _Nothing()) as writer, progress(count, "frames") as advance:
+    with VideoWriter(video, fps) if video is not None else _Nothing() as writer, progress(count, "frames") as advance:
         for i in range(count):
             t = i / fps
             player.apply(scene, t)
@@ -129,8 +153,10 @@ def _play(renderer, scene, view, size, params, scenario: str, first: Path | None
         if path is not None:
             typer.echo(f"wrote {path}" + (f" ({count} frames at {fps:g} fps)" if path == video else ""))
     # the eyes converge on the screen and accommodate at the focus: how far apart, frame by frame
-    typer.echo(f"vergence–accommodation difference: {min(conflicts):.2f} to {max(conflicts):.2f} D "
-               f"(mean {sum(conflicts) / len(conflicts):.2f}; screen at {renderer.result().screen_distance:.2f} m)")
+    typer.echo(
+        f"vergence–accommodation difference: {min(conflicts):.2f} to {max(conflicts):.2f} D "
+        f"(mean {sum(conflicts) / len(conflicts):.2f}; screen at {renderer.result().screen_distance:.2f} m)"
+    )
 
 
 class _Nothing:

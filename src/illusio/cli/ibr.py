@@ -4,7 +4,6 @@ from them."""
 from __future__ import annotations
 
 import math
-
 from dataclasses import replace
 from pathlib import Path
 
@@ -25,11 +24,17 @@ def capture_command(
     scene: str = typer.Argument(..., help="built-in scene, .yaml scene, mesh file or built-in shape"),
     output: Path = typer.Option(..., "-o", "--output", help="folder to write the references to"),
     views: int = typer.Option(3, "--views", help="reference cameras along the main camera's right"),
-    cameras: Path = typer.Option(None, "--cameras", help="JSON list of cameras {eye, target, fov, near, far} "
-                                 "(or a references.json) to capture from, instead of --views"),
+    cameras: Path = typer.Option(
+        None,
+        "--cameras",
+        help="JSON list of cameras {eye, target, fov, near, far} "
+        "(or a references.json) to capture from, instead of --views",
+    ),
     baseline: float = typer.Option(1.2, "--baseline", help="metres the reference eyes span"),
     size: str = typer.Option("512x384", "--size", help="WIDTHxHEIGHT of each reference"),
-    renderer: str = typer.Option("raster", "--renderer", help="raster (our G-buffer) or mitsuba (path-traced photographs)"),
+    renderer: str = typer.Option(
+        "raster", "--renderer", help="raster (our G-buffer) or mitsuba (path-traced photographs)"
+    ),
     samples: int = typer.Option(64, "--samples", help="paths a pixel with --renderer mitsuba"),
 ) -> None:
     """Capture reference views of SCENE (albedo, normal, emission, depth, the recorded colour, camera)."""
@@ -57,16 +62,27 @@ def capture_command(
 
 @app.command("import")
 def import_command(
-    kind: str = typer.Argument(..., help="rgbd (color/ + depth/ + intrinsic.json + trajectory.log), tum (rgb.txt, "
-                                         "depth.txt, groundtruth.txt) or colmap (sparse/ text model, images/, "
-                                         "stereo/depth_maps/)"),
+    kind: str = typer.Argument(
+        ...,
+        help="rgbd (color/ + depth/ + intrinsic.json + trajectory.log), tum (rgb.txt, "
+        "depth.txt, groundtruth.txt) or colmap (sparse/ text model, images/, "
+        "stereo/depth_maps/)",
+    ),
     source: Path = typer.Argument(..., help="the capture's folder"),
     output: Path = typer.Option(..., "-o", "--output", help="references folder to write"),
-    frames: str = typer.Option(None, "--frames", help="comma-separated frame indices to use as references (e.g. 0,10,20)"),
-    every: int = typer.Option(None, "--every", help="every N-th frame as a reference (default: 8 spread evenly, or all if fewer)"),
+    frames: str = typer.Option(
+        None, "--frames", help="comma-separated frame indices to use as references (e.g. 0,10,20)"
+    ),
+    every: int = typer.Option(
+        None, "--every", help="every N-th frame as a reference (default: 8 spread evenly, or all if fewer)"
+    ),
     max_depth: float = typer.Option(None, "--max-depth", help="metres: farther depth becomes a hole"),
-    intrinsics: Path = typer.Option(None, "--intrinsics", help="intrinsics JSON (width, height, fx, fy, cx, cy, or "
-                                    "Open3D's intrinsic_matrix) instead of the folder's intrinsic.json"),
+    intrinsics: Path = typer.Option(
+        None,
+        "--intrinsics",
+        help="intrinsics JSON (width, height, fx, fy, cx, cy, or "
+        "Open3D's intrinsic_matrix) instead of the folder's intrinsic.json",
+    ),
     poses: Path = typer.Option(None, "--poses", help="rgbd: a trajectory .log instead of the folder's trajectory.log"),
     depth_scale: float = typer.Option(None, "--depth-scale", help="depth PNG units per metre (rgbd 1000, tum 5000)"),
 ) -> None:
@@ -78,7 +94,9 @@ def import_command(
     from ..ibr.select import MAX_REFERENCES
 
     if kind not in captures.KINDS:
-        raise InputError(f"capture kind must be one of {', '.join(captures.KINDS)}, got {kind!r}{did_you_mean(kind, captures.KINDS)}")
+        raise InputError(
+            f"capture kind must be one of {', '.join(captures.KINDS)}, got {kind!r}{did_you_mean(kind, captures.KINDS)}"
+        )
     if not source.is_dir():
         raise InputError(f"{source}: no such folder")
     if output.resolve() == source.resolve() or source.resolve().is_relative_to(output.resolve()):
@@ -111,7 +129,9 @@ def import_command(
     refs = captures.frames_to_references(read, chosen, max_depth)
     save_references(refs, output)
     w, h = refs.views[0].size
-    typer.echo(f"wrote {output} ({len(chosen)} references of {count} frames, {w}×{h}: frames {','.join(map(str, chosen))})")
+    typer.echo(
+        f"wrote {output} ({len(chosen)} references of {count} frames, {w}×{h}: frames {','.join(map(str, chosen))})"
+    )
 
 
 def parse_camera(text: str, refs, extrapolate: bool = False):
@@ -124,7 +144,7 @@ def parse_camera(text: str, refs, extrapolate: bool = False):
 
     def index(word: str) -> int:
         k = int(word)
-        if not 0 <= k < count:            # Python's -1 would silently take the last reference
+        if not 0 <= k < count:  # Python's -1 would silently take the last reference
             raise InputError(f"--camera {text}: reference {k} does not exist; there are {count} (0 to {count - 1})")
         return k
 
@@ -135,17 +155,21 @@ def parse_camera(text: str, refs, extrapolate: bool = False):
         if kind == "frame":
             k = int(rest)
             if not 0 <= k < len(refs.frames):
-                raise InputError(f"--camera {text}: frame {k} does not exist; the capture has {len(refs.frames)} frames"
-                                 + ("" if refs.frames else " (frames come with an imported capture: illusio ibr import)"))
+                raise InputError(
+                    f"--camera {text}: frame {k} does not exist; the capture has {len(refs.frames)} frames"
+                    + ("" if refs.frames else " (frames come with an imported capture: illusio ibr import)")
+                )
             return refs.frames[k][0]
         if kind == "between":
             parts = rest.split(",")
             if len(parts) not in (2, 3):
                 raise ValueError
             i, j, t = index(parts[0]), index(parts[1]), (float(parts[2]) if len(parts) > 2 else 0.5)
-            if not (0.0 <= t <= 1.0 or extrapolate and math.isfinite(t)):   # beyond the pair is extrapolation
-                raise InputError(f"--camera {text}: T must be in [0, 1] (0 at reference {i}, 1 at {j}), got {t:g}; "
-                                 "--extrapolate allows a T outside")
+            if not (0.0 <= t <= 1.0 or extrapolate and math.isfinite(t)):  # beyond the pair is extrapolation
+                raise InputError(
+                    f"--camera {text}: T must be in [0, 1] (0 at reference {i}, 1 at {j}), got {t:g}; "
+                    "--extrapolate allows a T outside"
+                )
             a, b = refs.views[i].view.pose, refs.views[j].view.pose
             mix = lambda p, q: tuple((1 - t) * np.asarray(p) + t * np.asarray(q))  # noqa: E731
             return View(Pose(mix(a.position, b.position), mix(a.target, b.target), a.up), refs.views[i].view.camera)
@@ -156,26 +180,43 @@ def parse_camera(text: str, refs, extrapolate: bool = False):
     except InputError:
         raise
     except (ValueError, IndexError):
-        raise InputError(f"--camera must be ref:K, frame:K, between:I,J[,T] or x,y,z:x,y,z (with {len(refs.views)} "
-                         f"references), got {text!r}") from None
+        raise InputError(
+            f"--camera must be ref:K, frame:K, between:I,J[,T] or x,y,z:x,y,z (with {len(refs.views)} "
+            f"references), got {text!r}"
+        ) from None
 
 
 @app.command("render")
 @params_options(params=IbrParams)
 def render_command(
     references: Path = typer.Argument(..., help="a references folder (illusio ibr capture, or your own)"),
-    output: Path = typer.Option(..., "-o", "--output", help="image to write (.png, .exr, .npy), or .mp4/.gif with --path"),
-    camera: str = typer.Option("between:0,1", "--camera", help="ref:K, frame:K (an imported capture's frame), "
-                                                                 "between:I,J[,T] or x,y,z:x,y,z"),
-    compare_photo: int = typer.Option(None, "--compare-photo", help="render frame K of an imported capture and print "
-                                      "PSNR and SSIM against its photo over the pixels with depth"),
-    path: Path = typer.Option(None, "--path", help="camera path JSON [{t, eye, target}, ...] (as illusio view "
-                              "--path) played into a video, instead of --camera"),
+    output: Path = typer.Option(
+        ..., "-o", "--output", help="image to write (.png, .exr, .npy), or .mp4/.gif with --path"
+    ),
+    camera: str = typer.Option(
+        "between:0,1", "--camera", help="ref:K, frame:K (an imported capture's frame), between:I,J[,T] or x,y,z:x,y,z"
+    ),
+    compare_photo: int = typer.Option(
+        None,
+        "--compare-photo",
+        help="render frame K of an imported capture and print "
+        "PSNR and SSIM against its photo over the pixels with depth",
+    ),
+    path: Path = typer.Option(
+        None,
+        "--path",
+        help="camera path JSON [{t, eye, target}, ...] (as illusio view "
+        "--path) played into a video, instead of --camera",
+    ),
     fps: float = typer.Option(12.0, "--fps", help="frames a second along --path"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT (default: the references')"),
     ground_truth: str = typer.Option(None, "--ground-truth", help="render this scene from the same camera instead"),
-    extrapolate: bool = typer.Option(False, "--extrapolate/--no-extrapolate", help="between:I,J,T may take T outside [0, 1] (a "
-                                     "camera beyond the pair: what the references did not see is left black)"),
+    extrapolate: bool = typer.Option(
+        False,
+        "--extrapolate/--no-extrapolate",
+        help="between:I,J,T may take T outside [0, 1] (a "
+        "camera beyond the pair: what the references did not see is left black)",
+    ),
     *,
     params: IbrParams,
 ) -> None:
@@ -236,11 +277,15 @@ def _compare(refs, k: int, image: np.ndarray, size: tuple[int, int]) -> None:
     photo = refs.frames[k][1]
     photo = read_image(photo)[..., :3] if isinstance(photo, (str, Path)) else np.asarray(photo)[..., :3]
     if photo.shape[:2] != (size[1], size[0]):
-        raise InputError(f"--compare-photo {k}: the photo is {photo.shape[1]}×{photo.shape[0]}; render at its size "
-                         f"(leave out --size)")
-    covered = np.abs(image[..., :3]).sum(axis=-1) > 0          # holes are black: no reference saw them
+        raise InputError(
+            f"--compare-photo {k}: the photo is {photo.shape[1]}×{photo.shape[0]}; render at its size "
+            f"(leave out --size)"
+        )
+    covered = np.abs(image[..., :3]).sum(axis=-1) > 0  # holes are black: no reference saw them
     diff = (image[..., :3] - photo)[covered]
-    psnr = 10 * np.log10(1.0 / max(float(np.mean(diff ** 2)), 1e-12)) if covered.any() else float("nan")
+    psnr = 10 * np.log10(1.0 / max(float(np.mean(diff**2)), 1e-12)) if covered.any() else float("nan")
     _, ssim = structural_similarity(image[..., :3], photo, channel_axis=2, data_range=1.0, full=True)
     ssim_value = float(ssim.mean(axis=-1)[covered].mean()) if covered.any() else float("nan")
-    typer.echo(f"against frame {k}'s photo: PSNR {psnr:.2f} dB, SSIM {ssim_value:.3f} over {covered.mean():.0%} of the pixels")
+    typer.echo(
+        f"against frame {k}'s photo: PSNR {psnr:.2f} dB, SSIM {ssim_value:.3f} over {covered.mean():.0%} of the pixels"
+    )

@@ -7,7 +7,20 @@ from importlib import metadata
 
 import typer
 
-PACKAGES = ("illusio", "moderngl", "glcontext", "numpy", "trimesh", "pillow", "pypng", "imageio", "openexr", "typer", "rich", "pyyaml")
+PACKAGES = (
+    "illusio",
+    "moderngl",
+    "glcontext",
+    "numpy",
+    "trimesh",
+    "pillow",
+    "pypng",
+    "imageio",
+    "openexr",
+    "typer",
+    "rich",
+    "pyyaml",
+)
 
 
 def info() -> None:

@@ -29,15 +29,32 @@ def _floats(text: str, count: tuple[int, ...], name: str) -> list[float]:
 @params_options(params=LineParams, style=LineStyle)
 def lines(
     mesh: str = typer.Argument(..., help="mesh file (.obj .ply .off .stl .gltf .glb) or built-in shape"),
-    output: Path = typer.Option(..., "-o", "--output", help="drawing to write: .png, or .svg (polylines per line type)"),
+    output: Path = typer.Option(
+        ..., "-o", "--output", help="drawing to write: .png, or .svg (polylines per line type)"
+    ),
     view: str = typer.Option("30,15", "--view", help="AZIMUTH,ELEVATION in degrees around the mesh"),
-    camera: str = typer.Option(None, "--camera", help="EYE_X,EYE_Y,EYE_Z[,TARGET_X,TARGET_Y,TARGET_Z] instead of --view"),
+    camera: str = typer.Option(
+        None, "--camera", help="EYE_X,EYE_Y,EYE_Z[,TARGET_X,TARGET_Y,TARGET_Z] instead of --view"
+    ),
     size: str = typer.Option("1024x1024", "--size", help="WIDTHxHEIGHT"),
     grid: bool = typer.Option(False, "--grid/--no-grid", help="write the τ × λ grid of hybrid apparent ridges instead"),
-    compare: str = typer.Option(None, "--compare", help="sobel, laplace, canny (of the shaded mesh), photo (Canny of a path-traced photograph, scored with registration; needs mitsuba) or an edge IMAGE: print scores, write OUT-compare.png"),
-    auto: bool = typer.Option(False, "--auto/--no-auto", help="choose τ, λ and --threshold that best match the edges of --compare (default: canny of the shaded mesh)"),
+    compare: str = typer.Option(
+        None,
+        "--compare",
+        help=(
+            "sobel, laplace, canny (of the shaded mesh), photo (Canny of a path-traced photograph, scored "
+            "with registration; needs mitsuba) or an edge IMAGE: print scores, write OUT-compare.png"
+        ),
+    ),
+    auto: bool = typer.Option(
+        False,
+        "--auto/--no-auto",
+        help="choose τ, λ and --threshold that best match the edges of --compare (default: canny of the shaded mesh)",
+    ),
     debug: str = typer.Option(None, "--debug", help="write a debug view instead: q1, t1 or curvature"),
-    colour: str = typer.Option(None, "--colour", help="one ink for every line: #rrggbb or R,G,B in [0, 1] (default: each type's)"),
+    colour: str = typer.Option(
+        None, "--colour", help="one ink for every line: #rrggbb or R,G,B in [0, 1] (default: each type's)"
+    ),
     antialias: int = typer.Option(2, "--antialias", help="draw at N× the size and reduce (1: no antialiasing)"),
     *,
     params: LineParams,
@@ -62,12 +79,14 @@ def lines(
         raise InputError(f"--debug must be one of {', '.join(DEBUG_VIEWS)}{did_you_mean(debug, DEBUG_VIEWS)}")
     if compare and compare not in targets and not Path(compare).is_file():
         # checked before anything is drawn: a mistyped method must not leave a drawing behind
-        raise InputError(f"--compare {compare}: not an edge method or photo ({', '.join(targets)}) nor an image file"
-                         f"{did_you_mean(compare, targets)}")
+        raise InputError(
+            f"--compare {compare}: not an edge method or photo ({', '.join(targets)}) nor an image file"
+            f"{did_you_mean(compare, targets)}"
+        )
     if compare == "photo":
         from ..passes.mitsuba import load_mitsuba
 
-        load_mitsuba()                      # the install hint before anything is drawn
+        load_mitsuba()  # the install hint before anything is drawn
     from ..lines.style import parse_colour, ridge_strength, stylise
 
     if not 1 <= antialias <= 4:
@@ -75,14 +94,16 @@ def lines(
     style = replace(style, colour=parse_colour(colour) if colour else None, supersample=antialias)
     fade = style.fade
     w, h = parse_size(size)
-    parse_size(f"{w * antialias}x{h * antialias}")          # the supersampled drawing must fit too
+    parse_size(f"{w * antialias}x{h * antialias}")  # the supersampled drawing must fit too
     m = resolve_mesh(mesh)
     if camera:
         c = _floats(camera, (3, 6), "--camera")
         lo, hi = m.bounds
         target = tuple(c[3:]) if len(c) == 6 else tuple((np.asarray(lo, float) + hi) / 2)
         base = framing_view(m)
-        v = View(Pose(tuple(c[:3]), target), replace(base.camera, near=1e-3 * base.camera.near, far=base.camera.far * 10))
+        v = View(
+            Pose(tuple(c[:3]), target), replace(base.camera, near=1e-3 * base.camera.near, far=base.camera.far * 10)
+        )
         Scene(m.name, nodes=[Node(m.name, m)]).check_in_view(v, (w, h))
     else:
         az_el = _floats(view, (2,), "--view")
@@ -93,7 +114,7 @@ def lines(
     made: dict = {}
 
     def target_edges():
-        if "target" not in made:           # once: --auto and --compare share it
+        if "target" not in made:  # once: --auto and --compare share it
             made["target"] = edges_of_target()
         return made["target"]
 
@@ -149,7 +170,7 @@ def lines(
         ours = cmp.line_mask(drawing.image)
         target = target_edges()
         typer.echo(f"against {compare}: {cmp.score(ours, target)}")
-        if compare == "photo":                # a photograph's edges sit off the lines by a few pixels
+        if compare == "photo":  # a photograph's edges sit off the lines by a few pixels
             registered, (dx, dy) = cmp.registered_score(ours, target)
             typer.echo(f"registered (shifted {dx:+d}, {dy:+d} px): {registered}")
             ours = cmp.shift_mask(ours, dx, dy)
@@ -161,8 +182,13 @@ def lines(
 @params_options(settings=CurvatureParams)
 def curvature(
     mesh: str = typer.Argument(..., help="mesh file or built-in shape"),
-    output: Path = typer.Option(..., "-o", "--output", help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, "
-                                                            "valid, and vertices, faces, source_index (each row's vertex in the file)"),
+    output: Path = typer.Option(
+        ...,
+        "-o",
+        "--output",
+        help="arrays to write (.npz): k_min, k_max, e_min, e_max, normals, dcurv, "
+        "valid, and vertices, faces, source_index (each row's vertex in the file)",
+    ),
     no_cache: bool = typer.Option(False, "--no-cache", help="recompute even if a cached result exists"),
     *,
     settings: CurvatureParams,
@@ -174,9 +200,19 @@ def curvature(
     if out.suffix.lower() != ".npz":
         raise InputError(f"{out.name}: curvature is written as .npz")
     m = resolve_mesh(mesh)
-    c = estimate_curvature(m, settings.rings, settings.degree, cache=not no_cache, adaptive=settings.adaptive,
-                           extra_rings=settings.extra_rings, confidence=settings.confidence, smoothing=settings.smoothing)
+    c = estimate_curvature(
+        m,
+        settings.rings,
+        settings.degree,
+        cache=not no_cache,
+        adaptive=settings.adaptive,
+        extra_rings=settings.extra_rings,
+        confidence=settings.confidence,
+        smoothing=settings.smoothing,
+    )
     source = m.source_index if m.source_index is not None else np.arange(len(m.vertices))
     c.save(out, vertices=m.vertices, faces=m.faces, source_index=source)
-    typer.echo(f"wrote {out} ({len(c.k_min)} vertices, {int((~c.valid).sum())} without a fit; "
-               f"curvature scale {c.scale():.4g} per unit)")
+    typer.echo(
+        f"wrote {out} ({len(c.k_min)} vertices, {int((~c.valid).sum())} without a fit; "
+        f"curvature scale {c.scale():.4g} per unit)"
+    )

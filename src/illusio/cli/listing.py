@@ -19,8 +19,10 @@ def _scenes() -> list[str]:
     for name in SCENES:
         scene = builtin_scene(name)
         hosts = [n.name for n in scene.nodes if "host" in n.tags]
-        rows.append(f"{name}: cameras {', '.join(scene.cameras)}; hosts {', '.join(hosts) or '—'}; "
-                    f"lamps {', '.join(light.name for light in scene.lights) or '—'}")
+        rows.append(
+            f"{name}: cameras {', '.join(scene.cameras)}; hosts {', '.join(hosts) or '—'}; "
+            f"lamps {', '.join(light.name for light in scene.lights) or '—'}"
+        )
     return rows
 
 
@@ -29,18 +31,24 @@ def _names(what: str) -> list[str]:
         return _scenes()
     if what == "shapes":
         from ..scene.builtin import SHAPES
+
         return list(SHAPES)
     if what in ("patterns", "algorithms"):
         from ..sis.params import ALGORITHMS, PATTERNS
+
         return list(PATTERNS if what == "patterns" else ALGORITHMS)
     if what == "lines":
         from ..lines.params import LINE_TYPES
+
         return list(LINE_TYPES)
     from ..core.technique import techniques
 
-    return [f"{t.name}: {t.title}; source: {t.source_kind} (default {t.default_source})"
-            + (f"; views {', '.join(t.presets)}" if t.presets else "") + (f"; needs {t.needs}" if t.needs else "")
-            for t in techniques().values()]
+    return [
+        f"{t.name}: {t.title}; source: {t.source_kind} (default {t.default_source})"
+        + (f"; views {', '.join(t.presets)}" if t.presets else "")
+        + (f"; needs {t.needs}" if t.needs else "")
+        for t in techniques().values()
+    ]
 
 
 def listing(what: str = typer.Argument(None, help=f"one of {', '.join(WHAT)} (default: all)")) -> None:

@@ -17,18 +17,28 @@ import typer
 from ..core.errors import IllusioError
 from . import batch, demo, dof, ibr, info, lines, listing, radiosity, relight, render, sis, view
 
-app = typer.Typer(add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
-                  help="illusio: perception-driven rendering on a headless OpenGL core.")
+app = typer.Typer(
+    add_completion=False,
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    help="illusio: perception-driven rendering on a headless OpenGL core.",
+)
+
+
 def _version(value: bool) -> None:
     if value:
         from .. import __version__
+
         typer.echo(f"illusio {__version__}")
         raise typer.Exit()
 
 
 @app.callback()
-def _main(version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
-                                       help="print illusio's version and exit")) -> None:
+def _main(
+    version: bool = typer.Option(
+        False, "--version", callback=_version, is_eager=True, help="print illusio's version and exit"
+    ),
+) -> None:
     """illusio: perception-driven rendering on a headless OpenGL core."""
 
 
@@ -50,7 +60,6 @@ app.command("relight")(relight.relight)
 app.command("relight-prepare", hidden=True)(relight.relight_prepare)
 app.command("relight-calibrate", hidden=True)(relight.relight_calibrate)
 app.command("relight-example", hidden=True)(relight.relight_example)
-
 
 
 def _flowed(text: str | None) -> str | None:
@@ -93,8 +102,11 @@ _tidy(app)
 
 #: two-word commands that are not groups: ``illusio relight prepare`` runs ``relight-prepare``,
 #: ``illusio relight calibrate`` ``relight-calibrate``, ``illusio relight example`` ``relight-example``
-ALIASES = {("relight", "prepare"): "relight-prepare", ("relight", "calibrate"): "relight-calibrate",
-           ("relight", "example"): "relight-example"}
+ALIASES = {
+    ("relight", "prepare"): "relight-prepare",
+    ("relight", "calibrate"): "relight-calibrate",
+    ("relight", "example"): "relight-example",
+}
 
 
 def expand(argv: list[str]) -> list[str]:
@@ -123,7 +135,7 @@ def run(argv: list[str] | None = None) -> None:
         previous = signal.signal(signal.SIGTERM, _terminated)
     argv = expand(sys.argv[1:] if argv is None else argv)
     try:
-        app(args=argv, standalone_mode=True)   # click answers Ctrl-C (and SIGTERM, here) with Aborted!, exit 1
+        app(args=argv, standalone_mode=True)  # click answers Ctrl-C (and SIGTERM, here) with Aborted!, exit 1
     except IllusioError as exc:
         print(f"illusio: error: {exc.one_line()}", file=sys.stderr)
         sys.exit(2)

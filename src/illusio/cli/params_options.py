@@ -22,8 +22,9 @@ import dataclasses
 import functools
 import inspect
 import typing
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 import typer
 
@@ -60,8 +61,10 @@ def option_specs(params_class, exclude: tuple[str, ...] = ()) -> list[OptionSpec
     seen: dict[str, str] = {}
     for spec in out:
         if spec.long in seen:
-            raise TypeError(f"{params_class.__name__}: {spec.path} and {seen[spec.long]} both make {spec.long}; "
-                            f"give one a flag= in its param()")
+            raise TypeError(
+                f"{params_class.__name__}: {spec.path} and {seen[spec.long]} both make {spec.long}; "
+                f"give one a flag= in its param()"
+            )
         seen[spec.long] = spec.path
     return out
 
@@ -76,13 +79,14 @@ def _walk(instance, prefix: str, exclude: set[str], out: list[OptionSpec]) -> No
             _walk(info.value, path + ".", exclude, out)
             continue
         if info.kind == "other":
-            continue                      # nothing a command line can spell (colour tables, poses)
+            continue  # nothing a command line can spell (colour tables, poses)
         flag = info.flag or info.name.replace("_", "-")
         if info.kind == "bool" and "/" not in flag:
             flag = f"{flag}/no-{flag}"
         flag = "/".join("--" + part for part in flag.split("/"))
-        out.append(OptionSpec(path, flag, "param__" + path.replace(".", "__"), info.kind, info.value, info,
-                              metas[info.name]))
+        out.append(
+            OptionSpec(path, flag, "param__" + path.replace(".", "__"), info.kind, info.value, info, metas[info.name])
+        )
 
 
 _TYPES = {"float": float, "int": int, "bool": bool, "choice": str, "multi": str, "text": str}
@@ -99,7 +103,9 @@ def _help(spec: OptionSpec) -> str:
     if info.range is not None and spec.kind in ("int", "float"):
         extra.append(f"{_number(info.range[0])} to {_number(info.range[1])}")
     if info.choices:
-        extra.append(("comma-separated, of: " if spec.kind == "multi" else "one of ") + ", ".join(map(str, info.choices)))
+        extra.append(
+            ("comma-separated, of: " if spec.kind == "multi" else "one of ") + ", ".join(map(str, info.choices))
+        )
     return text + (f" ({'; '.join(extra)})" if extra else "")
 
 
@@ -109,12 +115,12 @@ def _number(value: float) -> str:
 
 def _option(spec: OptionSpec) -> inspect.Parameter:
     default = ",".join(spec.default) if spec.kind == "multi" else spec.default
-    if spec.kind == "choice" and not isinstance(default, str):
-        default_type = type(default)          # choices of numbers (a jet degree): that type
-    else:
-        default_type = _TYPES[spec.kind]
-    option = typer.Option(default, *spec.flag.split("/") if spec.kind != "bool" else (spec.flag,), help=_help(spec),
-                          show_default=True)
+    # choices of numbers (a jet degree) keep their type
+    numeric_choice = spec.kind == "choice" and not isinstance(default, str)
+    default_type = type(default) if numeric_choice else _TYPES[spec.kind]
+    option = typer.Option(
+        default, *spec.flag.split("/") if spec.kind != "bool" else (spec.flag,), help=_help(spec), show_default=True
+    )
     return inspect.Parameter(spec.name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=default_type)
 
 
@@ -127,21 +133,28 @@ def _value(spec: OptionSpec, raw):
 def params_options(exclude: tuple[str, ...] = (), **classes) -> Callable:
     """Decorator: the command's keyword ``K`` (for each ``K=ParamsClass``) is made from generated
     options. ``exclude``: dotted paths ("params.stereogram.screen") the command sets itself."""
+
     def decorate(fn):
         hints = typing.get_type_hints(fn)
         signature = inspect.signature(fn)
-        kept = [p.replace(annotation=hints.get(p.name, p.annotation)) for p in signature.parameters.values()
-                if p.name not in classes]
+        kept = [
+            p.replace(annotation=hints.get(p.name, p.annotation))
+            for p in signature.parameters.values()
+            if p.name not in classes
+        ]
         specs = {}
         for key, cls in classes.items():
             own = tuple(e.partition(".")[2] for e in exclude if e.partition(".")[0] == key)
             specs[key] = option_specs(cls, own)
         generated = [_option(s) for group in specs.values() for s in group]
         names = [p.name for p in kept]
-        clash = {f for s in generated for f in s.default.param_decls} & \
-            {f for p in kept if isinstance(p.default, typer.models.OptionInfo) for f in p.default.param_decls or ()}
+        clash = {f for s in generated for f in s.default.param_decls} & {
+            f for p in kept if isinstance(p.default, typer.models.OptionInfo) for f in p.default.param_decls or ()
+        }
         if clash:
-            raise TypeError(f"{fn.__name__}: options {', '.join(sorted(clash))} are both the command's and a Params field's")
+            raise TypeError(
+                f"{fn.__name__}: options {', '.join(sorted(clash))} are both the command's and a Params field's"
+            )
         assert not set(names) & {p.name for p in generated}
 
         @functools.wraps(fn)
@@ -153,16 +166,19 @@ def params_options(exclude: tuple[str, ...] = (), **classes) -> Callable:
                     if value != spec.default:
                         check_value(spec.meta, value, spec.long)
                         values[spec.path] = value
-                kwargs[key] = with_values(classes[key](), **values)   # its own checks across fields
+                kwargs[key] = with_values(classes[key](), **values)  # its own checks across fields
             return fn(**kwargs)
 
         parameters = kept + generated
-        order = [p for p in parameters if p.kind != inspect.Parameter.KEYWORD_ONLY] + \
-            [p for p in parameters if p.kind == inspect.Parameter.KEYWORD_ONLY]
+        order = [p for p in parameters if p.kind != inspect.Parameter.KEYWORD_ONLY] + [
+            p for p in parameters if p.kind == inspect.Parameter.KEYWORD_ONLY
+        ]
         command.__signature__ = inspect.Signature(
-            [p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in order], return_annotation=None)
+            [p.replace(kind=inspect.Parameter.KEYWORD_ONLY) for p in order], return_annotation=None
+        )
         command.__annotations__ = {p.name: p.annotation for p in order}
         command.option_specs = specs
-        del command.__wrapped__          # typer must read our signature, not the wrapped function's
+        del command.__wrapped__  # typer must read our signature, not the wrapped function's
         return command
+
     return decorate

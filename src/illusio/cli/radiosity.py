@@ -15,7 +15,6 @@ from .common import parse_size, resolve_scene, scene_inputs
 from .params_options import params_options
 
 
-
 def parse_lamps(values: list[str], flag: str = "--set-lamp") -> tuple:
     """['lamp-0=0.5', ...] -> (('lamp-0', 0.5), ...); a scale must be finite and ≥ 0."""
     out = []
@@ -33,15 +32,23 @@ def parse_lamps(values: list[str], flag: str = "--set-lamp") -> tuple:
 
 @params_options(params=RadiosityParams)
 def radiosity(
-    scene: str = typer.Argument(..., help="built-in scene (cornell-box, office, living-room, ...), a .yaml scene or an MGF file (.mgf)"),
+    scene: str = typer.Argument(
+        ..., help="built-in scene (cornell-box, office, living-room, ...), a .yaml scene or an MGF file (.mgf)"
+    ),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png sRGB, .npy/.exr linear)"),
     set_lamp: list[str] = typer.Option(None, "--set-lamp", help="NAME=SCALE, the lamp's exitance × SCALE (repeatable)"),
     size: str = typer.Option("640x480", "--size", help="WIDTHxHEIGHT of both images"),
     camera: str = typer.Option(None, "--camera", help="named camera of the scene (default: main)"),
-    reference: Path = typer.Option(None, "--reference", help="also path-trace the same polygons with Mitsuba to this image"),
+    reference: Path = typer.Option(
+        None, "--reference", help="also path-trace the same polygons with Mitsuba to this image"
+    ),
     spp: int = typer.Option(256, "--spp", help="--reference: paths per pixel"),
-    supersample: int = typer.Option(0, "--supersample", help="samples per pixel side of the radiosity image (0: 4 with --reference, else 1)"),
-    stats: bool = typer.Option(False, "--stats/--no-stats", help="print elements, links, rays and the time of each phase"),
+    supersample: int = typer.Option(
+        0, "--supersample", help="samples per pixel side of the radiosity image (0: 4 with --reference, else 1)"
+    ),
+    stats: bool = typer.Option(
+        False, "--stats/--no-stats", help="print elements, links, rays and the time of each phase"
+    ),
     *,
     params: RadiosityParams,
 ) -> None:
@@ -81,6 +88,7 @@ def radiosity(
         scales = dict(params.lamp_scales)
         if scales:
             import dataclasses
+
             factor = np.array([scales.get(n, 1.0) for n in scaled.names])[scaled.group]
             scaled = dataclasses.replace(scaled, exitance=scaled.exitance * factor[:, None])
         ref = render_mitsuba(scaled, view, (w, h), spp, seed) * exposure
@@ -89,8 +97,10 @@ def radiosity(
     if ref is not None:
         write_image(ref_out, ref)
         s = score(image, ref, ~emitter)
-        typer.echo(f"wrote {ref_out}: mean relative error {100 * s.mean_relative_error:.1f} % over {s.pixels} "
-                   f"non-emitter pixels, PSNR {s.psnr:.1f} dB")
+        typer.echo(
+            f"wrote {ref_out}: mean relative error {100 * s.mean_relative_error:.1f} % over {s.pixels} "
+            f"non-emitter pixels, PSNR {s.psnr:.1f} dB"
+        )
     if stats:
         for line in solution.stats.lines():
             typer.echo(line)

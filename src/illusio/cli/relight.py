@@ -52,8 +52,10 @@ def _parse_object(text: str):
     return mesh, (at[0], at[1] - float(lo[1]), at[2])
 
 
-RESPONSE_HELP = ("how a folder's photograph becomes linear: auto (PNG, JPEG, TIFF from sRGB; EXR, HDR, .npy as "
-                 "stored), srgb, linear or gamma:G")
+RESPONSE_HELP = (
+    "how a folder's photograph becomes linear: auto (PNG, JPEG, TIFF from sRGB; EXR, HDR, .npy as "
+    "stored), srgb, linear or gamma:G"
+)
 
 
 def _real_scene(scene: str, size: str, samples: int, response: str = "auto"):
@@ -69,8 +71,11 @@ def _real_scene(scene: str, size: str, samples: int, response: str = "auto"):
 
 @params_options(params=RelightParams)
 def relight_prepare(
-    scene: str = typer.Argument("office", help="a folder (scene.yaml, photograph, camera.json) or the built-in real "
-                                               "scene (its photograph is path-traced: the photo extra)"),
+    scene: str = typer.Argument(
+        "office",
+        help="a folder (scene.yaml, photograph, camera.json) or the built-in real "
+        "scene (its photograph is path-traced: the photo extra)",
+    ),
     output: Path = typer.Option(..., "-o", "--output", help="the prepared session (.npz)"),
     size: str = typer.Option(DEFAULT_SIZE_TEXT, "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph"),
@@ -93,19 +98,39 @@ def relight_prepare(
 
 @params_options(params=RelightParams)
 def relight(
-    scene: str = typer.Argument("office", help="a folder (scene.yaml, photograph, camera.json; see "
-                                               "relight.load_real_scene), the built-in real scene (its photograph is "
-                                               "path-traced: the photo extra), or a session saved by `illusio relight "
-                                               "prepare` (.npz)"),
+    scene: str = typer.Argument(
+        "office",
+        help="a folder (scene.yaml, photograph, camera.json; see "
+        "relight.load_real_scene), the built-in real scene (its photograph is "
+        "path-traced: the photo extra), or a session saved by `illusio relight "
+        "prepare` (.npz)",
+    ),
     output: Path = typer.Option(..., "-o", "--output", help="the relit image (.png sRGB, .npy/.exr linear)"),
-    set_lamp: list[str] = typer.Option(None, "--set", help="NAME=SCALE: a real lamp's estimated exitance × SCALE (repeatable)"),
+    set_lamp: list[str] = typer.Option(
+        None, "--set", help="NAME=SCALE: a real lamp's estimated exitance × SCALE (repeatable)"
+    ),
     size: str = typer.Option(DEFAULT_SIZE_TEXT, "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph"),
-    add_lamp: list[str] = typer.Option(None, "--add-lamp", help=f"X,Y,Z:EXITANCE — a virtual {VIRTUAL_LAMP_SIZE * 100:g} cm lamp facing down at X,Y,Z (m), W/m² (repeatable)"),
-    add_object: list[str] = typer.Option(None, "--add-object", help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)"),
+    add_lamp: list[str] = typer.Option(
+        None,
+        "--add-lamp",
+        help=(
+            f"X,Y,Z:EXITANCE — a virtual {VIRTUAL_LAMP_SIZE * 100:g} cm lamp facing down at X,Y,Z (m), W/m² "
+            "(repeatable)"
+        ),
+    ),
+    add_object: list[str] = typer.Option(
+        None,
+        "--add-object",
+        help="MESH@X,Y,Z — a virtual object (mesh file or built-in shape) standing at X,Y,Z (repeatable)",
+    ),
     photograph: Path = typer.Option(None, "--photograph", help="also write the photograph used"),
-    show: str = typer.Option("image", "--show", help="image, textures (what the method displays), mesh (leaf outlines), display-factor "
-                              "or registration (the model's edges over the photograph's)"),
+    show: str = typer.Option(
+        "image",
+        "--show",
+        help="image, textures (what the method displays), mesh (leaf outlines), display-factor "
+        "or registration (the model's edges over the photograph's)",
+    ),
     response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
     *,
     params: RelightParams,
@@ -125,7 +150,7 @@ def relight(
     if show not in SHOW:
         raise InputError(f"--show must be one of {', '.join(SHOW)}, got {show!r}{did_you_mean(show, SHOW)}")
     scales = dict(parse_lamps(set_lamp, "--set"))
-    lamps = [_parse_lamp(t) for t in add_lamp or ()]           # every option checked before the photograph
+    lamps = [_parse_lamp(t) for t in add_lamp or ()]  # every option checked before the photograph
     objects = [_parse_object(t) for t in add_object or ()]
     if saved:
         session = RelightSession.load(scene)
@@ -134,8 +159,10 @@ def relight(
     real = session.real
     unknown = sorted(set(scales) - set(session.lamp_names))
     if unknown:
-        raise InputError(f"no lamp named {unknown[0]!r}{did_you_mean(unknown[0], session.lamp_names)}; "
-                         f"lamps: {', '.join(session.lamp_names)}")
+        raise InputError(
+            f"no lamp named {unknown[0]!r}{did_you_mean(unknown[0], session.lamp_names)}; "
+            f"lamps: {', '.join(session.lamp_names)}"
+        )
     for k, (centre, power) in enumerate(lamps):
         session.add_lamp(centre, VIRTUAL_LAMP_SIZE, (power, power, power), f"virtual-lamp-{k}")
     for k, (mesh, at) in enumerate(objects):
@@ -158,17 +185,27 @@ def _report_registration(session) -> None:
     result = session.registration()
     typer.echo(result.line())
     if result.poor:
-        warnings.warn(f"{result.line()}: the model and the photograph do not line up well; check camera.json "
-                      "(illusio relight calibrate) or the model (--show registration draws both)")
+        warnings.warn(
+            f"{result.line()}: the model and the photograph do not line up well; check camera.json "
+            "(illusio relight calibrate) or the model (--show registration draws both)",
+            stacklevel=2,
+        )
 
 
 def relight_calibrate(
     photo: Path = typer.Argument(..., help="the photograph (its size is the camera's)"),
-    points: Path = typer.Option(..., "--points", help="u v x y z per line: a pixel and the model point it shows "
-                                "(see illusio.relight.calibrate; at least 6, not on one plane)"),
-    output: Path = typer.Option(..., "-o", "--output", help="camera.json to write (beside scene.yaml and the photograph)"),
-    max_error: float = typer.Option(2.0, "--max-error", help="refuse a fit whose RMS reprojection error is above this "
-                                    "many pixels"),
+    points: Path = typer.Option(
+        ...,
+        "--points",
+        help="u v x y z per line: a pixel and the model point it shows "
+        "(see illusio.relight.calibrate; at least 6, not on one plane)",
+    ),
+    output: Path = typer.Option(
+        ..., "-o", "--output", help="camera.json to write (beside scene.yaml and the photograph)"
+    ),
+    max_error: float = typer.Option(
+        2.0, "--max-error", help="refuse a fit whose RMS reprojection error is above this many pixels"
+    ),
 ) -> None:
     """The photograph's camera (intrinsics f_x, f_y, c_x, c_y, k1, k2 and pose) from points picked on it
     and on the model (OpenCV's calibrateCamera), written as camera.json; the reprojection error printed."""
@@ -186,25 +223,35 @@ def relight_calibrate(
     outside = ~((uv >= -0.5) & (uv <= np.array(size) - 0.5)).all(axis=1)
     if outside.any():
         k = int(np.flatnonzero(outside)[0])
-        raise InputError(f"{points}: point {k + 1} (u, v = {uv[k, 0]:g}, {uv[k, 1]:g}) is outside the "
-                         f"{size[0]}×{size[1]} photograph")
+        raise InputError(
+            f"{points}: point {k + 1} (u, v = {uv[k, 0]:g}, {uv[k, 1]:g}) is outside the {size[0]}×{size[1]} photograph"
+        )
     result = calibrate(uv, xyz, size)
     worst = int(np.argmax(result.errors))
     i = result.intrinsics
-    summary = (f"reprojection error {result.rms:.2f} px RMS over {len(uv)} points (worst: point {worst + 1}, "
-               f"{result.errors[worst]:.2f} px)")
+    summary = (
+        f"reprojection error {result.rms:.2f} px RMS over {len(uv)} points (worst: point {worst + 1}, "
+        f"{result.errors[worst]:.2f} px)"
+    )
     if result.rms > max_error:
-        raise InputError(f"{summary}: above --max-error {max_error:g} px; check that each u, v is paired with its "
-                         "x, y, z")
+        raise InputError(
+            f"{summary}: above --max-error {max_error:g} px; check that each u, v is paired with its x, y, z"
+        )
     write_camera(output, result)
-    typer.echo(f"wrote {output}: fx {i.fx:.1f}, fy {i.fy:.1f}, cx {i.cx:.1f}, cy {i.cy:.1f} px, k1 {i.distortion[0]:.4f}, "
-               f"k2 {i.distortion[1]:.4f}; {summary}")
+    typer.echo(
+        f"wrote {output}: fx {i.fx:.1f}, fy {i.fy:.1f}, cx {i.cx:.1f}, cy {i.cy:.1f} px, k1 {i.distortion[0]:.4f}, "
+        f"k2 {i.distortion[1]:.4f}; {summary}"
+    )
 
 
 def relight_example(
-    folder: Path = typer.Argument(..., help="the folder to write (scene.yaml, photograph.png, points.txt, true-camera.json)"),
+    folder: Path = typer.Argument(
+        ..., help="the folder to write (scene.yaml, photograph.png, points.txt, true-camera.json)"
+    ),
     size: str = typer.Option(DEFAULT_SIZE_TEXT, "--size", help="WIDTHxHEIGHT of the photograph"),
-    samples: int = typer.Option(DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph (denoised when pyoidn is installed)"),
+    samples: int = typer.Option(
+        DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph (denoised when pyoidn is installed)"
+    ),
     seed: int = typer.Option(0, "--seed", help="the path tracer's and the picked points' randomness"),
 ) -> None:
     """The worked example of relighting your own photograph: a room's model, a photograph of it

@@ -11,16 +11,34 @@ from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
 from ..core.renderer import DEFAULT_SIZE
 from ..passes.scene_renderer import RenderSettings
+from .common import parse_eye_target, parse_size, parse_view_angles, resolve_scene, scene_inputs
 
 _DEFAULT = RenderSettings()
-from .common import parse_eye_target, parse_size, parse_view_angles, resolve_scene, scene_inputs
 
 
 def render(
-    scene: str = typer.Argument(..., help="built-in scene (cornell-box, living-room, office, museum, turntable), a .yaml scene, a mesh file or a built-in shape"),
-    output: Path = typer.Option(..., "-o", "--output", help="image to write: .png (8-bit sRGB; 16-bit with --bit-depth 16), .jpg, .npy or .exr (linear float); .mp4 or .gif with --turntable"),
-    camera: str = typer.Option(None, "--camera", help="a named camera of the scene (default: main) or EYE:TARGET (x,y,z:x,y,z in metres)"),
-    view: str = typer.Option(None, "--view", help="AZ,EL: orbit the main camera's target at its distance, azimuth and elevation in degrees"),
+    scene: str = typer.Argument(
+        ...,
+        help=(
+            "built-in scene (cornell-box, living-room, office, museum, turntable), a .yaml scene, a mesh "
+            "file or a built-in shape"
+        ),
+    ),
+    output: Path = typer.Option(
+        ...,
+        "-o",
+        "--output",
+        help=(
+            "image to write: .png (8-bit sRGB; 16-bit with --bit-depth 16), .jpg, .npy or .exr (linear "
+            "float); .mp4 or .gif with --turntable"
+        ),
+    ),
+    camera: str = typer.Option(
+        None, "--camera", help="a named camera of the scene (default: main) or EYE:TARGET (x,y,z:x,y,z in metres)"
+    ),
+    view: str = typer.Option(
+        None, "--view", help="AZ,EL: orbit the main camera's target at its distance, azimuth and elevation in degrees"
+    ),
     turntable: int = typer.Option(0, "--turntable", help="N frames around the target (a video: -o .mp4 or .gif)"),
     size: str = typer.Option("x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT in pixels"),
     shadows: bool = typer.Option(_DEFAULT.shadows, "--shadows/--no-shadows", help="cube shadow maps"),
@@ -58,15 +76,22 @@ def render(
     if angles is not None:
         azimuth, elevation = angles
         base = View(Pose.orbit(tuple(target), distance, azimuth, elevation), base.camera)
-    sc.check_in_view(base, (w, h))                  # refused before a context is made
+    sc.check_in_view(base, (w, h))  # refused before a context is made
     settings = RenderSettings(shadows=shadows, exposure=exposure)
     ctx = default_context()
     if not turntable:
         write_image(out, render_scene(sc, base, (w, h), ctx, settings), bit_depth=bit_depth)
         typer.echo(f"wrote {out} ({w}×{h})")
         return
-    with VideoWriter(out) as video:             # frames streamed: an interrupted run leaves no file
+    with VideoWriter(out) as video:  # frames streamed: an interrupted run leaves no file
         for k in range(turntable):
-            video.append(render_scene(sc, View(Pose.orbit(tuple(target), distance, azimuth + 360.0 * k / turntable,
-                                                          elevation), base.camera), (w, h), ctx, settings))
+            video.append(
+                render_scene(
+                    sc,
+                    View(Pose.orbit(tuple(target), distance, azimuth + 360.0 * k / turntable, elevation), base.camera),
+                    (w, h),
+                    ctx,
+                    settings,
+                )
+            )
     typer.echo(f"wrote {out} ({turntable} frames, {w}×{h})")

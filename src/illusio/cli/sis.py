@@ -32,7 +32,9 @@ def _depth_input(source: str, size: tuple[int, int] | None, ctx_factory):
     if is_mesh_source(source):
         return depth_from_scene(ctx_factory(), hidden_scene(resolve_mesh(source)), size or DEFAULT_SIZE)
     if not p.exists():
-        raise InputError(f"{source}: no such file, and not a built-in shape ({', '.join(SHAPES)}){did_you_mean(source, SHAPES)}")
+        raise InputError(
+            f"{source}: no such file, and not a built-in shape ({', '.join(SHAPES)}){did_you_mean(source, SHAPES)}"
+        )
     depth = read_depth(p)
     if size and (depth.shape[1], depth.shape[0]) != size:
         from ..sis.stereogram import resize_depth
@@ -52,7 +54,7 @@ def _print_size(text: str, dpi: float) -> tuple[tuple[int, int], Screen]:
         raise InputError("--print-size and --dpi must be positive")
     w, h = int(round(w_cm / 2.54 * dpi)), int(round(h_cm / 2.54 * dpi))
     try:
-        check_size((w, h))                          # refused before anything is made, as --size is
+        check_size((w, h))  # refused before anything is made, as --size is
     except InputError as exc:
         raise InputError(f"--print-size {text} at {dpi:g} dpi: {exc}; print smaller or lower --dpi") from None
     return (w, h), Screen(diagonal_cm=float(np.hypot(w_cm, h_cm)), aspect=w_cm / h_cm, width_px=w, height_px=h)
@@ -60,10 +62,14 @@ def _print_size(text: str, dpi: float) -> tuple[tuple[int, int], Screen]:
 
 @params_options(params=StereogramParams)
 def sis(
-    depth: str = typer.Argument(..., help="depth map: grey PNG (8/16-bit, white = near), .npy, a mesh file or a built-in shape"),
+    depth: str = typer.Argument(
+        ..., help="depth map: grey PNG (8/16-bit, white = near), .npy, a mesh file or a built-in shape"
+    ),
     output: Path = typer.Option(..., "-o", "--output", help="stereogram to write (.png)"),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT in pixels (default: the depth map's)"),
-    print_size: str = typer.Option(None, "--print-size", help="WIDTHxHEIGHTcm for print (with --dpi); sets the size and the physical model"),
+    print_size: str = typer.Option(
+        None, "--print-size", help="WIDTHxHEIGHTcm for print (with --dpi); sets the size and the physical model"
+    ),
     dpi: float = typer.Option(300.0, "--dpi", help="dots per inch with --print-size"),
     cpu: bool = typer.Option(False, "--cpu/--no-cpu", help="use the NumPy/numba reference instead of the GPU"),
     *,
@@ -74,7 +80,7 @@ def sis(
     from ..sis.stereogram import stereogram
 
     out = check_output_path(output, scene_inputs(depth) + scene_inputs(params.pattern))
-    params = replace(params, screen=params.screen.derived())     # its height from the width and aspect given
+    params = replace(params, screen=params.screen.derived())  # its height from the width and aspect given
     wanted = parse_size(size) if size else None
     if print_size:
         wanted, screen = _print_size(print_size, dpi)
@@ -89,11 +95,15 @@ def sis(
     d = _depth_input(depth, wanted, ctx_factory)
     image = stereogram(d, params, None if cpu else ctx_factory(), cpu=cpu)
     # what made it, for sis-decode and for whoever finds the file later
-    text = {f"illusio:{k}": str(getattr(params, k)) for k in ("strip_width", "depth_factor", "algorithm", "cross_eyed",
-                                                              "invert", "exact", "seed", "pattern")}
+    text = {
+        f"illusio:{k}": str(getattr(params, k))
+        for k in ("strip_width", "depth_factor", "algorithm", "cross_eyed", "invert", "exact", "seed", "pattern")
+    }
     write_image(out, image, text=text)
-    typer.echo(f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.algorithm}, "
-               f"separations {params.strip_width:g}..{params.far_separation:g} px)")
+    typer.echo(
+        f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.algorithm}, "
+        f"separations {params.strip_width:g}..{params.far_separation:g} px)"
+    )
 
 
 #: the share of checked pixels that must decode back for sis-decode's self-check to pass
@@ -103,12 +113,23 @@ SELF_CHECK_PASS = 0.8
 def sis_decode(
     image: Path = typer.Argument(..., help="a stereogram (.png)"),
     output: Path = typer.Option(..., "-o", "--output", help="decoded depth (.png, white = near)"),
-    strip_width: float = typer.Option(None, "--strip-width", help="W_s the stereogram was made with (default: from its PNG "
-                                                                  f"text, else {_DEFAULT.strip_width:g})"),
-    depth_factor: float = typer.Option(None, "--depth-factor", help=f"β it was made with (default: from its PNG text, else {_DEFAULT.depth_factor:g})"),
-    expected: Path = typer.Option(None, "--expected", help="the depth map it was made from: report how much decodes back; exit 1 when under 80 %"),
-    symmetric: bool = typer.Option(None, "--symmetric/--no-symmetric", help="made by the symmetric algorithm (default: from its PNG text)"),
-    cross_eyed: bool = typer.Option(None, "--cross-eyed/--no-cross-eyed", help="made for crossed eyes (default: from its PNG text, else no)"),
+    strip_width: float = typer.Option(
+        None,
+        "--strip-width",
+        help=f"W_s the stereogram was made with (default: from its PNG text, else {_DEFAULT.strip_width:g})",
+    ),
+    depth_factor: float = typer.Option(
+        None, "--depth-factor", help=f"β it was made with (default: from its PNG text, else {_DEFAULT.depth_factor:g})"
+    ),
+    expected: Path = typer.Option(
+        None, "--expected", help="the depth map it was made from: report how much decodes back; exit 1 when under 80 %"
+    ),
+    symmetric: bool = typer.Option(
+        None, "--symmetric/--no-symmetric", help="made by the symmetric algorithm (default: from its PNG text)"
+    ),
+    cross_eyed: bool = typer.Option(
+        None, "--cross-eyed/--no-cross-eyed", help="made for crossed eyes (default: from its PNG text, else no)"
+    ),
 ) -> None:
     """Recover the depth map hidden in a stereogram by window matching (the self-check). The
     parameters it was made with are read from its PNG text when `illusio sis` wrote it."""
@@ -137,19 +158,25 @@ def sis_decode(
     lo, hi = int(strip_width) - 1, int(np.ceil(strip_width + depth_factor)) + 1
     decoded, _ = decode_separation(img, max(1, lo), hi)
     depth = separation_to_depth(decoded, strip_width, depth_factor)
-    if flipped:                      # cross-eyed (or inverted) stereograms carry the depth flipped
+    if flipped:  # cross-eyed (or inverted) stereograms carry the depth flipped
         depth = 1.0 - depth
     d = None
     if expected:
         d = read_depth(expected)
         if d.shape != img.shape[:2]:
-            raise InputError(f"--expected is {d.shape[1]}×{d.shape[0]} but the stereogram is {img.shape[1]}×{img.shape[0]}")
+            raise InputError(
+                f"--expected is {d.shape[1]}×{d.shape[0]} but the stereogram is {img.shape[1]}×{img.shape[0]}"
+            )
     write_image(out, 1.0 - depth, srgb=False)
     typer.echo(f"wrote {out}")
     if d is not None:
         encoded = 1.0 - d if flipped else d
-        report = check(img, separation(encoded, strip_width, depth_factor), int(strip_width + depth_factor + 0.5),
-                       "centre" if symmetric else "left")
+        report = check(
+            img,
+            separation(encoded, strip_width, depth_factor),
+            int(strip_width + depth_factor + 0.5),
+            "centre" if symmetric else "left",
+        )
         typer.echo(f"self-check: {report}")
         if report.matched < SELF_CHECK_PASS:
             typer.echo(f"self-check failed: under {SELF_CHECK_PASS:.0%} of the checked pixels decode back", err=True)
@@ -160,9 +187,15 @@ def sis_decode(
 def sis_scene(
     scene: str = typer.Argument("living-room", help="built-in scene or .yaml with a host surface"),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png); with --frames, the first frame"),
-    hidden: str = typer.Option("torus-knot", "--hidden", help="what the stereogram hides: a built-in shape or a mesh file"),
-    camera: str = typer.Option("tv", "--camera", help="a named camera of the scene or EYE:TARGET (x,y,z:x,y,z in metres)"),
-    size: str = typer.Option(f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"),
+    hidden: str = typer.Option(
+        "torus-knot", "--hidden", help="what the stereogram hides: a built-in shape or a mesh file"
+    ),
+    camera: str = typer.Option(
+        "tv", "--camera", help="a named camera of the scene or EYE:TARGET (x,y,z:x,y,z in metres)"
+    ),
+    size: str = typer.Option(
+        f"{_MULTI.reference_width}x{_MULTI.reference_width * 9 // 16}", "--size", help="WIDTHxHEIGHT"
+    ),
     frames: int = typer.Option(1, "--frames", help="number of frames (animated snow / spin)"),
     frame: int = typer.Option(0, "--frame", help="index of the first frame (its snow and spin; 24 frames a second)"),
     video: Path = typer.Option(None, "--video", help="write the frames as a video (.mp4 or .gif)"),
@@ -172,10 +205,10 @@ def sis_scene(
     """Render SCENE with a stereogram on its host surface hiding another shape (Dehos et al. 2014,
     the multi-scene pipeline of Figure 22)."""
     from ..core.context import default_context
-    from ..sis.depth import hidden_scene
     from ..core.renderer import Frame
-    from ..sis.multiscene import MultiSceneRenderer, MultiSceneSubject
     from ..scene.camera import Pose, View
+    from ..sis.depth import hidden_scene
+    from ..sis.multiscene import MultiSceneRenderer, MultiSceneSubject
     from .common import parse_eye_target, resolve_mesh, resolve_scene
 
     out = check_output_path(output, scene_inputs(scene) + scene_inputs(hidden))
@@ -195,7 +228,7 @@ def sis_scene(
         view = View(Pose(*pair), view.camera)
     hidden_mesh = resolve_mesh(hidden)
     params = replace(params, stereogram=replace(params.stereogram, screen=params.stereogram.screen.derived()))
-    renderer = default_context().kept(MultiSceneRenderer)     # warm between the tasks of a batch
+    renderer = default_context().kept(MultiSceneRenderer)  # warm between the tasks of a batch
     renderer.prepare(MultiSceneSubject(main, hidden_scene(hidden_mesh)))
     images = []
     with progress(frames, "rendering frames") as advance:

@@ -18,19 +18,34 @@ _VIEWABLE = list({t.viewer_mode: name for name, t in reversed(techniques().items
 
 
 def view(
-    source: str = typer.Argument(None, help="what to show: the technique's scene, mesh or folder (sis: the hidden shape, "
-                                            "or the scene hosting it); default: the technique's own (illusio list techniques)"),
-    technique: str = typer.Option("plain", "--technique", "-t", help="a technique with a viewer mode: "
-                                  f"{', '.join(_VIEWABLE)} (illusio list techniques)"),
-    variant: str = typer.Option(None, "--view", help="the technique's view (its views in illusio list techniques), "
-                                                     "e.g. sis tv|wall|interactive|raw, lines drawing|q1|t1|curvature"),
-    size: str = typer.Option("x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT of the window or the video"),
+    source: str = typer.Argument(
+        None,
+        help="what to show: the technique's scene, mesh or folder (sis: the hidden shape, "
+        "or the scene hosting it); default: the technique's own (illusio list techniques)",
+    ),
+    technique: str = typer.Option(
+        "plain",
+        "--technique",
+        "-t",
+        help=f"a technique with a viewer mode: {', '.join(_VIEWABLE)} (illusio list techniques)",
+    ),
+    variant: str = typer.Option(
+        None,
+        "--view",
+        help="the technique's view (its views in illusio list techniques), "
+        "e.g. sis tv|wall|interactive|raw, lines drawing|q1|t1|curvature",
+    ),
+    size: str = typer.Option(
+        "x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT of the window or the video"
+    ),
     path: Path = typer.Option(None, "--path", help="play a camera path (JSON keyframes t, eye, target)"),
     output: Path = typer.Option(None, "-o", "--output", help="record to a video (.mp4 or .gif) offscreen, no window"),
     fps: float = typer.Option(30.0, "--fps", help="frames per second of the recorded video"),
     exit_after: int = typer.Option(None, "--exit-after", help="close after N frames"),
     screenshot: Path = typer.Option(None, "--screenshot", help="save the last frame (.png)"),
-    record: Path = typer.Option(None, "--record", help="record the walk as a camera path (JSON) when the window closes"),
+    record: Path = typer.Option(
+        None, "--record", help="record the walk as a camera path (JSON) when the window closes"
+    ),
 ) -> None:
     """Watch a technique live in a window (WASD + mouse, Tab switches technique), or record a camera
     path to a video with no window (-o OUT.mp4 --path CAMERA.json)."""
@@ -38,7 +53,9 @@ def view(
     from ..viewer.path import CameraPath
 
     if technique not in MODES:
-        raise InputError(f"--technique must be one of {', '.join(MODES)}, got {technique!r}{did_you_mean(technique, MODES)}")
+        raise InputError(
+            f"--technique must be one of {', '.join(MODES)}, got {technique!r}{did_you_mean(technique, MODES)}"
+        )
     w, h = parse_size(size)
     inputs = [p for p in (source, path) if p is not None and Path(p).exists()]
     for out in (output, screenshot, record):
@@ -48,14 +65,25 @@ def view(
         raise InputError(f"{output.name}: the video must be an .mp4 or a .gif")
     camera_path = CameraPath.load(path) if path is not None else None
     if output is not None or (screenshot is not None and exit_after is not None and record is None and _headless()):
-        from ..viewer.offscreen import frame_count, record as record_offscreen
+        from ..viewer.offscreen import frame_count
+        from ..viewer.offscreen import record as record_offscreen
 
         if record is not None:
             raise InputError("--record needs the window (it records a walk); leave out -o")
         total = frame_count(camera_path, fps, exit_after)
         with progress(total, "recording") as advance:
-            count = record_offscreen(technique, source, variant, (w, h), camera_path, fps, output, screenshot, exit_after,
-                                     on_frame=lambda i, v: advance())
+            count = record_offscreen(
+                technique,
+                source,
+                variant,
+                (w, h),
+                camera_path,
+                fps,
+                output,
+                screenshot,
+                exit_after,
+                on_frame=lambda i, v: advance(),
+            )
         for out in (output, screenshot):
             if out is not None:
                 typer.echo(f"wrote {out} ({count} frames, {w}×{h})" if out == output else f"wrote {out}")

@@ -8,8 +8,10 @@ _EXPORTS = {
     **dict.fromkeys(("ParamInfo", "check_ranges", "describe", "param", "with_values"), "params"),
     **dict.fromkeys(("DEFAULT_SIZE", "Frame", "Renderer", "fingerprint"), "renderer"),
     **dict.fromkeys(("GLUnavailable", "IllusioError", "InputError", "OutputError", "ShaderError"), "errors"),
-    **dict.fromkeys(("atomic_output", "check_output_path", "linear_to_srgb", "read_image", "srgb_to_linear",
-                     "write_image"), "images"),
+    **dict.fromkeys(
+        ("atomic_output", "check_output_path", "linear_to_srgb", "read_image", "srgb_to_linear", "write_image"),
+        "images",
+    ),
     **dict.fromkeys(("TexturePool", "TextureSpec", "readback", "upload"), "textures"),
 }
 

@@ -22,7 +22,7 @@ from .textures import TexturePool, TextureSpec, readback, upload, write_texture
 __all__ = ["Context", "REQUIRED_GL", "current_context", "default_context", "live_contexts", "release_current"]
 
 REQUIRED_GL = 430
-_CURRENT: list["Context | None"] = [None]  # the Context whose GL context was made current last (one GL thread)
+_CURRENT: list[Context | None] = [None]  # the Context whose GL context was made current last (one GL thread)
 
 
 class Context:
@@ -32,8 +32,9 @@ class Context:
     ``fullscreen`` (FullscreenTriangle).
     """
 
-    def __init__(self, gl: moderngl.Context | None = None, *, backend: str | None = None,
-                 activate=None, deactivate=None):
+    def __init__(
+        self, gl: moderngl.Context | None = None, *, backend: str | None = None, activate=None, deactivate=None
+    ):
         # how to make this context current and to leave it: moderngl's enter/exit for a headless
         # context; the window toolkit's calls for a window's (see wrap)
         self._activate = activate or (lambda: self.gl.__enter__())
@@ -66,7 +67,7 @@ class Context:
             _CURRENT[0] = self
 
     @classmethod
-    def wrap(cls, gl: moderngl.Context, activate=None, deactivate=None) -> "Context":
+    def wrap(cls, gl: moderngl.Context, activate=None, deactivate=None) -> Context:
         """Adopt an existing context (a window's); ``activate`` and ``deactivate`` make it current
         and leave it through the window toolkit (e.g. glfw.make_context_current)."""
         return cls(gl, activate=activate, deactivate=deactivate)
@@ -150,20 +151,26 @@ class Context:
         w, h = texture.size
         return np.frombuffer(raw, np.uint8 if dtype == "f1" else np.float32).reshape(h, w, components)[::-1].copy()
 
-    def framebuffer(self, colour: list[moderngl.Texture], depth: bool | moderngl.Texture = False) -> moderngl.Framebuffer:
+    def framebuffer(
+        self, colour: list[moderngl.Texture], depth: bool | moderngl.Texture = False
+    ) -> moderngl.Framebuffer:
         """A framebuffer over ``colour`` textures (cached by their GL names), with an optional depth
         attachment (``True``: a depth renderbuffer of the same size, kept with the framebuffer)."""
         self.make_current()
         key = (tuple(t.glo for t in colour), depth.glo if isinstance(depth, moderngl.Texture) else bool(depth))
         fbo = self._framebuffers.get(key)
-        stale = fbo is not None and (any(a is not t for a, t in zip(fbo.color_attachments, colour))
-                                     or (isinstance(depth, moderngl.Texture) and fbo.depth_attachment is not depth))
+        stale = fbo is not None and (
+            any(a is not t for a, t in zip(fbo.color_attachments, colour))
+            or (isinstance(depth, moderngl.Texture) and fbo.depth_attachment is not depth)
+        )
         if stale:
             self.release_framebuffer(fbo)  # a GL name was reused by a new texture: the cached one is stale
             fbo = None
         if fbo is None:
             size = colour[0].size if colour else depth.size
-            depth_attachment = depth if isinstance(depth, moderngl.Texture) else (self.gl.depth_renderbuffer(size) if depth else None)
+            depth_attachment = (
+                depth if isinstance(depth, moderngl.Texture) else (self.gl.depth_renderbuffer(size) if depth else None)
+            )
             fbo = self.gl.framebuffer(color_attachments=colour, depth_attachment=depth_attachment)
             self._framebuffers[key] = fbo
         return fbo
@@ -179,9 +186,15 @@ class Context:
             self._default_framebuffer.use()
         fbo.release()
 
-    def draw_fullscreen(self, program: moderngl.Program, size: tuple[int, int], components: int = 4,
-                        dtype: str = "f4", textures: dict[str, moderngl.Texture] | None = None,
-                        **uniforms: Any) -> moderngl.Texture:
+    def draw_fullscreen(
+        self,
+        program: moderngl.Program,
+        size: tuple[int, int],
+        components: int = 4,
+        dtype: str = "f4",
+        textures: dict[str, moderngl.Texture] | None = None,
+        **uniforms: Any,
+    ) -> moderngl.Texture:
         """One full-screen pass into a new pooled texture of ``size`` (release it): ``textures``
         bound to units 0, 1, ... under their sampler names, ``uniforms`` set, no depth test."""
         out = self.acquire(size, components, dtype)
@@ -236,7 +249,7 @@ class Context:
             _DEFAULT[0] = None
 
 
-_DEFAULT: list["Context | None"] = [None]
+_DEFAULT: list[Context | None] = [None]
 
 
 def current_context() -> Context | None:
@@ -280,12 +293,11 @@ def _create_headless(backend: str | None) -> moderngl.Context:
     if backend and backend != "default":
         kwargs["backend"] = backend
     if backend == "egl" and os.environ.get("ILLUSIO_EGL_DEVICE"):
-        kwargs["device_index"] = int(os.environ["ILLUSIO_EGL_DEVICE"])    # a batch worker's GPU
+        kwargs["device_index"] = int(os.environ["ILLUSIO_EGL_DEVICE"])  # a batch worker's GPU
     try:
         return moderngl.create_context(**kwargs)
     except Exception as exc:  # glcontext raises plain Exception/OSError on missing libraries
         reason = " ".join(str(exc).split()) or type(exc).__name__
         raise GLUnavailable(
-            f"cannot create a headless OpenGL 4.3 context through {backend} ({reason}); "
-            f"on Debian/Ubuntu: {APT_HINT}"
+            f"cannot create a headless OpenGL 4.3 context through {backend} ({reason}); on Debian/Ubuntu: {APT_HINT}"
         ) from None

@@ -20,7 +20,7 @@ APT_HINT = "apt-get install -y --no-install-recommends libegl1 libgl1 libgl1-mes
 
 
 def did_you_mean(name, choices) -> str:
-    """" (did you mean X?)" with the closest of ``choices`` to ``name``, or "" when none is close."""
+    """ " (did you mean X?)" with the closest of ``choices`` to ``name``, or "" when none is close."""
     import difflib
 
     close = difflib.get_close_matches(str(name), [str(c) for c in choices], n=2, cutoff=0.6)

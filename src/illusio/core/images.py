@@ -13,8 +13,8 @@ from __future__ import annotations
 import glob
 import os
 import tempfile
+from collections.abc import Iterable
 from pathlib import Path
-from typing import Iterable
 
 import numpy as np
 
@@ -114,8 +114,10 @@ def _check_png_end(p: Path) -> None:
         tail = fh.read(12)
     if head[:8] == b"\x89PNG\r\n\x1a\n" and tail[4:8] != b"IEND":
         size = f"{int.from_bytes(head[16:20], 'big')}×{int.from_bytes(head[20:24], 'big')}" if len(head) >= 24 else "?"
-        raise InputError(f"{p}: the PNG header declares a {size} image but the file ends before its last "
-                         f"chunk (IEND) — is it cut short?")
+        raise InputError(
+            f"{p}: the PNG header declares a {size} image but the file ends before its last "
+            f"chunk (IEND) — is it cut short?"
+        )
 
 
 def _png_bit_depth(p: Path) -> int:
@@ -177,7 +179,7 @@ def _write_exr(tmp: Path, img: np.ndarray, half: bool) -> None:
 
     data = img.astype(np.float16 if half else np.float32)
     names = _EXR_LAYOUT[img.shape[2]]
-    if len(names) == 1 and len(names[0]) > 1:          # RGB, RGBA: one interleaved array
+    if len(names) == 1 and len(names[0]) > 1:  # RGB, RGBA: one interleaved array
         planes = {names[0]: data}
     else:
         planes = {name: data[..., k] for k, name in enumerate(names)}
@@ -261,8 +263,13 @@ def read_png_text(path: str | os.PathLike) -> dict[str, str]:
         return {}
 
 
-def write_image(path: str | os.PathLike, image: np.ndarray, bit_depth: int = 8, srgb: bool | None = None,
-                text: dict[str, str] | None = None) -> Path:
+def write_image(
+    path: str | os.PathLike,
+    image: np.ndarray,
+    bit_depth: int = 8,
+    srgb: bool | None = None,
+    text: dict[str, str] | None = None,
+) -> Path:
     """Write ``image`` (float (H, W, C) or (H, W), row 0 at the top) atomically; return the path.
 
     ``.png``: 8-bit (sRGB-encoded unless ``srgb=False``) or 16-bit (linear unless ``srgb=True``);
@@ -275,9 +282,8 @@ def write_image(path: str | os.PathLike, image: np.ndarray, bit_depth: int = 8, 
     img = as_image(image, "image to write")
     ext = p.suffix.lower()
     if ext == ".npy":
-        with atomic_output(p) as tmp:
-            with open(tmp, "wb") as fh:
-                np.save(fh, img)
+        with atomic_output(p) as tmp, open(tmp, "wb") as fh:
+            np.save(fh, img)
         return p
     if np.isnan(img).any():
         raise OutputError(f"{p}: image holds NaN values; refusing to write it")
@@ -357,13 +363,14 @@ class VideoWriter:
         self._gif: list[np.ndarray] = []
         self._writer = None
 
-    def __enter__(self) -> "VideoWriter":
+    def __enter__(self) -> VideoWriter:
         self._tmp = self._atomic.__enter__()
         if self.suffix == ".mp4":
             import imageio.v2 as iio2
 
-            self._writer = iio2.get_writer(self._tmp, format="FFMPEG", fps=self.fps, codec="libx264",
-                                           macro_block_size=1, quality=8)
+            self._writer = iio2.get_writer(
+                self._tmp, format="FFMPEG", fps=self.fps, codec="libx264", macro_block_size=1, quality=8
+            )
         return self
 
     def append(self, image: np.ndarray) -> None:

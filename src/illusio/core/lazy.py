@@ -4,7 +4,6 @@ technique's Params defaults do not load numba and the passes."""
 from __future__ import annotations
 
 import importlib
-
 from typing import Any
 
 __all__ = ["lazy_exports", "load"]

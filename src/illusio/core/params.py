@@ -22,10 +22,22 @@ from .errors import InputError, did_you_mean
 __all__ = ["param", "ParamInfo", "describe", "is_params", "check_ranges", "check_value", "with_values"]
 
 
-def param(default: Any = dataclasses.MISSING, *, range: tuple[float, float] | None = None, unit: str = "",
-          choices: tuple | None = None, multiple: bool = False, step: float | None = None, label: str = "",
-          help: str = "", panel: bool = True, log: bool = False, default_factory: Any = dataclasses.MISSING,
-          flag: str = "", cli: bool | None = None):
+def param(
+    default: Any = dataclasses.MISSING,
+    *,
+    range: tuple[float, float] | None = None,
+    unit: str = "",
+    choices: tuple | None = None,
+    multiple: bool = False,
+    step: float | None = None,
+    label: str = "",
+    help: str = "",
+    panel: bool = True,
+    log: bool = False,
+    default_factory: Any = dataclasses.MISSING,
+    flag: str = "",
+    cli: bool | None = None,
+):
     """A dataclass field with its description in metadata.
 
     range: inclusive (low, high) for numbers; unit: "px", "cm", "s", "1/units"…; choices: the
@@ -35,9 +47,19 @@ def param(default: Any = dataclasses.MISSING, *, range: tuple[float, float] | No
     flag: the command-line name where it is not the field's (``aperture_mm`` → ``"aperture"``; a
     switch may name its off side: ``"relative/raw"``); cli: whether commands offer it as an option
     (default: as ``panel``)."""
-    meta = {"range": range, "unit": unit, "choices": choices, "multiple": multiple, "step": step,
-            "label": label, "help": help, "panel": panel, "log": log, "flag": flag,
-            "cli": panel if cli is None else cli}
+    meta = {
+        "range": range,
+        "unit": unit,
+        "choices": choices,
+        "multiple": multiple,
+        "step": step,
+        "label": label,
+        "help": help,
+        "panel": panel,
+        "log": log,
+        "flag": flag,
+        "cli": panel if cli is None else cli,
+    }
     if default_factory is not dataclasses.MISSING:
         return field(default_factory=default_factory, metadata=meta)
     return field(default=default, metadata=meta)
@@ -59,7 +81,7 @@ class ParamInfo:
     label: str = ""
     help: str = ""
     log: bool = False
-    children: tuple["ParamInfo", ...] = ()
+    children: tuple[ParamInfo, ...] = ()
     flag: str = ""
 
     @property
@@ -70,8 +92,11 @@ class ParamInfo:
 
 def is_params(value) -> bool:
     """Whether ``value`` is a Params instance: a dataclass whose fields are declared by :func:`param`."""
-    return dataclasses.is_dataclass(value) and not isinstance(value, type) and \
-        any("panel" in f.metadata for f in dataclasses.fields(value))
+    return (
+        dataclasses.is_dataclass(value)
+        and not isinstance(value, type)
+        and any("panel" in f.metadata for f in dataclasses.fields(value))
+    )
 
 
 def describe(params, audience: str = "panel") -> tuple[ParamInfo, ...]:
@@ -83,9 +108,15 @@ def describe(params, audience: str = "panel") -> tuple[ParamInfo, ...]:
         if not meta.get(audience, meta.get("panel", True)):
             continue
         value = getattr(params, f.name)
-        common = dict(range=meta.get("range"), unit=meta.get("unit", ""), step=meta.get("step"),
-                      label=meta.get("label", ""), help=meta.get("help", ""), log=meta.get("log", False),
-                      flag=meta.get("flag", ""))
+        common = dict(
+            range=meta.get("range"),
+            unit=meta.get("unit", ""),
+            step=meta.get("step"),
+            label=meta.get("label", ""),
+            help=meta.get("help", ""),
+            log=meta.get("log", False),
+            flag=meta.get("flag", ""),
+        )
         if meta.get("choices") is not None:
             kind = "multi" if meta.get("multiple") else "choice"
             out.append(ParamInfo(f.name, kind, value, choices=tuple(meta["choices"]), **common))
@@ -118,8 +149,10 @@ def check_value(meta, value, name: str) -> None:
         values = value if meta.get("multiple") else (value,)
         bad = [v for v in values if v not in choices]
         if bad:
-            raise InputError(f"{name}: {', '.join(map(repr, bad))} is not one of {', '.join(map(str, choices))}"
-                             f"{did_you_mean(bad[0], choices)}")
+            raise InputError(
+                f"{name}: {', '.join(map(repr, bad))} is not one of {', '.join(map(str, choices))}"
+                f"{did_you_mean(bad[0], choices)}"
+            )
         return
     if isinstance(value, (int, float)) and not isinstance(value, bool):
         if not math.isfinite(value):

@@ -58,7 +58,9 @@ def _resolve(name: str, including: Path | None) -> Path:
     raise ShaderError(f"shader file {name!r} not found{where}")
 
 
-def preprocess(path: str | Path, defines: dict[str, Any] | None = None, stage: str | None = None) -> tuple[str, list[Path]]:
+def preprocess(
+    path: str | Path, defines: dict[str, Any] | None = None, stage: str | None = None
+) -> tuple[str, list[Path]]:
     """Expand includes and apply define overrides; return (source, files by source-string number).
 
     ``#line`` directives tag each expanded file with its index in the returned list so that driver
@@ -127,7 +129,9 @@ class ProgramCache:
     def __len__(self) -> int:
         return len(self._programs)
 
-    def get(self, path: str | Path, varyings: tuple[str, ...] = (), **defines: Any) -> moderngl.Program | moderngl.ComputeShader:
+    def get(
+        self, path: str | Path, varyings: tuple[str, ...] = (), **defines: Any
+    ) -> moderngl.Program | moderngl.ComputeShader:
         """The program in ``path`` (relative to ``illusio/shaders`` or absolute) with ``defines``;
         ``varyings``: vertex outputs to capture by transform feedback (checks of a vertex stage)."""
         resolved = _resolve(str(path), None) if not Path(path).is_absolute() else Path(path).resolve()

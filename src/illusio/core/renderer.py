@@ -47,7 +47,7 @@ class Frame:
     pixels. time: seconds since the start (animation). index: the frame number (per-frame noise).
     """
 
-    view: "View | None" = None
+    view: View | None = None
     size: tuple[int, int] = DEFAULT_SIZE
     time: float = 0.0
     index: int = 0
@@ -75,7 +75,7 @@ def _feed(h, obj: Any, depth: int) -> None:
         raise InputError("subject is nested too deeply to compare by value")
     if obj is None or isinstance(obj, (bool, int, float, complex, str, bytes)):
         h.update(repr((type(obj).__name__, obj)).encode())
-    elif isinstance(obj, os.PathLike):      # a file named, by its name (what it holds is read elsewhere)
+    elif isinstance(obj, os.PathLike):  # a file named, by its name (what it holds is read elsewhere)
         h.update(repr(("path", os.fspath(obj))).encode())
     elif isinstance(obj, np.ndarray):
         a = np.ascontiguousarray(obj)
@@ -119,7 +119,7 @@ class Renderer:
     #: what prepare() takes, for error messages ("a scene", "a depth map"...)
     subject_name: ClassVar[str] = "a subject"
 
-    def __init__(self, ctx: "Context"):
+    def __init__(self, ctx: Context):
         self.ctx = ctx
         self._subject_key: bytes | None = None
         self._maps: dict[str, moderngl.Texture] = {}

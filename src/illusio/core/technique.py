@@ -13,18 +13,25 @@ Adding a technique: see docs/architecture.md, "Adding a technique"."""
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
-from .lazy import load
 from .errors import InputError, did_you_mean
+from .lazy import load
 
 __all__ = ["Technique", "techniques", "technique", "register", "load"]
 
 #: the packages whose ``technique.py`` the registry reads, in the order techniques are listed
 #: (the viewer's Tab order)
-BUILTIN_PACKAGES = ("illusio.passes", "illusio.sis", "illusio.lines", "illusio.dof", "illusio.ibr",
-                    "illusio.radiosity", "illusio.relight")
+BUILTIN_PACKAGES = (
+    "illusio.passes",
+    "illusio.sis",
+    "illusio.lines",
+    "illusio.dof",
+    "illusio.ibr",
+    "illusio.radiosity",
+    "illusio.relight",
+)
 
 
 @dataclass(frozen=True)

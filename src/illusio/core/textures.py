@@ -17,8 +17,13 @@ from .errors import InputError
 __all__ = ["TextureSpec", "TexturePool", "upload", "write_texture", "readback", "GL_DTYPES"]
 
 # numpy dtype -> moderngl dtype string
-GL_DTYPES = {np.dtype(np.float32): "f4", np.dtype(np.float16): "f2", np.dtype(np.uint8): "f1",
-             np.dtype(np.int32): "i4", np.dtype(np.uint32): "u4"}
+GL_DTYPES = {
+    np.dtype(np.float32): "f4",
+    np.dtype(np.float16): "f2",
+    np.dtype(np.uint8): "f1",
+    np.dtype(np.int32): "i4",
+    np.dtype(np.uint32): "u4",
+}
 _NP_DTYPES = {"f4": np.float32, "f2": np.float16, "f1": np.uint8, "i4": np.int32, "u4": np.uint32}
 
 
@@ -85,8 +90,9 @@ class TexturePool:
         self._free.clear()
 
 
-def upload(gl: moderngl.Context, array: np.ndarray, *, filter: str = "linear", mipmaps: bool = False,
-           repeat: bool = False) -> moderngl.Texture:
+def upload(
+    gl: moderngl.Context, array: np.ndarray, *, filter: str = "linear", mipmaps: bool = False, repeat: bool = False
+) -> moderngl.Texture:
     """Make a texture from an (H, W) or (H, W, C) array with row 0 at the top.
 
     float32/float16 arrays keep their values; uint8 becomes normalised [0, 1]; int32/uint32 stay
@@ -120,7 +126,9 @@ def write_texture(texture: moderngl.Texture, array: np.ndarray) -> moderngl.Text
         a = a[:, :, None]
     w, h = texture.size
     if a.shape != (h, w, texture.components):
-        raise InputError(f"cannot write an array of shape {np.shape(array)} into a {w}×{h}×{texture.components} texture")
+        raise InputError(
+            f"cannot write an array of shape {np.shape(array)} into a {w}×{h}×{texture.components} texture"
+        )
     want = _NP_DTYPES[texture.dtype]
     if a.dtype != want:
         if texture.dtype == "f1" or a.dtype.kind not in "fiu":

@@ -19,9 +19,17 @@ class CocPass:
         self.ctx = ctx
         self.program = ctx.program("dof/shaders/coc.glsl")
 
-    def __call__(self, depth: moderngl.Texture, focus_distance: float, aperture_m: float, fov_y: float,
-                 max_coc: float) -> moderngl.Texture:
+    def __call__(
+        self, depth: moderngl.Texture, focus_distance: float, aperture_m: float, fov_y: float, max_coc: float
+    ) -> moderngl.Texture:
         w, h = depth.size
-        return self.ctx.draw_fullscreen(self.program, (w, h), 1, textures={"depth": depth}, aperture=float(aperture_m),
-                                        focus_distance=float(focus_distance), max_coc=float(max_coc),
-                                        scale=h / (2 * math.tan(math.radians(fov_y) / 2)))
+        return self.ctx.draw_fullscreen(
+            self.program,
+            (w, h),
+            1,
+            textures={"depth": depth},
+            aperture=float(aperture_m),
+            focus_distance=float(focus_distance),
+            max_coc=float(max_coc),
+            scale=h / (2 * math.tan(math.radians(fov_y) / 2)),
+        )

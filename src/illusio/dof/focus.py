@@ -19,8 +19,9 @@ def object_distance(scene: Scene, name: str, view: View) -> float:
     the camera's near plane."""
     nodes = [n for n in scene.nodes if n.name == name or name in n.tags]
     if not nodes:
-        raise InputError(f"scene {scene.name!r} has no object named {name!r}; objects: "
-                         + ", ".join(n.name for n in scene.nodes))
+        raise InputError(
+            f"scene {scene.name!r} has no object named {name!r}; objects: " + ", ".join(n.name for n in scene.nodes)
+        )
     lo, hi = nodes[0].mesh.bounds
     centre = transform_points(nodes[0].transform, ((np.asarray(lo, np.float64) + hi) / 2)[None])[0]
     eye_space = view.view_matrix().astype(np.float64) @ np.append(centre, 1.0)

@@ -23,10 +23,21 @@ class GatherPass:
         self.ctx = ctx
         self.program = ctx.program("dof/shaders/gather.glsl")
 
-    def __call__(self, image: moderngl.Texture, coc: moderngl.Texture, depth: moderngl.Texture, max_coc: float,
-                 depth_slack: float = DEPTH_SLACK) -> moderngl.Texture:
-        return self.ctx.draw_fullscreen(self.program, image.size, textures={"image": image, "coc": coc, "depth": depth},
-                                        radius=int(math.ceil(max_coc / 2)), depth_slack=float(depth_slack))
+    def __call__(
+        self,
+        image: moderngl.Texture,
+        coc: moderngl.Texture,
+        depth: moderngl.Texture,
+        max_coc: float,
+        depth_slack: float = DEPTH_SLACK,
+    ) -> moderngl.Texture:
+        return self.ctx.draw_fullscreen(
+            self.program,
+            image.size,
+            textures={"image": image, "coc": coc, "depth": depth},
+            radius=int(math.ceil(max_coc / 2)),
+            depth_slack=float(depth_slack),
+        )
 
 
 class CocTilesPass:
@@ -40,8 +51,9 @@ class CocTilesPass:
     def __call__(self, coc: moderngl.Texture, max_coc: float) -> moderngl.Texture:
         tile = tile_size(max_coc)
         w, h = coc.size
-        return self.ctx.draw_fullscreen(self.program, (-(-w // tile), -(-h // tile)), 1, textures={"coc": coc},
-                                        tile=tile)
+        return self.ctx.draw_fullscreen(
+            self.program, (-(-w // tile), -(-h // tile)), 1, textures={"coc": coc}, tile=tile
+        )
 
 
 class SampledGatherPass:
@@ -52,14 +64,26 @@ class SampledGatherPass:
         self.ctx = ctx
         self.program = ctx.program("dof/shaders/gather_taps.glsl")
 
-    def __call__(self, image: moderngl.Texture, coc: moderngl.Texture, depth: moderngl.Texture,
-                 tiles: moderngl.Texture, max_coc: float, taps: int,
-                 depth_slack: float = DEPTH_SLACK) -> moderngl.Texture:
+    def __call__(
+        self,
+        image: moderngl.Texture,
+        coc: moderngl.Texture,
+        depth: moderngl.Texture,
+        tiles: moderngl.Texture,
+        max_coc: float,
+        taps: int,
+        depth_slack: float = DEPTH_SLACK,
+    ) -> moderngl.Texture:
         if not 1 <= taps <= MAX_TAPS:
             raise ValueError(f"taps must be in [1, {MAX_TAPS}], got {taps}")
         spiral = np.zeros((MAX_TAPS, 2), np.float32)
         spiral[:taps] = disk_spiral(taps)
         self.program["spiral"].write(spiral.tobytes())
-        return self.ctx.draw_fullscreen(self.program, image.size,
-                                        textures={"image": image, "coc": coc, "depth": depth, "tiles": tiles},
-                                        tile=tile_size(max_coc), taps=int(taps), depth_slack=float(depth_slack))
+        return self.ctx.draw_fullscreen(
+            self.program,
+            image.size,
+            textures={"image": image, "coc": coc, "depth": depth, "tiles": tiles},
+            tile=tile_size(max_coc),
+            taps=int(taps),
+            depth_slack=float(depth_slack),
+        )

@@ -5,7 +5,6 @@ with depth writes off and the depth test GREATER against the scene's depth. NumP
 
 from __future__ import annotations
 
-
 import moderngl
 import numpy as np
 
@@ -22,8 +21,15 @@ __all__ = ["DISTRIBUTIONS", "plane_distances", "covering", "plane_lods", "window
 DISTRIBUTIONS = ("exponential", "linear")
 
 
-def plane_distances(focus: float, behind: int, front: int, near: float, far: float,
-                    distribution: str = "exponential", scale: float = 0.0) -> np.ndarray:
+def plane_distances(
+    focus: float,
+    behind: int,
+    front: int,
+    near: float,
+    far: float,
+    distribution: str = "exponential",
+    scale: float = 0.0,
+) -> np.ndarray:
     """View depths of the m + n + 1 planes, far to near, spread around the focal plane by the
     paper's law (section 3.1): the planes have the density f(x) = e^(−x/z0)/z0 in x, the distance
     from the focal plane, with z0 = ``scale`` (0: the focal plane's distance from the camera, as
@@ -39,11 +45,11 @@ def plane_distances(focus: float, behind: int, front: int, near: float, far: flo
     focus = float(np.clip(focus, near * 1.0001, far * 0.9999))
     z0 = float(scale) if scale > 0 else focus
     room = focus - near
-    k = np.arange(behind, 0, -1) / (behind + 1)               # far to near
+    k = np.arange(behind, 0, -1) / (behind + 1)  # far to near
     j = np.arange(1, front + 1) / (front + 1)
     back = -z0 * np.log1p(-k)
     ahead = -z0 * np.log1p(-j * -np.expm1(-room / z0))
-    if distribution == "linear":             # the outermost plane of each side where the law has it
+    if distribution == "linear":  # the outermost plane of each side where the law has it
         back = back[0] * k / k[0] if behind else back
         ahead = ahead[-1] * j / j[-1] if front else ahead
     return np.concatenate([np.minimum(focus + back, far * 0.9999), [focus], np.maximum(focus - ahead, near)])
@@ -57,7 +63,9 @@ def covering(distances: np.ndarray, far: float) -> np.ndarray:
     return drawn
 
 
-def plane_lods(distances: np.ndarray, focus: float, aperture_m: float, fov_y: float, height: int, max_coc: float) -> np.ndarray:
+def plane_lods(
+    distances: np.ndarray, focus: float, aperture_m: float, fov_y: float, height: int, max_coc: float
+) -> np.ndarray:
     """The mipmap level of each plane: log2(max(c_i, 1)), c_i its circle of confusion (≤ max_coc)."""
     c = np.minimum(coc_pixels(distances, focus, aperture_m, fov_y, height), max_coc)
     return np.log2(np.maximum(c, 1.0))
@@ -81,10 +89,16 @@ class PlanesPass:
         self.program = ctx.program("dof/shaders/planes.glsl")
         self.depth_program = ctx.program("dof/shaders/planes.glsl", DEPTH_FROM_LINEAR=1)
 
-    def __call__(self, image: moderngl.Texture, linear_depth: moderngl.Texture, camera: Camera,
-                 distances: np.ndarray, lods: np.ndarray) -> moderngl.Texture:
+    def __call__(
+        self,
+        image: moderngl.Texture,
+        linear_depth: moderngl.Texture,
+        camera: Camera,
+        distances: np.ndarray,
+        lods: np.ndarray,
+    ) -> moderngl.Texture:
         ctx = self.ctx
-        distances = covering(distances, camera.far)      # every surface has a plane behind it
+        distances = covering(distances, camera.far)  # every surface has a plane behind it
         w, h = linear_depth.size
         p = camera.projection(w / h).astype(np.float64)
         # window depth = 0.5 + 0.5 (−p22 z + p23) / z = (0.5 − 0.5 p22) + 0.5 p23 / z

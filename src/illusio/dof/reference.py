@@ -8,8 +8,23 @@ import numpy as np
 
 from .lens import coc_pixels
 
-__all__ = ["coc", "gather", "coc_tiles", "gather_taps", "tile_size", "disk_spiral", "MAX_TAPS", "accumulate", "lens_samples", "mip_pyramid", "sample_lod", "mipmap", "planes", "plane_index",
-           "DEPTH_SLACK"]
+__all__ = [
+    "coc",
+    "gather",
+    "coc_tiles",
+    "gather_taps",
+    "tile_size",
+    "disk_spiral",
+    "MAX_TAPS",
+    "accumulate",
+    "lens_samples",
+    "mip_pyramid",
+    "sample_lod",
+    "mipmap",
+    "planes",
+    "plane_index",
+    "DEPTH_SLACK",
+]
 
 #: relative depth within which a neighbour counts as level with a pixel (not behind it)
 DEPTH_SLACK = 0.02
@@ -31,7 +46,7 @@ def disk_spiral(taps: int) -> np.ndarray:
     its error is a fixed pattern, not noise)."""
     k = np.arange(taps, dtype=np.float64)
     angle = k * np.pi * (3 - np.sqrt(5))
-    return (np.sqrt((k + 0.5) / taps)[:, None] * np.stack([np.cos(angle), np.sin(angle)], axis=1))
+    return np.sqrt((k + 0.5) / taps)[:, None] * np.stack([np.cos(angle), np.sin(angle)], axis=1)
 
 
 def coc(depth: np.ndarray, focus_distance: float, aperture_m: float, fov_y: float, max_coc: float) -> np.ndarray:
@@ -41,8 +56,9 @@ def coc(depth: np.ndarray, focus_distance: float, aperture_m: float, fov_y: floa
     return np.minimum(coc_pixels(d, focus_distance, aperture_m, fov_y, d.shape[0]), max_coc).astype(np.float32)
 
 
-def gather(image: np.ndarray, coc_px: np.ndarray, depth: np.ndarray, radius: int,
-           depth_slack: float = DEPTH_SLACK) -> np.ndarray:
+def gather(
+    image: np.ndarray, coc_px: np.ndarray, depth: np.ndarray, radius: int, depth_slack: float = DEPTH_SLACK
+) -> np.ndarray:
     """GatherPass: for each pixel p, the weighted mean of the pixels q within ``radius`` (a square of
     offsets, Euclidean distance) whose circle covers p (r_q = max(c_q/2, ½)), weight cover/(π r_q²)
     with cover = clamp(r_q + ½ − |q − p|, 0, 1) (the circle's edge smoothed over a pixel), leaving
@@ -85,12 +101,20 @@ def coc_tiles(coc_px: np.ndarray, max_coc: float) -> np.ndarray:
     padded[:h, :w] = c
     block = padded.reshape(th, tile, tw, tile).max(axis=(1, 3))
     around = np.pad(block, 1)
-    near = np.max([around[1 + dy:1 + dy + th, 1 + dx:1 + dx + tw] for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
+    near = np.max(
+        [around[1 + dy : 1 + dy + th, 1 + dx : 1 + dx + tw] for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0
+    )
     return np.maximum(near / 2, 0.5)[::-1].astype(np.float32)
 
 
-def gather_taps(image: np.ndarray, coc_px: np.ndarray, depth: np.ndarray, max_coc: float, taps: int,
-                depth_slack: float = DEPTH_SLACK) -> np.ndarray:
+def gather_taps(
+    image: np.ndarray,
+    coc_px: np.ndarray,
+    depth: np.ndarray,
+    max_coc: float,
+    taps: int,
+    depth_slack: float = DEPTH_SLACK,
+) -> np.ndarray:
     """SampledGatherPass: the gather estimated from ``taps`` points per pixel. For a pixel p (GL
     coordinates, centre p + ½) of tile radius R (coc_tiles): the points q_k = p + ½ + R·s_k
     (s = disk_spiral(taps)), each of area a = πR²/taps and spacing s = √max(a, 1); a point inside
@@ -105,10 +129,10 @@ def gather_taps(image: np.ndarray, coc_px: np.ndarray, depth: np.ndarray, max_co
     tile = tile_size(max_coc)
     ys, xs = np.mgrid[0:h, 0:w]
     radius = coc_tiles(coc_px, max_coc)[::-1].astype(np.float64)[ys // tile, xs // tile]
-    area = np.pi * radius ** 2 / taps
+    area = np.pi * radius**2 / taps
     spacing = np.sqrt(np.maximum(area, 1.0))
     level = np.minimum(np.floor(np.log2(spacing) + 0.5).astype(int), len(levels) - 1)
-    weight = 1.0 / (np.pi * r ** 2)
+    weight = 1.0 / (np.pi * r**2)
     acc = weight[..., None] * levels[0]
     total = weight.copy()
     for s in disk_spiral(taps):
@@ -119,7 +143,7 @@ def gather_taps(image: np.ndarray, coc_px: np.ndarray, depth: np.ndarray, max_co
         rq = r[qj, qi]
         cover = np.clip((rq - dist) / spacing + 0.5, 0.0, 1.0)
         keep = inside & (cover > 0) & ~((z[qj, qi] > z * (1 + depth_slack)) & (dist > r))
-        wq = np.where(keep, cover * area / (np.pi * rq ** 2), 0.0)
+        wq = np.where(keep, cover * area / (np.pi * rq**2), 0.0)
         colour = np.zeros((h, w, 3))
         for k in np.unique(level):
             at = level == k
@@ -156,7 +180,9 @@ def mip_pyramid(image: np.ndarray) -> list[np.ndarray]:
     levels = [level]
     while level.shape[0] > 1 or level.shape[1] > 1:
         h, w = level.shape[:2]
-        level = level.reshape(max(h // 2, 1), h // max(h // 2, 1), max(w // 2, 1), w // max(w // 2, 1), -1).mean(axis=(1, 3))
+        level = level.reshape(max(h // 2, 1), h // max(h // 2, 1), max(w // 2, 1), w // max(w // 2, 1), -1).mean(
+            axis=(1, 3)
+        )
         levels.append(level)
     return levels
 

@@ -22,8 +22,8 @@ from .focus import gaze_focus, largest_focus, nearest_exhibit_focus, speed_focus
 from .gather import CocTilesPass, GatherPass, SampledGatherPass
 from .lens import fov_for_focal_length
 from .mipmap import MipmapPass, mipmapped
-from .planes import PlanesPass, covering, plane_distances, plane_lods
 from .params import DofParams
+from .planes import PlanesPass, covering, plane_distances, plane_lods
 from .reference import lens_samples
 
 __all__ = ["DofRenderer", "DofResult", "depth_of_field"]
@@ -134,8 +134,10 @@ class DofRenderer(Renderer):
             params = replace(params, focus_distance=self.focus(frame, params))
         self._result = DofResult(params.focus_distance, params.screen_distance or params.focus_distance)
         maps: dict[str, moderngl.Texture] = {}
-        eyes = [self._eye(Frame(view, frame.size, frame.time, frame.index), params, maps, first=i == 0)
-                for i, view in enumerate(self.views(frame, params))]
+        eyes = [
+            self._eye(Frame(view, frame.size, frame.time, frame.index), params, maps, first=i == 0)
+            for i, view in enumerate(self.views(frame, params))
+        ]
         if len(eyes) == 1:
             self._keep_maps(maps)
             return eyes[0]
@@ -170,13 +172,21 @@ class DofRenderer(Renderer):
                 self.ctx.release(tiles)
             elif params.method == "mipmap":
                 out = self.mipmap(mip, coc)
-            else:                                   # the paper's planes
-                distances = plane_distances(params.focus_distance, params.planes_behind, params.planes_front,
-                                            camera.near, camera.far, params.distribution, params.plane_scale)
+            else:  # the paper's planes
+                distances = plane_distances(
+                    params.focus_distance,
+                    params.planes_behind,
+                    params.planes_front,
+                    camera.near,
+                    camera.far,
+                    params.distribution,
+                    params.plane_scale,
+                )
                 drawn = covering(distances, camera.far)
                 self._result = replace(self._result, planes=tuple(float(d) for d in drawn))
-                lods = plane_lods(distances, params.focus_distance, params.aperture_m, camera.fov_y, frame.size[1],
-                                  params.max_coc)
+                lods = plane_lods(
+                    distances, params.focus_distance, params.aperture_m, camera.fov_y, frame.size[1], params.max_coc
+                )
                 out = self.planes(mip, depth, camera, drawn, lods)
             self.ctx.release(mip)
         self.ctx.release(sharp)
@@ -189,8 +199,7 @@ class DofRenderer(Renderer):
         return out
 
 
-def depth_of_field(scene: Scene, params: DofParams = DofParams(), frame: Frame = Frame(),
-                   ctx: Context | None = None):
+def depth_of_field(scene: Scene, params: DofParams = DofParams(), frame: Frame = Frame(), ctx: Context | None = None):
     """One image (or stereo composite) with depth of field: float32 (H, W, 3) linear, row 0 on top.
     Without ``ctx`` the process's default headless context is used; it keeps one renderer for these
     calls, holding the last scene."""

@@ -65,15 +65,33 @@ class Scenario:
         return max((c.time for c in self.commands), default=0.0)
 
 
-_COMMAND_NAMES = ("temps/time", "positionne/position", "affiche/show", "enleve/hide", "nettete/focus", "stoppe/stop",
-                  "bouge/move", "trajectoire/trajectory", "vitesse/speed", "demarre/start", "redemarre/restart")
+_COMMAND_NAMES = (
+    "temps/time",
+    "positionne/position",
+    "affiche/show",
+    "enleve/hide",
+    "nettete/focus",
+    "stoppe/stop",
+    "bouge/move",
+    "trajectoire/trajectory",
+    "vitesse/speed",
+    "demarre/start",
+    "redemarre/restart",
+)
 _COMMANDS = {w.upper() for pair in _COMMAND_NAMES for w in pair.split("/")}
 
 
 def _friendly(terminal: str) -> str:
     """A grammar terminal as a user reads it."""
-    return {"INT": "a number", "NUMBER": "a number", "NAME": "a name", "COMMA": "','", "LSQB": "'['",
-            "RSQB": "']'", "_NL": "the end of the line"}.get(terminal, terminal.lower())
+    return {
+        "INT": "a number",
+        "NUMBER": "a number",
+        "NAME": "a name",
+        "COMMA": "','",
+        "LSQB": "'['",
+        "RSQB": "']'",
+        "_NL": "the end of the line",
+    }.get(terminal, terminal.lower())
 
 
 def _strip_accents(text: str) -> str:
@@ -108,7 +126,9 @@ def parse_scenario(text: str, name: str = "scenario") -> Scenario:
             if exc.token.type == "NAME" and any(e.upper() in _COMMANDS for e in exc.expected):
                 message = f"unknown command {str(exc.token)!r} (commands: {', '.join(_COMMAND_NAMES)})"
             else:
-                what = {"$END": "the end of the file", "_NL": "the end of the line"}.get(exc.token.type, repr(str(exc.token)))
+                what = {"$END": "the end of the file", "_NL": "the end of the line"}.get(
+                    exc.token.type, repr(str(exc.token))
+                )
                 message = f"unexpected {what}" + (f"; expected {' or '.join(expected[:6])}" if expected else "")
         elif isinstance(exc, UnexpectedCharacters):
             message = f"unexpected character {source[exc.pos_in_stream]!r}"

@@ -3,9 +3,17 @@
 from ..core.technique import Technique
 
 TECHNIQUES = (
-    Technique(name="dof", title="Stereoscopic depth of field: thin-lens blur by planes around the focus (Piranda & Desorbier)",
-              renderer="illusio.dof.renderer:DofRenderer", params="illusio.dof.params:DofParams",
-              subject="illusio.scene.sources:scene_subject", source_kind="scene", default_source="museum",
-              presets=("walk", "scenario"), viewer_mode="illusio.viewer.modes.dof:DofMode",
-              showcase="illusio.gallery.dof:dof_showcase", benchmarks=("dof",)),
+    Technique(
+        name="dof",
+        title="Stereoscopic depth of field: thin-lens blur by planes around the focus (Piranda & Desorbier)",
+        renderer="illusio.dof.renderer:DofRenderer",
+        params="illusio.dof.params:DofParams",
+        subject="illusio.scene.sources:scene_subject",
+        source_kind="scene",
+        default_source="museum",
+        presets=("walk", "scenario"),
+        viewer_mode="illusio.viewer.modes.dof:DofMode",
+        showcase="illusio.gallery.dof:dof_showcase",
+        benchmarks=("dof",),
+    ),
 )

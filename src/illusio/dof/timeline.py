@@ -81,7 +81,9 @@ class ScenarioPlayer:
         elif ref in names:
             return ref
         listed = ", ".join(f"{i} {n}" for i, n in enumerate(names[:12])) + (" ..." if len(names) > 12 else "")
-        raise ScenarioError(f"{self._where(c)}: no {what} {ref!r} in scene {self.scene.name!r} ({what}s: {listed or 'none'})")
+        raise ScenarioError(
+            f"{self._where(c)}: no {what} {ref!r} in scene {self.scene.name!r} ({what}s: {listed or 'none'})"
+        )
 
     def _bind(self, c: Command) -> Command:
         """The command with its references as names (checked)."""
@@ -99,7 +101,9 @@ class ScenarioPlayer:
 
     # -- state -----------------------------------------------------------------------------------
     def _initial(self) -> dict[str, ObjectState]:
-        return {n.name: ObjectState(np.asarray(n.transform[:3, 3], np.float64).copy(), n.visible) for n in self.scene.nodes}
+        return {
+            n.name: ObjectState(np.asarray(n.transform[:3, 3], np.float64).copy(), n.visible) for n in self.scene.nodes
+        }
 
     def _advance(self, states: dict[str, ObjectState], dt: float) -> None:
         if dt <= 0:
@@ -169,7 +173,10 @@ class ScenarioPlayer:
         def distance(name: str) -> float:
             node = self.scene.node(name)
             lo, hi = node.mesh.bounds
-            centre = node.transform[:3, :3].astype(np.float64) @ ((np.asarray(lo, np.float64) + hi) / 2) + states[name].position
+            centre = (
+                node.transform[:3, :3].astype(np.float64) @ ((np.asarray(lo, np.float64) + hi) / 2)
+                + states[name].position
+            )
             eye = view.view_matrix().astype(np.float64) @ np.append(centre, 1.0)
             return max(float(-eye[2]), near)
 

@@ -29,23 +29,32 @@ __all__ = ["dof_showcase"]
 
 
 def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
-    section = Section("Stereoscopic depth of field (Piranda & de Sorbier)",
-                      "A thin-lens eye focused on one exhibit of the museum: what is far from the focal plane is "
-                      "blurred, so it draws the eye less and its large disparities tire it less. Every method is "
-                      "scored against the accumulation reference.")
+    section = Section(
+        "Stereoscopic depth of field (Piranda & de Sorbier)",
+        "A thin-lens eye focused on one exhibit of the museum: what is far from the focal plane is "
+        "blurred, so it draws the eye less and its large disparities tire it less. Every method is "
+        "scored against the accumulation reference.",
+    )
     scene = builtin_scene("museum")
     view = scene.camera()
     renderer = DofRenderer(ctx)
     renderer.prepare(scene)
     frame = Frame(view, size)
-    base = DofParams(focus_distance=object_distance(scene, "exhibit-superquadric", view), aperture_mm=120.0, max_coc=16.0)
+    base = DofParams(
+        focus_distance=object_distance(scene, "exhibit-superquadric", view), aperture_mm=120.0, max_coc=16.0
+    )
     reference = renderer.render(frame, replace(base, method="accumulation", samples=64))
     write_image(out_dir / "dof/museum-accumulation.png", reference)
-    section.items.append(Item("dof/museum-accumulation.png", f"accumulation (the reference), focus on the blue "
-                              f"superquadric at {base.focus_distance:.2f} m, aperture {base.aperture_mm:g} mm",
-                              "64 lens positions averaged",
-                              command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method accumulation "
-                                      f"--size {size[0]}x{size[1]} -o accumulation.png"))
+    section.items.append(
+        Item(
+            "dof/museum-accumulation.png",
+            f"accumulation (the reference), focus on the blue "
+            f"superquadric at {base.focus_distance:.2f} m, aperture {base.aperture_mm:g} mm",
+            "64 lens positions averaged",
+            command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method accumulation "
+            f"--size {size[0]}x{size[1]} -o accumulation.png",
+        )
+    )
     rows = []
     for method in ("gather", "mipmap", "planes"):
         params = replace(base, method=method)
@@ -57,29 +66,60 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
         psnr = 10 * np.log10(1 / max(error**2, 1e-12))
         rows.append((method, f"{psnr:.1f} dB", f"{ms:.0f} ms"))
         write_image(out_dir / f"dof/museum-{method}.png", image)
-        section.items.append(Item(f"dof/museum-{method}.png", method, "PSNR and time in the table above",
-                                  figure=PAPER + ("section 3.2" if method.startswith("planes") else "section 2"),
-                                  command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method {method} "
-                                          f"--size {size[0]}x{size[1]} -o {method}.png"))
-    section.tables.append(Table(f"Against the accumulation reference, {size[0]}×{size[1]}, {ctx.info()['renderer']}",
-                                ["method", "PSNR", "time"], [list(r) for r in rows]))
+        section.items.append(
+            Item(
+                f"dof/museum-{method}.png",
+                method,
+                "PSNR and time in the table above",
+                figure=PAPER + ("section 3.2" if method.startswith("planes") else "section 2"),
+                command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method {method} "
+                f"--size {size[0]}x{size[1]} -o {method}.png",
+            )
+        )
+    section.tables.append(
+        Table(
+            f"Against the accumulation reference, {size[0]}×{size[1]}, {ctx.info()['renderer']}",
+            ["method", "PSNR", "time"],
+            [list(r) for r in rows],
+        )
+    )
     maps = {k: ctx.readback(renderer.maps()[k])[..., 0] for k in ("coc", "depth")}
     write_image(out_dir / "dof/museum-coc.png", np.clip(maps["coc"] / base.max_coc, 0, 1), srgb=False)
-    section.items.append(Item("dof/museum-coc.png", "circle of confusion (black: in focus; white: the largest drawn, "
-                              f"{base.max_coc:g} px)", "dof.lens: A·|1/d − 1/d_f|·H / (2 tan(fov/2))",
-                              command="illusio dof museum --focus-object exhibit-superquadric --aperture 120 --debug coc -o coc.png"))
+    section.items.append(
+        Item(
+            "dof/museum-coc.png",
+            f"circle of confusion (black: in focus; white: the largest drawn, {base.max_coc:g} px)",
+            "dof.lens: A·|1/d − 1/d_f|·H / (2 tan(fov/2))",
+            command="illusio dof museum --focus-object exhibit-superquadric --aperture 120 --debug coc -o coc.png",
+        )
+    )
     distances = renderer.result().planes
-    write_image(out_dir / "dof/museum-planes-debug.png", plane_index(maps["depth"], distances) / (len(distances) - 1), srgb=False)
-    section.items.append(Item("dof/museum-planes-debug.png", "the planes each pixel takes, in grey levels",
-                              figure=PAPER + "Figure 8", command="illusio dof museum --debug planes -o planes.png", details=
-                              f"{base.planes_behind} behind, {base.planes_front} in front of the focal plane, "
-                              f"{base.distribution} spreading"))
+    write_image(
+        out_dir / "dof/museum-planes-debug.png",
+        plane_index(maps["depth"], distances) / (len(distances) - 1),
+        srgb=False,
+    )
+    section.items.append(
+        Item(
+            "dof/museum-planes-debug.png",
+            "the planes each pixel takes, in grey levels",
+            figure=PAPER + "Figure 8",
+            command="illusio dof museum --debug planes -o planes.png",
+            details=f"{base.planes_behind} behind, {base.planes_front} in front of the focal plane, "
+            f"{base.distribution} spreading",
+        )
+    )
     section.items.append(_table(out_dir / "dof/methods.png", rows, f"{size[0]}×{size[1]}, {ctx.info()['renderer']}"))
     anaglyph = renderer.render(frame, replace(base, stereo="anaglyph", method="planes"))
     write_image(out_dir / "dof/museum-anaglyph.png", anaglyph)
-    section.items.append(Item("dof/museum-anaglyph.png", "the stereo pair as a red-cyan anaglyph (Dubois)",
-                              "one focus for both eyes; zero parallax at the focus distance",
-                              command="illusio dof museum -o m.png --focus-object exhibit-superquadric --aperture 120 --stereo anaglyph"))
+    section.items.append(
+        Item(
+            "dof/museum-anaglyph.png",
+            "the stereo pair as a red-cyan anaglyph (Dubois)",
+            "one focus for both eyes; zero parallax at the focus distance",
+            command="illusio dof museum -o m.png --focus-object exhibit-superquadric --aperture 120 --stereo anaglyph",
+        )
+    )
     renderer.release()
     section.items.append(_scenario_video(ctx, out_dir, size))
     section.items.append(_museum_walk(ctx, out_dir, size))
@@ -104,8 +144,14 @@ def _museum_walk(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float 
     from ..viewer.path import CameraPath, Keyframe
 
     scene = builtin_scene("museum")
-    path = CameraPath([Keyframe(0.0, (-4.5, 1.7, 4.5), (-3.4, 1.2, -2.2)), Keyframe(2.5, (-1.0, 1.7, 3.5), (-1.7, 1.2, 1.0)),
-                       Keyframe(5.0, (2.5, 1.7, 3.5), (1.7, 1.2, 1.0)), Keyframe(7.5, (4.5, 1.7, 0.5), (3.4, 1.3, -2.2))])
+    path = CameraPath(
+        [
+            Keyframe(0.0, (-4.5, 1.7, 4.5), (-3.4, 1.2, -2.2)),
+            Keyframe(2.5, (-1.0, 1.7, 3.5), (-1.7, 1.2, 1.0)),
+            Keyframe(5.0, (2.5, 1.7, 3.5), (1.7, 1.2, 1.0)),
+            Keyframe(7.5, (4.5, 1.7, 0.5), (3.4, 1.3, -2.2)),
+        ]
+    )
     renderer = DofRenderer(ctx)
     renderer.prepare(scene)
     params = DofParams(method="planes", policy="nearest-exhibit", aperture_mm=150.0, max_coc=16.0)
@@ -116,15 +162,20 @@ def _museum_walk(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float 
             t = i / fps
             video.append(renderer.render(Frame(path.view(t, scene.camera().camera), small, t, i), params))
     renderer.release()
-    return Item("dof/museum-walk.mp4", "a museum walk, the focus on the exhibit nearest the visitor", figure=PAPER + "Figure 12",
-                details=
-                f"policy nearest-exhibit, accommodation {params.accommodation:g} s; {count} frames at {fps:g} fps")
+    return Item(
+        "dof/museum-walk.mp4",
+        "a museum walk, the focus on the exhibit nearest the visitor",
+        figure=PAPER + "Figure 12",
+        details=f"policy nearest-exhibit, accommodation {params.accommodation:g} s; {count} frames at {fps:g} fps",
+    )
 
 
 #: Figure 11 as README and the gallery give it, with an aperture that shows the blur
 FIGURE_11_APERTURE = 500.0
-FIGURE_11_COMMAND = (f"illusio dof futuristic --scenario futuristic --video fig11.mp4 --stereo anaglyph "
-                     f"--aperture {FIGURE_11_APERTURE:g}")
+FIGURE_11_COMMAND = (
+    f"illusio dof futuristic --scenario futuristic --video fig11.mp4 --stereo anaglyph "
+    f"--aperture {FIGURE_11_APERTURE:g}"
+)
 
 
 def _scenario_video(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float = 8.0) -> Item:
@@ -148,12 +199,20 @@ def _scenario_video(ctx: Context, out_dir: Path, size: tuple[int, int], fps: flo
             player.apply(scene, t)
             renderer.prepare(scene)
             focus = player.focus_distance(view, t)
-            video.append(renderer.render(Frame(view, small, t, i), replace(params, focus_distance=focus or params.focus_distance)))
+            video.append(
+                renderer.render(
+                    Frame(view, small, t, i), replace(params, focus_distance=focus or params.focus_distance)
+                )
+            )
             focuses.append(renderer.result().focus_distance)
             largest = max(largest, float(ctx.readback(renderer.maps()["coc"]).max()))
     renderer.release()
-    return Item("dof/futuristic-scenario.mp4", "the scenario (dof/scenarios/futuristic.txt) as a red-cyan anaglyph",
-                figure=PAPER + "Figure 11", command=FIGURE_11_COMMAND,
-                details=f"the paper's planes; the focus follows the script (ship, robot when it fires, projectile, ship) "
-                        f"between {min(focuses):.1f} and {max(focuses):.1f} m; circles of confusion up to {largest:.0f} px "
-                        f"at {small[0]}×{small[1]}; {count} frames at {fps:g} fps")
+    return Item(
+        "dof/futuristic-scenario.mp4",
+        "the scenario (dof/scenarios/futuristic.txt) as a red-cyan anaglyph",
+        figure=PAPER + "Figure 11",
+        command=FIGURE_11_COMMAND,
+        details=f"the paper's planes; the focus follows the script (ship, robot when it fires, projectile, ship) "
+        f"between {min(focuses):.1f} and {max(focuses):.1f} m; circles of confusion up to {largest:.0f} px "
+        f"at {small[0]}×{small[1]}; {count} frames at {fps:g} fps",
+    )

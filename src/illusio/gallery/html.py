@@ -22,7 +22,7 @@ class Item:
     details: str = ""
     figure: str = ""
     command: str = ""
-    files: tuple[str, ...] = ()          # other files it comes with (a camera path), linked
+    files: tuple[str, ...] = ()  # other files it comes with (a camera path), linked
 
 
 @dataclass
@@ -69,16 +69,19 @@ _CHECK = """
   function done(el, good) {
     if (el.dataset.checked) return;
     el.dataset.checked = good ? 'ok' : 'broken';
-    if (good) ok++; else { el.classList.add('broken'); console.error('illusio gallery: cannot load ' + el.getAttribute('src')); }
+    if (good) ok++; else { el.classList.add('broken');
+    console.error('illusio gallery: cannot load ' + el.getAttribute('src')); }
     if (--pending === 0) { document.body.dataset.mediaOk = ok; document.body.dataset.media = media.length; }
   }
   for (const el of media) {
     if (el.tagName === 'IMG') {
       if (el.complete) done(el, el.naturalWidth > 0);
-      else { el.addEventListener('load', () => done(el, el.naturalWidth > 0)); el.addEventListener('error', () => done(el, false)); }
+      else { el.addEventListener('load', () => done(el, el.naturalWidth > 0));
+      el.addEventListener('error', () => done(el, false)); }
     } else {
       if (el.readyState >= 1) done(el, el.videoWidth > 0);
-      else { el.addEventListener('loadedmetadata', () => done(el, el.videoWidth > 0)); el.addEventListener('error', () => done(el, false)); }
+      else { el.addEventListener('loadedmetadata', () => done(el, el.videoWidth > 0));
+      el.addEventListener('error', () => done(el, false)); }
     }
   }
   if (media.length === 0) { document.body.dataset.mediaOk = 0; document.body.dataset.media = 0; }
@@ -89,8 +92,10 @@ _CHECK = """
 def write_gallery(out_dir: str | Path, title: str, sections: list[Section], footer: str = "") -> Path:
     """Write ``out_dir/index.html`` atomically and return its path."""
     out = Path(out_dir)
-    parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
-             f"<style>{_STYLE}</style></head><body><h1>{html.escape(title)}</h1>"]
+    parts = [
+        f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
+        f"<style>{_STYLE}</style></head><body><h1>{html.escape(title)}</h1>",
+    ]
     for s in sections:
         parts.append(f"<h2>{html.escape(s.title)}</h2>")
         if s.text:
@@ -106,14 +111,20 @@ def write_gallery(out_dir: str | Path, title: str, sections: list[Section], foot
                 media = f"<video src='{src}' controls muted loop autoplay playsinline preload='auto'></video>"
             else:
                 media = f"<a href='{src}'><img src='{src}' alt='{html.escape(it.caption, quote=True)}'></a>"
-            parts.append(f"<figure>{media}"
-                         f"<figcaption>{html.escape(it.caption)}"
-                         + (f" <span class='details'>({html.escape(it.figure)})</span>" if it.figure else "")
-                         + (f"<div class='details'>{html.escape(it.details)}</div>" if it.details else "")
-                         + (f"<div><code>{html.escape(it.command)}</code></div>" if it.command else "")
-                         + ("".join(f"<div class='details'><a href='{html.escape(f, quote=True)}'>{html.escape(f)}</a></div>"
-                                    for f in it.files))
-                         + "</figcaption></figure>")
+            parts.append(
+                f"<figure>{media}"
+                f"<figcaption>{html.escape(it.caption)}"
+                + (f" <span class='details'>({html.escape(it.figure)})</span>" if it.figure else "")
+                + (f"<div class='details'>{html.escape(it.details)}</div>" if it.details else "")
+                + (f"<div><code>{html.escape(it.command)}</code></div>" if it.command else "")
+                + (
+                    "".join(
+                        f"<div class='details'><a href='{html.escape(f, quote=True)}'>{html.escape(f)}</a></div>"
+                        for f in it.files
+                    )
+                )
+                + "</figcaption></figure>"
+            )
         parts.append("</div>")
     if footer:
         parts.append(f"<p class='details'>{html.escape(footer)}</p>")

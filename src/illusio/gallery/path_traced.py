@@ -21,8 +21,9 @@ _renders: dict[bytes, np.ndarray] = {}
 _made = 0
 
 
-def path_traced(polygons: Polygons, view: View, size: tuple[int, int], samples: int = DEMO_SAMPLES,
-                seed: int = 0) -> np.ndarray:
+def path_traced(
+    polygons: Polygons, view: View, size: tuple[int, int], samples: int = DEMO_SAMPLES, seed: int = 0
+) -> np.ndarray:
     """Mitsuba's radiance (H, W, 3) of ``polygons`` from ``view`` (radiosity.mitsuba.render_mitsuba),
     denoised when pyoidn is installed; the same arguments by value give the same (read-only) array."""
     global _made

@@ -23,14 +23,19 @@ __all__ = ["radiosity_showcase"]
 
 
 def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: int = DEMO_SAMPLES) -> Section:
-    section = Section("Hierarchical radiosity (Hanrahan et al. 1991; Loscos 1999, ch. 4)",
-                      "Quadtrees over the scene's polygons, links with form factors and ray-cast visibility, BFV "
-                      "refinement, gather and push-pull; left the solution (radiosity gathered at the element "
-                      "corners, Gouraud), middle the element mesh, right Mitsuba 3 path tracing the same polygons.")
+    section = Section(
+        "Hierarchical radiosity (Hanrahan et al. 1991; Loscos 1999, ch. 4)",
+        "Quadtrees over the scene's polygons, links with form factors and ray-cast visibility, BFV "
+        "refinement, gather and push-pull; left the solution (radiosity gathered at the element "
+        "corners, Gouraud), middle the element mesh, right Mitsuba 3 path tracing the same polygons.",
+    )
     renderer = RadiosityRenderer(ctx)
-    table = Table(f"Each solution: its size and build time on {ctx.info()['renderer']}, and against Mitsuba at {spp} paths "
-                  "a pixel" + (", denoised" if denoiser_available() else " (its own noise included)"), ["scene", "elements", "links", "build + solve", "mean relative error",
-                                                      "PSNR"], [])
+    table = Table(
+        f"Each solution: its size and build time on {ctx.info()['renderer']}, and against Mitsuba at {spp} paths "
+        "a pixel" + (", denoised" if denoiser_available() else " (its own noise included)"),
+        ["scene", "elements", "links", "build + solve", "mean relative error", "PSNR"],
+        [],
+    )
     section.tables.append(table)
     for name, shape in (("cornell-box", (size[1] // 2, size[1] // 2)), ("office", (size[0] // 2, size[1] // 2))):
         scene = builtin_scene(name)
@@ -56,9 +61,15 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
             note += "; Mitsuba not installed (pip install 'illusio[photo]'), no reference"
         rel = f"radiosity/{name}.png"
         write_image(out_dir / rel, np.concatenate(panels, axis=1))
-        section.items.append(Item(rel, f"{name}: radiosity, element mesh, path tracing", note,
-                                  figure="Hanrahan et al. 1991; Loscos 1999, Figure 4.6",
-                                  command=f"illusio radiosity {name} -o {name}.png --reference {name}-mitsuba.png --spp {spp} --stats"))
+        section.items.append(
+            Item(
+                rel,
+                f"{name}: radiosity, element mesh, path tracing",
+                note,
+                figure="Hanrahan et al. 1991; Loscos 1999, Figure 4.6",
+                command=f"illusio radiosity {name} -o {name}.png --reference {name}-mitsuba.png --spp {spp} --stats",
+            )
+        )
         if name == "office":
             off = RadiosityParams(lamp_scales=(("lamp-0", 0.0), ("lamp-2", 0.0), ("lamp-3", 2.0)))
             t0 = time.perf_counter()
@@ -66,10 +77,18 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
             ms = (time.perf_counter() - t0) * 1000
             rel = "radiosity/office-relit.png"
             write_image(out_dir / rel, np.concatenate([np.clip(image, 0, 1), relit], axis=1))
-            section.items.append(Item(rel, "the office relit: lamps 0 and 2 off, lamp 3 doubled",
-                                      f"re-solved with the links kept and drawn in {ms:.0f} ms "
-                                      f"({renderer.result().result.iterations} iterations of gather + push-pull)",
-                                      figure="Loscos 1999, section 4.4.2",
-                                      command="illusio radiosity office -o relit.png --set-lamp lamp-0=0 --set-lamp lamp-2=0 --set-lamp lamp-3=2"))
+            section.items.append(
+                Item(
+                    rel,
+                    "the office relit: lamps 0 and 2 off, lamp 3 doubled",
+                    f"re-solved with the links kept and drawn in {ms:.0f} ms "
+                    f"({renderer.result().result.iterations} iterations of gather + push-pull)",
+                    figure="Loscos 1999, section 4.4.2",
+                    command=(
+                        "illusio radiosity office -o relit.png --set-lamp lamp-0=0 --set-lamp lamp-2=0 "
+                        "--set-lamp lamp-3=2"
+                    ),
+                )
+            )
     renderer.release()
     return section

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from ..core.context import Context
 from ..core.images import write_image
@@ -20,8 +20,11 @@ __all__ = ["SHOWCASES", "builtin_scenes", "builtin_shapes"]
 def builtin_scenes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     """Every built-in scene through each of its cameras."""
     renderer = SceneRenderer(ctx)
-    section = Section("Built-in scenes", "Procedural scenes rendered with the shared core: G-buffer, cube shadow maps, "
-                      "Lambert + Phong shading from point and rectangular area lights.")
+    section = Section(
+        "Built-in scenes",
+        "Procedural scenes rendered with the shared core: G-buffer, cube shadow maps, "
+        "Lambert + Phong shading from point and rectangular area lights.",
+    )
     for name in SCENES:
         scene = builtin_scene(name)
         renderer.prepare(scene)
@@ -32,10 +35,15 @@ def builtin_scenes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
             rel = f"scenes/{name}-{cam_name}.png"
             write_image(out_dir / rel, img)
             tris = renderer.gpu_scene.triangle_count
-            section.items.append(Item(rel, f"{name} — camera '{cam_name}'",
-                                      f"{len(scene.nodes)} nodes, {tris:,} triangles, {len(scene.lights)} lights; "
-                                      f"{size[0]}×{size[1]} in {ms:.0f} ms on {ctx.info()['renderer']}",
-                                      command=f"illusio render {name} --camera {cam_name} --size {size[0]}x{size[1]} -o {name}.png"))
+            section.items.append(
+                Item(
+                    rel,
+                    f"{name} — camera '{cam_name}'",
+                    f"{len(scene.nodes)} nodes, {tris:,} triangles, {len(scene.lights)} lights; "
+                    f"{size[0]}×{size[1]} in {ms:.0f} ms on {ctx.info()['renderer']}",
+                    command=f"illusio render {name} --camera {cam_name} --size {size[0]}x{size[1]} -o {name}.png",
+                )
+            )
     return section
 
 
@@ -51,8 +59,14 @@ def builtin_shapes(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
         rel = f"shapes/{name}.png"
         write_image(out_dir / rel, img)
         m = scene.node("subject").mesh
-        section.items.append(Item(rel, name, f"{len(m.vertices):,} vertices, {len(m.faces):,} triangles",
-                                  command=f"illusio render {name} --size {small[0]}x{small[1]} -o {name}.png"))
+        section.items.append(
+            Item(
+                rel,
+                name,
+                f"{len(m.vertices):,} vertices, {len(m.faces):,} triangles",
+                command=f"illusio render {name} --size {small[0]}x{small[1]} -o {name}.png",
+            )
+        )
     return section
 
 

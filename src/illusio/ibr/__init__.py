@@ -1,9 +1,9 @@
 """Image-based rendering from reference views with per-pixel view selection (Porquet 2005, 4.2).
 
-    refs = capture(scene, orbit_views(scene, 3), (512, 384), ctx)    # or load_references(folder)
-    renderer = IbrRenderer(ctx)
-    renderer.prepare(refs)
-    image = renderer.render(Frame(view, (512, 384)), IbrParams(show_sources=True))
+refs = capture(scene, orbit_views(scene, 3), (512, 384), ctx)    # or load_references(folder)
+renderer = IbrRenderer(ctx)
+renderer.prepare(refs)
+image = renderer.render(Frame(view, (512, 384)), IbrParams(show_sources=True))
 """
 
 from ..core.lazy import lazy_exports
@@ -12,9 +12,18 @@ _EXPORTS = {
     "TECHNIQUES": "technique",
     **dict.fromkeys(("IbrRenderer", "render_views", "source_view"), "renderer"),
     **dict.fromkeys(("IbrParams", "DISTANCES", "SELECTIONS"), "params"),
-    **dict.fromkeys(("ReferenceView", "ReferenceSet", "capture", "save_references", "load_references", "load_cameras",
-                     "orbit_views"),
-                    "references"),
+    **dict.fromkeys(
+        (
+            "ReferenceView",
+            "ReferenceSet",
+            "capture",
+            "save_references",
+            "load_references",
+            "load_cameras",
+            "orbit_views",
+        ),
+        "references",
+    ),
 }
 
 __all__ = list(_EXPORTS)

@@ -27,9 +27,21 @@ from ..scene.camera import Pose, View
 from ..scene.intrinsics import Intrinsics, undistort_image
 from .references import ReferenceSet, ReferenceView
 
-__all__ = ["Intrinsics", "CaptureFrame", "read_rgbd_folder", "read_tum", "read_colmap", "read_intrinsics",
-           "read_trajectory_log", "read_colmap_array", "normals_from_depth", "undistort", "frames_to_references",
-           "TUM_DEFAULT", "KINDS"]
+__all__ = [
+    "Intrinsics",
+    "CaptureFrame",
+    "read_rgbd_folder",
+    "read_tum",
+    "read_colmap",
+    "read_intrinsics",
+    "read_trajectory_log",
+    "read_colmap_array",
+    "normals_from_depth",
+    "undistort",
+    "frames_to_references",
+    "TUM_DEFAULT",
+    "KINDS",
+]
 
 KINDS = ("rgbd", "tum", "colmap")
 
@@ -57,6 +69,7 @@ class CaptureFrame:
 
 # --- shared readers ---------------------------------------------------------------------------
 
+
 def read_intrinsics(path) -> Intrinsics:
     """``{"width", "height", "fx", "fy", "cx", "cy"}``, or Open3D's ``{"width", "height",
     "intrinsic_matrix": [9 numbers, column-major]}``."""
@@ -66,12 +79,20 @@ def read_intrinsics(path) -> Intrinsics:
         raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
     try:
         if "intrinsic_matrix" in doc:
-            k = np.asarray(doc["intrinsic_matrix"], np.float64).reshape(3, 3).T   # stored column-major
+            k = np.asarray(doc["intrinsic_matrix"], np.float64).reshape(3, 3).T  # stored column-major
             return Intrinsics(int(doc["width"]), int(doc["height"]), k[0, 0], k[1, 1], k[0, 2], k[1, 2])
-        return Intrinsics(int(doc["width"]), int(doc["height"]), float(doc["fx"]), float(doc["fy"]),
-                          float(doc["cx"]), float(doc["cy"]))
+        return Intrinsics(
+            int(doc["width"]),
+            int(doc["height"]),
+            float(doc["fx"]),
+            float(doc["fy"]),
+            float(doc["cx"]),
+            float(doc["cy"]),
+        )
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
-        raise InputError(f"{path}: intrinsics need width, height and fx, fy, cx, cy or an intrinsic_matrix ({exc})") from None
+        raise InputError(
+            f"{path}: intrinsics need width, height and fx, fy, cx, cy or an intrinsic_matrix ({exc})"
+        ) from None
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
 
@@ -84,7 +105,7 @@ def read_trajectory_log(path) -> list[np.ndarray]:
         raise InputError(f"{path}: a trajectory is 5 lines a frame (a header, then 4 rows); it has {len(lines)}")
     poses = []
     for f in range(len(lines) // 5):
-        rows = lines[5 * f + 1:5 * f + 5]
+        rows = lines[5 * f + 1 : 5 * f + 5]
         try:
             m = np.array([[float(v) for v in words] for _, words in rows])
         except ValueError:
@@ -113,16 +134,21 @@ def _depth_image(path: Path, scale: float) -> np.ndarray:
     return np.where(np.isfinite(d) & (d > 0), d, 0.0).astype(np.float32)
 
 
-def _frame(name: str, colour_path: Path, depth_path: Path, intrinsics: Intrinsics, pose: np.ndarray,
-           scale: float) -> CaptureFrame:
+def _frame(
+    name: str, colour_path: Path, depth_path: Path, intrinsics: Intrinsics, pose: np.ndarray, scale: float
+) -> CaptureFrame:
     colour = read_image(colour_path)[..., :3]
     depth = _depth_image(depth_path, scale)
     if depth.shape != colour.shape[:2]:
-        raise InputError(f"{depth_path}: depth is {depth.shape[1]}×{depth.shape[0]}, its colour "
-                         f"{colour_path.name} {colour.shape[1]}×{colour.shape[0]}")
+        raise InputError(
+            f"{depth_path}: depth is {depth.shape[1]}×{depth.shape[0]}, its colour "
+            f"{colour_path.name} {colour.shape[1]}×{colour.shape[0]}"
+        )
     if (intrinsics.width, intrinsics.height) != (colour.shape[1], colour.shape[0]):
-        raise InputError(f"{colour_path}: the image is {colour.shape[1]}×{colour.shape[0]}, the intrinsics "
-                         f"{intrinsics.width}×{intrinsics.height}")
+        raise InputError(
+            f"{colour_path}: the image is {colour.shape[1]}×{colour.shape[0]}, the intrinsics "
+            f"{intrinsics.width}×{intrinsics.height}"
+        )
     return CaptureFrame(name, colour, depth, intrinsics, pose)
 
 
@@ -137,6 +163,7 @@ _IMAGES = (".png", ".jpg", ".jpeg")
 
 # --- an RGB-D folder ----------------------------------------------------------------------------
 
+
 def read_rgbd_folder(src, intrinsics=None, poses=None, depth_scale: float = 1000.0) -> list[CaptureFrame]:
     """``color/`` (or ``rgb/``, ``image/``) and ``depth/`` paired by sorted name; ``intrinsic.json``
     (or ``intrinsics``, a file); ``trajectory.log`` (or ``poses``): one pose per frame."""
@@ -148,7 +175,9 @@ def read_rgbd_folder(src, intrinsics=None, poses=None, depth_scale: float = 1000
     colours = sorted(p for p in colour_dir.iterdir() if p.suffix.lower() in _IMAGES)
     depths = sorted(p for p in (root / "depth").iterdir() if p.suffix.lower() in (".png", ".npy"))
     if not colours or len(colours) != len(depths):
-        raise InputError(f"{root}: {len(colours)} colour images and {len(depths)} depth images; they pair by sorted name")
+        raise InputError(
+            f"{root}: {len(colours)} colour images and {len(depths)} depth images; they pair by sorted name"
+        )
     intrinsics_path = Path(intrinsics) if intrinsics else root / "intrinsic.json"
     if not intrinsics_path.is_file():
         raise InputError(f"{intrinsics_path}: no intrinsics (width, height, fx, fy, cx, cy); give --intrinsics FILE")
@@ -163,6 +192,7 @@ def read_rgbd_folder(src, intrinsics=None, poses=None, depth_scale: float = 1000
 
 
 # --- TUM RGB-D ------------------------------------------------------------------------------------
+
 
 def _timestamped(path: Path, columns: int) -> list[tuple[float, list[str], int]]:
     out = []
@@ -187,9 +217,13 @@ def _quaternion_matrix(qx, qy, qz, qw) -> np.ndarray:
     if not np.isfinite(n) or n < 1e-9:
         raise ValueError("a zero or non-finite quaternion")
     w, x, y, z = q / n
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def read_tum(src, intrinsics=None, tolerance: float = 0.02, depth_scale: float = 5000.0) -> list[CaptureFrame]:
@@ -221,8 +255,11 @@ def read_tum(src, intrinsics=None, tolerance: float = 0.02, depth_scale: float =
     if path.is_file():
         intr = read_intrinsics(path)
     else:
-        warnings.warn(f"{root}: no intrinsic.json and no --intrinsics: TUM's default (fx = fy = 525, "
-                      f"cx = 319.5, cy = 239.5) assumed")
+        warnings.warn(
+            f"{root}: no intrinsic.json and no --intrinsics: TUM's default (fx = fy = 525, "
+            f"cx = 319.5, cy = 239.5) assumed",
+            stacklevel=2,
+        )
         intr = TUM_DEFAULT
     frames = []
     for t, (name,), _ in rgb:
@@ -250,7 +287,7 @@ def read_colmap_array(path) -> np.ndarray:
     if not match:
         raise InputError(f"{p}: not a COLMAP array (it starts with width&height&channels&)")
     w, h, c = (int(v) for v in match.groups())
-    values = np.frombuffer(data[match.end():], dtype="<f4")
+    values = np.frombuffer(data[match.end() :], dtype="<f4")
     if values.size != w * h * c:
         raise InputError(f"{p}: {values.size} values for a {w}×{h}×{c} map")
     a = values.reshape((w, h, c), order="F").transpose(1, 0, 2)[..., 0]
@@ -265,8 +302,10 @@ def _colmap_cameras(path: Path) -> dict[int, Intrinsics]:
             continue
         where = f"{path}: line {k}"
         if len(words) < 4 or words[1] not in COLMAP_MODELS:
-            raise InputError(f"{where}: camera model {words[1] if len(words) > 1 else '?'!r} is not read; "
-                             f"models: {', '.join(COLMAP_MODELS)}")
+            raise InputError(
+                f"{where}: camera model {words[1] if len(words) > 1 else '?'!r} is not read; "
+                f"models: {', '.join(COLMAP_MODELS)}"
+            )
         model, n = words[1], COLMAP_MODELS[words[1]]
         try:
             cid, w, h = int(words[0]), int(words[2]), int(words[3])
@@ -298,8 +337,11 @@ def read_colmap(src) -> list[CaptureFrame]:
     if sparse is None or not (sparse / "images.txt").is_file():
         raise InputError(f"{root}: a COLMAP workspace holds sparse/cameras.txt and sparse/images.txt (the text model)")
     cams = _colmap_cameras(sparse / "cameras.txt")
-    lines = [(k, line) for k, line in enumerate(read_text(sparse / "images.txt", "COLMAP images").splitlines(), 1)
-             if not line.startswith("#")]
+    lines = [
+        (k, line)
+        for k, line in enumerate(read_text(sparse / "images.txt", "COLMAP images").splitlines(), 1)
+        if not line.startswith("#")
+    ]
     frames = []
     for (k, line), _ in zip(lines[0::2], lines[1::2] + [(0, "")] * (len(lines) % 2)):
         words = line.split()
@@ -310,21 +352,27 @@ def read_colmap(src) -> list[CaptureFrame]:
             q = [float(v) for v in words[1:5]]
             t = np.array([float(v) for v in words[5:8]])
             cid, name = int(words[8]), words[9]
-            rotation = _quaternion_matrix(q[1], q[2], q[3], q[0])         # COLMAP writes QW first
+            rotation = _quaternion_matrix(q[1], q[2], q[3], q[0])  # COLMAP writes QW first
         except (ValueError, IndexError):
             raise InputError(f"{where}: expected IMAGE_ID QW QX QY QZ TX TY TZ CAMERA_ID NAME") from None
         if cid not in cams:
             raise InputError(f"{where}: camera {cid} is not in cameras.txt")
         pose = np.eye(4)
-        pose[:3, :3], pose[:3, 3] = rotation.T, -rotation.T @ t        # world-to-camera inverted
+        pose[:3, :3], pose[:3, 3] = rotation.T, -rotation.T @ t  # world-to-camera inverted
         if not np.isfinite(pose).all():
             raise InputError(f"{where}: the pose is not finite")
         maps = root / "stereo" / "depth_maps"
-        candidates = [maps / f"{name}.geometric.bin", maps / f"{name}.photometric.bin", maps / f"{Path(name).stem}.npy",
-                      maps / f"{Path(name).stem}.png"]
+        candidates = [
+            maps / f"{name}.geometric.bin",
+            maps / f"{name}.photometric.bin",
+            maps / f"{Path(name).stem}.npy",
+            maps / f"{Path(name).stem}.png",
+        ]
         depth = next((c for c in candidates if c.is_file()), None)
         if depth is None:
-            raise InputError(f"{where}: no depth map for {name} in {maps} (.geometric.bin, .photometric.bin, .npy or .png)")
+            raise InputError(
+                f"{where}: no depth map for {name} in {maps} (.geometric.bin, .photometric.bin, .npy or .png)"
+            )
         frames.append(undistort(_frame(name, root / "images" / name, depth, cams[cid], pose, 1000.0)))
     if not frames:
         raise InputError(f"{sparse / 'images.txt'}: no images")
@@ -333,15 +381,19 @@ def read_colmap(src) -> list[CaptureFrame]:
 
 # --- to references --------------------------------------------------------------------------------
 
+
 def undistort(frame: CaptureFrame) -> CaptureFrame:
     """The frame as a pinhole would have seen it (scene.intrinsics.undistort_image: colour bilinear,
     depth nearest and 0 outside the recorded image — a depth is not blended across an edge)."""
     intr = frame.intrinsics
     if not intr.distorted:
         return replace(frame, intrinsics=intr.pinhole)
-    return replace(frame, colour=undistort_image(frame.colour, intr).astype(np.float32),
-                   depth=undistort_image(frame.depth, intr, order=0, cval=0.0).astype(np.float32),
-                   intrinsics=intr.pinhole)
+    return replace(
+        frame,
+        colour=undistort_image(frame.colour, intr).astype(np.float32),
+        depth=undistort_image(frame.depth, intr, order=0, cval=0.0).astype(np.float32),
+        intrinsics=intr.pinhole,
+    )
 
 
 def normals_from_depth(depth: np.ndarray, intrinsics: Intrinsics, max_jump: float = 0.05) -> np.ndarray:
@@ -363,7 +415,7 @@ def normals_from_depth(depth: np.ndarray, intrinsics: Intrinsics, max_jump: floa
     ray = np.stack([(u - intrinsics.cx) / intrinsics.fx, (v - intrinsics.cy) / intrinsics.fy, np.ones_like(u)], axis=-1)
     ray /= np.linalg.norm(ray, axis=-1, keepdims=True)
     n = np.where(ok[..., None] & (length > 1e-12), n / np.maximum(length, 1e-12), -ray)
-    n = np.where((np.einsum("ijk,ijk->ij", n, ray) > 0)[..., None], -n, n)   # facing the camera
+    n = np.where((np.einsum("ijk,ijk->ij", n, ray) > 0)[..., None], -n, n)  # facing the camera
     return n.astype(np.float32)
 
 
@@ -379,10 +431,12 @@ def frames_to_references(frames: list[CaptureFrame], chosen: list[int], max_dept
         f = frames[k]
         depth = np.where(f.depth <= max_depth, f.depth, 0.0) if max_depth else f.depth
         normal_cv = normals_from_depth(depth, f.intrinsics)
-        world = (normal_cv.reshape(-1, 3) @ f.pose[:3, :3].T).reshape(normal_cv.shape)   # camera → world
-        albedo = np.dstack([f.colour, np.zeros(depth.shape, np.float32)])               # k_s = 0: matte
+        world = (normal_cv.reshape(-1, 3) @ f.pose[:3, :3].T).reshape(normal_cv.shape)  # camera → world
+        albedo = np.dstack([f.colour, np.zeros(depth.shape, np.float32)])  # k_s = 0: matte
         normal = np.dstack([world, np.full(depth.shape, 32.0, np.float32)])
-        views.append(ReferenceView(f.view(far), albedo, normal, np.zeros_like(f.colour), depth.astype(np.float32),
-                                   f.colour))
-    return ReferenceSet(views, [], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [(f.view(far), f.colour) for f in frames],
-                        albedo_from_photo=True)
+        views.append(
+            ReferenceView(f.view(far), albedo, normal, np.zeros_like(f.colour), depth.astype(np.float32), f.colour)
+        )
+    return ReferenceSet(
+        views, [], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [(f.view(far), f.colour) for f in frames], albedo_from_photo=True
+    )

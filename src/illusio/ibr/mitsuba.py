@@ -16,7 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..passes.mitsuba import load_mitsuba as _mitsuba, load_scene, mitsuba_available, rgb as _rgb, sensor as _sensor
+from ..passes.mitsuba import load_mitsuba as _mitsuba
+from ..passes.mitsuba import load_scene, mitsuba_available
+from ..passes.mitsuba import rgb as _rgb
+from ..passes.mitsuba import sensor as _sensor
 from ..scene.camera import View
 from ..scene.scene import AreaLight, PointLight, Scene
 from .references import ReferenceSet, ReferenceView
@@ -31,7 +34,9 @@ def _scene_dict(mi, scene: Scene, folder: Path, lights: bool = True) -> dict:
     for k, node in enumerate(scene.nodes):
         if not node.visible:
             continue
-        world = (np.c_[node.mesh.vertices, np.ones(len(node.mesh.vertices))] @ node.transform.astype(np.float64).T)[:, :3]
+        world = (np.c_[node.mesh.vertices, np.ones(len(node.mesh.vertices))] @ node.transform.astype(np.float64).T)[
+            :, :3
+        ]
         path = folder / f"node-{k}.ply"
         trimesh.Trimesh(world, node.mesh.faces, process=False).export(path)
         material = node.material
@@ -44,21 +49,28 @@ def _scene_dict(mi, scene: Scene, folder: Path, lights: bool = True) -> dict:
         out[f"node_{k}"] = shape
     for k, light in enumerate(scene.lights if lights else ()):
         if isinstance(light, PointLight):
-            out[f"light_{k}"] = {"type": "point", "position": [float(v) for v in light.position],
-                                 "intensity": _rgb(np.asarray(light.colour) * light.intensity)}
+            out[f"light_{k}"] = {
+                "type": "point",
+                "position": [float(v) for v in light.position],
+                "intensity": _rgb(np.asarray(light.colour) * light.intensity),
+            }
         elif isinstance(light, AreaLight):
             u, v = np.asarray(light.edge_u, np.float64), np.asarray(light.edge_v, np.float64)
             n = np.cross(u, v)
             n /= np.linalg.norm(n)
             m = np.eye(4)
             m[:3, 0], m[:3, 1], m[:3, 2], m[:3, 3] = u / 2, v / 2, n, light.centre
-            out[f"light_{k}"] = {"type": "rectangle", "to_world": mi.ScalarTransform4f(m.tolist()),
-                                 "emitter": {"type": "area", "radiance": _rgb(np.asarray(light.colour) * light.radiance)}}
+            out[f"light_{k}"] = {
+                "type": "rectangle",
+                "to_world": mi.ScalarTransform4f(m.tolist()),
+                "emitter": {"type": "area", "radiance": _rgb(np.asarray(light.colour) * light.radiance)},
+            }
     return out
 
 
-def capture_mitsuba(scene: Scene, views: list[View], size: tuple[int, int], samples: int = 64,
-                    seed: int = 0) -> ReferenceSet:
+def capture_mitsuba(
+    scene: Scene, views: list[View], size: tuple[int, int], samples: int = 64, seed: int = 0
+) -> ReferenceSet:
     """Path-traced reference views of ``scene`` from ``views`` at ``size`` with ``samples`` paths a
     pixel (box filter, so each pixel is its own footprint; ``seed`` for the sampler)."""
     mi = _mitsuba()
@@ -73,19 +85,33 @@ def capture_mitsuba(scene: Scene, views: list[View], size: tuple[int, int], samp
         for view in views:
             sensor = _sensor(mi, view, size, samples, seed)
             doc = dict(base, sensor=sensor)
-            doc["integrator"] = {"type": "aov", "aovs": "dd:depth,nn:sh_normal,al:albedo",
-                                 "img": {"type": "path", "max_depth": 6}}
+            doc["integrator"] = {
+                "type": "aov",
+                "aovs": "dd:depth,nn:sh_normal,al:albedo",
+                "img": {"type": "path", "max_depth": 6},
+            }
             image = np.array(mi.render(load_scene(mi, doc), seed=int(seed)), np.float32)
             colour, distance, normal, albedo = image[..., :3], image[..., 3], image[..., 4:7], image[..., 7:10]
-            emission = np.array(mi.render(load_scene(mi, dict(glowing, sensor=sensor, integrator={
-                "type": "path", "max_depth": 1})), seed=int(seed)), np.float32)[..., :3]
+            emission = np.array(
+                mi.render(
+                    load_scene(mi, dict(glowing, sensor=sensor, integrator={"type": "path", "max_depth": 1})),
+                    seed=int(seed),
+                ),
+                np.float32,
+            )[..., :3]
             # Mitsuba's depth AOV is the distance along the ray from the near plane (its perspective
             # sensor starts rays there); ours is the depth along the view axis from the eye
             forward = np.asarray(view.pose.axes()[2], np.float64)
             axis_depth = distance * (view.ray_directions((w, h)) @ forward) + view.camera.near
             hit = distance > 0
-            refs.append(ReferenceView(view, np.dstack([albedo, np.zeros((h, w), np.float32)]),
-                                      np.dstack([normal, np.full((h, w), 32.0, np.float32)]),
-                                      emission, np.where(hit, axis_depth, 0.0).astype(np.float32),
-                                      colour=np.clip(colour, 0, None)))
+            refs.append(
+                ReferenceView(
+                    view,
+                    np.dstack([albedo, np.zeros((h, w), np.float32)]),
+                    np.dstack([normal, np.full((h, w), 32.0, np.float32)]),
+                    emission,
+                    np.where(hit, axis_depth, 0.0).astype(np.float32),
+                    colour=np.clip(colour, 0, None),
+                )
+            )
     return ReferenceSet(refs, list(scene.lights), tuple(scene.ambient), tuple(scene.background))

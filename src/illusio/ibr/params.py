@@ -21,7 +21,8 @@ SELECTIONS = ("single-pass", "multi-pass")
 
 @dataclass(frozen=True)
 class IbrParams:
-    """distance: DISTANCES. selection: SELECTIONS (the same choice either way). bilinear_depth: read a reference's depth by bilinear interpolation of the
+    """distance: DISTANCES. selection: SELECTIONS (the same choice either way). bilinear_depth: read a reference's
+    depth by bilinear interpolation of the
     four texels around the back-projected point (the text's fix for border artefacts, Figure 4.4)
     rather than the nearest texel. max_distance: a point whose best reference misses it by more is
     a hole (pixels for "2d", metres for "3d"). mesh_step: reference pixels between the vertices of the
@@ -30,7 +31,8 @@ class IbrParams:
     reconstructed depth up to this many pixels wide take the farthest depth around them (where a cut
     triangle let the surface behind show). fill_disocclusions: pixels the new view sees and no
     reference does, up to this many pixels from a seen one, take the farthest seen point of the
-    nearest ring around them (off in the sources view, which shows them as holes). show_sources: colour each pixel by the
+    nearest ring around them (off in the sources view, which shows them as holes). show_sources: colour each pixel by
+    the
     reference it came from (Figure 4.5), holes in magenta. relight: shade from the stored albedo and
     normals with the set's lights; off: show the chosen reference's recorded colour (a path-traced
     "photograph" keeps its indirect light). light_x, light_y, light_z: every light of
@@ -39,16 +41,27 @@ class IbrParams:
 
     distance: str = param("2d", choices=DISTANCES)
     selection: str = param("single-pass", choices=SELECTIONS)
-    bilinear_depth: bool = param(True, label="bilinear depth", flag="bilinear-depth/nearest-depth",
-                                 help="bilinear reference depth, or the nearest texel's")
+    bilinear_depth: bool = param(
+        True,
+        label="bilinear depth",
+        flag="bilinear-depth/nearest-depth",
+        help="bilinear reference depth, or the nearest texel's",
+    )
     max_distance: float = param(3.0, range=(0.01, 1000.0), log=True, help="beyond it a pixel is a hole")
     mesh_step: int = param(2, range=(1, 16), step=1, unit="px", label="reconstruction mesh step")
     grazing: float = param(85.0, range=(1.0, 90.0), unit="°", help="mesh triangles seen more obliquely are cut")
-    fill_radius: int = param(4, range=(0, 64), step=1, unit="px", help="holes of the reconstructed depth this wide are filled")
-    fill_disocclusions: int = param(16, range=(0, 256), step=1, unit="px", help="disocclusions no reference sees are filled this far")
+    fill_radius: int = param(
+        4, range=(0, 64), step=1, unit="px", help="holes of the reconstructed depth this wide are filled"
+    )
+    fill_disocclusions: int = param(
+        16, range=(0, 256), step=1, unit="px", help="disocclusions no reference sees are filled this far"
+    )
     show_sources: bool = param(False, label="show source views", help="colour by source view, holes magenta")
-    relight: bool = param(True, help="light from the stored normals; photographic: the references' recorded colour",
-                          flag="relight/photographic")
+    relight: bool = param(
+        True,
+        help="light from the stored normals; photographic: the references' recorded colour",
+        flag="relight/photographic",
+    )
     light_x: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights x")
     light_y: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights y")
     light_z: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights z")

@@ -1,6 +1,8 @@
 """The first pass on the GPU: the reconstruction mesh and the points it leaves out drawn into the
-new view's linear depth (shaders/reconstruct.glsl), then its holes filled from the nearest ring around them (shaders/fill.glsl). References:
-passes.reference.gbuffer (ray casting the mesh), ibr.reference.point_depth (the points) and :func:`illusio.ibr.renderer.fill_holes`."""
+new view's linear depth (shaders/reconstruct.glsl), then its holes filled from the nearest ring around them
+(shaders/fill.glsl). References:
+passes.reference.gbuffer (ray casting the mesh), ibr.reference.point_depth (the points) and
+:func:`illusio.ibr.renderer.fill_holes`."""
 
 from __future__ import annotations
 
@@ -26,7 +28,7 @@ class ReconstructPass:
 
     def load(self, shape: Reconstruction) -> None:
         mesh, points, footprint = shape.mesh, shape.points, shape.footprint
-        self.ctx.make_current()          # buffers belong to the context current when they are made
+        self.ctx.make_current()  # buffers belong to the context current when they are made
         self.release()
         gl = self.ctx.gl
         vbo = gl.buffer(np.ascontiguousarray(mesh.vertices, np.float32).tobytes())
@@ -34,8 +36,10 @@ class ReconstructPass:
         vao = gl.vertex_array(self.program, [(vbo, "3f", "in_position")], ibo)
         self._buffers = (vbo, ibo, vao)
         if len(points):
-            interleaved = np.concatenate([np.asarray(points, np.float32).reshape(-1, 3),
-                                          np.asarray(footprint, np.float32).reshape(-1, 1)], axis=1)
+            interleaved = np.concatenate(
+                [np.asarray(points, np.float32).reshape(-1, 3), np.asarray(footprint, np.float32).reshape(-1, 1)],
+                axis=1,
+            )
             pbo = gl.buffer(np.ascontiguousarray(interleaved).tobytes())
             self._buffers += (pbo, gl.vertex_array(self.program, [(pbo, "3f 1f", "in_position", "in_footprint")]))
 
@@ -65,7 +69,9 @@ class ReconstructPass:
         pooled texture."""
         if radius <= 0:
             return depth
-        filled = self.ctx.draw_fullscreen(self.fill_program, depth.size, 1, textures={"depth": depth}, radius=int(radius))
+        filled = self.ctx.draw_fullscreen(
+            self.fill_program, depth.size, 1, textures={"depth": depth}, radius=int(radius)
+        )
         self.ctx.release(depth)
         return filled
 

@@ -57,7 +57,7 @@ def uncovered_points(ref: ReferenceView, step: int = 2, grazing: float = 85.0) -
     return _uncovered(ref, _grid(ref, step, grazing))
 
 
-def _uncovered(ref: ReferenceView, grid: "_Grid") -> tuple[np.ndarray, np.ndarray]:
+def _uncovered(ref: ReferenceView, grid: _Grid) -> tuple[np.ndarray, np.ndarray]:
     w, h = ref.size
     lone = (grid.depth > 0) & ~grid.covered
     ys, xs = np.nonzero(lone)
@@ -69,10 +69,10 @@ def _uncovered(ref: ReferenceView, grid: "_Grid") -> tuple[np.ndarray, np.ndarra
 @dataclass
 class _Grid:
     vertices: np.ndarray  # (V, 3) world, the grid's pixels' points
-    faces: np.ndarray     # (2·cells, 3): every cell's upper-left triangle, then every lower-right one
-    keep: np.ndarray      # (2·cells,) which are drawn
-    depth: np.ndarray     # (H, W) the reference's depth
-    covered: np.ndarray   # (H, W) pixels every cell touching them is kept (drawn by the mesh)
+    faces: np.ndarray  # (2·cells, 3): every cell's upper-left triangle, then every lower-right one
+    keep: np.ndarray  # (2·cells,) which are drawn
+    depth: np.ndarray  # (H, W) the reference's depth
+    covered: np.ndarray  # (H, W) pixels every cell touching them is kept (drawn by the mesh)
 
 
 def _grid(ref: ReferenceView, step: int, grazing: float) -> _Grid:
@@ -91,7 +91,9 @@ def _grid(ref: ReferenceView, step: int, grazing: float) -> _Grid:
     p0, p1, p2 = (vertices[faces[:, k]] for k in range(3))
     normal = np.cross(p1 - p0, p2 - p0)
     ray = (p0 + p1 + p2) / 3 - np.asarray(ref.view.pose.position, np.float64)
-    cosine = np.abs((normal * ray).sum(1)) / np.maximum(np.linalg.norm(normal, axis=1) * np.linalg.norm(ray, axis=1), 1e-30)
+    cosine = np.abs((normal * ray).sum(1)) / np.maximum(
+        np.linalg.norm(normal, axis=1) * np.linalg.norm(ray, axis=1), 1e-30
+    )
     keep = seen & (cosine > np.cos(np.radians(grazing)))
     # every pixel against its cell's surface: inverse depth (linear across a plane's image)
     # interpolated from the corners; a seen pixel off it by more than 1 % cuts every cell it touches
@@ -101,11 +103,17 @@ def _grid(ref: ReferenceView, step: int, grazing: float) -> _Grid:
     fy = (ys - rows[ci]) / (rows[ci + 1] - rows[ci])
     fx = (xs - cols[cj]) / (cols[cj + 1] - cols[cj])
     inverse = np.where(d > 0, 1 / np.where(d > 0, d, 1), 0.0)
-    surface = ((inverse[ci, cj] * (1 - fx) + inverse[ci, cj + 1] * fx) * (1 - fy)
-               + (inverse[ci + 1, cj] * (1 - fx) + inverse[ci + 1, cj + 1] * fx) * fy)
+    surface = (inverse[ci, cj] * (1 - fx) + inverse[ci, cj + 1] * fx) * (1 - fy) + (
+        inverse[ci + 1, cj] * (1 - fx) + inverse[ci + 1, cj + 1] * fx
+    ) * fy
     off = (depth > 0) & (np.abs(surface * depth - 1) > 0.01)
     on_row, on_col = (ys == rows[ci]) & (ci > 0), (xs == cols[cj]) & (cj > 0)
-    touching = [(ci, cj, np.ones((h, w), bool)), (ci - 1, cj, on_row), (ci, cj - 1, on_col), (ci - 1, cj - 1, on_row & on_col)]
+    touching = [
+        (ci, cj, np.ones((h, w), bool)),
+        (ci - 1, cj, on_row),
+        (ci, cj - 1, on_col),
+        (ci - 1, cj - 1, on_row & on_col),
+    ]
     cell_ok = keep.reshape(2, gh - 1, gw - 1).all(axis=0)
     for i, j, where in touching:
         cell_ok[i[off & where], j[off & where]] = False

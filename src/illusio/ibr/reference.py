@@ -12,15 +12,23 @@ from .reconstruction import unproject
 __all__ = ["select", "point_depth"]
 
 
-def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bilinear: bool = True,
-           max_distance: float = 3.0, photographic: bool = False) -> dict[str, np.ndarray]:
+def select(
+    reconstructed: np.ndarray,
+    view,
+    references,
+    use_3d: bool = False,
+    bilinear: bool = True,
+    max_distance: float = 3.0,
+    photographic: bool = False,
+) -> dict[str, np.ndarray]:
     """Per pixel of the new view (row 0 at the top): back-project the pixel centre at its
     reconstructed depth into each reference, read the reference's depth there (bilinear over the
     four texels around the point when all four see something and ``bilinear``, else the nearest),
     unproject it to the point the reference saw, and measure its distance to ours (pixels on the new
     image plane, or metres with ``use_3d``); keep the reference with the smallest distance (the first
     on ties), none beyond ``max_distance``. Attributes: bilinear where the four texels around the
-    point lie on one surface (depths within 1 %), else the nearest texel. Returns source (H, W) int (reference index + 1, 0 =
+    point lie on one surface (depths within 1 %), else the nearest texel. Returns source (H, W) int (reference index
+    + 1, 0 =
     hole; a reference whose stored normal faces away from the new eye saw the other side of a thin
     surface and is skipped), depth (the seen point's view depth in the new view), position (H, W, 3), albedo (H, W, 4),
     normal (H, W, 4), emission (H, W, 3) from the chosen reference's nearest texel. ``photographic``:
@@ -31,8 +39,14 @@ def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bi
     ys, xs = np.mgrid[0:h, 0:w]
     point = unproject(view, (w, h), xs + 0.5, ys + 0.5, z)
     best = np.full((h, w), np.inf)
-    out = {"source": np.zeros((h, w), np.int64), "depth": np.zeros((h, w)), "position": np.zeros((h, w, 3)),
-           "albedo": np.zeros((h, w, 4)), "normal": np.zeros((h, w, 4)), "emission": np.zeros((h, w, 3))}
+    out = {
+        "source": np.zeros((h, w), np.int64),
+        "depth": np.zeros((h, w)),
+        "position": np.zeros((h, w, 3)),
+        "albedo": np.zeros((h, w, 4)),
+        "normal": np.zeros((h, w, 4)),
+        "emission": np.zeros((h, w, 3)),
+    }
     new_vp = view.view_projection((w, h)).astype(np.float64)
     new_view = view.view_matrix().astype(np.float64)
     homogeneous = np.concatenate([point, np.ones((h, w, 1))], axis=-1)
@@ -53,11 +67,19 @@ def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bi
         def bilerp(a):
             a = np.asarray(a, np.float64)[::-1]
             fx, fy = f[..., 0:1] if a.ndim == 3 else f[..., 0], f[..., 1:2] if a.ndim == 3 else f[..., 1]
-            return ((a[t0[..., 1], t0[..., 0]] * (1 - fx) + a[t0[..., 1], t1[..., 0]] * fx) * (1 - fy)
-                    + (a[t1[..., 1], t0[..., 0]] * (1 - fx) + a[t1[..., 1], t1[..., 0]] * fx) * fy)
+            return (a[t0[..., 1], t0[..., 0]] * (1 - fx) + a[t0[..., 1], t1[..., 0]] * fx) * (1 - fy) + (
+                a[t1[..., 1], t0[..., 0]] * (1 - fx) + a[t1[..., 1], t1[..., 0]] * fx
+            ) * fy
 
-        corners = np.stack([gl_depth[t0[..., 1], t0[..., 0]], gl_depth[t0[..., 1], t1[..., 0]],
-                            gl_depth[t1[..., 1], t0[..., 0]], gl_depth[t1[..., 1], t1[..., 0]]], -1)
+        corners = np.stack(
+            [
+                gl_depth[t0[..., 1], t0[..., 0]],
+                gl_depth[t0[..., 1], t1[..., 0]],
+                gl_depth[t1[..., 1], t0[..., 0]],
+                gl_depth[t1[..., 1], t1[..., 0]],
+            ],
+            -1,
+        )
         lo, hi = corners.min(-1), corners.max(-1)
         smooth = (lo > 0) & (hi <= lo * 1.01)
         if bilinear:
@@ -65,12 +87,13 @@ def select(reconstructed: np.ndarray, view, references, use_3d: bool = False, bi
         ok &= d > 0
         ref_x, ref_y = uv[..., 0] * rw, (1 - uv[..., 1]) * rh
         seen = unproject(ref.view, (rw, rh), ref_x, ref_y, np.where(ok, d, 1.0))
+
         def attribute(a):
             at_nearest = np.asarray(a, np.float64)[::-1][nearest[..., 1], nearest[..., 0]]
             return np.where(smooth[..., None], bilerp(a), at_nearest)
 
         normal = attribute(ref.normal)
-        ok &= ((normal[..., :3] * (np.asarray(view.pose.position, np.float64) - seen)).sum(-1) > 0)  # not the other side
+        ok &= (normal[..., :3] * (np.asarray(view.pose.position, np.float64) - seen)).sum(-1) > 0  # not the other side
         if use_3d:
             distance = np.linalg.norm(seen - point, axis=-1)
         else:
@@ -108,6 +131,6 @@ def point_depth(points: np.ndarray, footprint: np.ndarray, view, size: tuple[int
             # pixel centres c + 0.5 inside [x − half, x + half)
             x0, x1 = int(np.ceil(pixel[k, 0] - half[k] - 0.5)), int(np.ceil(pixel[k, 0] + half[k] - 0.5))
             y0, y1 = int(np.ceil(pixel[k, 1] - half[k] - 0.5)), int(np.ceil(pixel[k, 1] + half[k] - 0.5))
-            block = out[max(y0, 0):max(min(y1, h), 0), max(x0, 0):max(min(x1, w), 0)]
+            block = out[max(y0, 0) : max(min(y1, h), 0), max(x0, 0) : max(min(x1, w), 0)]
             np.minimum(block, z[k], out=block)
     return np.where(np.isfinite(out), out, 0.0)

@@ -23,8 +23,17 @@ from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.camera import Camera, Pose, View
 from ..scene.scene import AreaLight, PointLight, Scene
 
-__all__ = ["ReferenceView", "ReferenceSet", "capture", "save_references", "load_references", "load_cameras", "orbit_views",
-           "rig_placement", "WALL_MARGIN"]
+__all__ = [
+    "ReferenceView",
+    "ReferenceSet",
+    "capture",
+    "save_references",
+    "load_references",
+    "load_cameras",
+    "orbit_views",
+    "rig_placement",
+    "WALL_MARGIN",
+]
 
 
 @dataclass(eq=False)
@@ -46,8 +55,13 @@ class ReferenceView:
         for name, c in (("albedo", 4), ("normal", 4), ("emission", 3)):
             a = np.asarray(getattr(self, name), np.float32)
             if a.ndim == 3 and a.shape[2] == 3 and c == 4:
-                a = np.dstack([a, np.zeros((h, w) if name == "albedo" else (h, w), np.float32)
-                               + (0.0 if name == "albedo" else 32.0)])
+                a = np.dstack(
+                    [
+                        a,
+                        np.zeros((h, w) if name == "albedo" else (h, w), np.float32)
+                        + (0.0 if name == "albedo" else 32.0),
+                    ]
+                )
             if a.shape != (h, w, c):
                 raise InputError(f"reference {name} is {a.shape[1]}×{a.shape[0]}, its depth {w}×{h}")
             if not np.isfinite(a).all():
@@ -141,8 +155,16 @@ def capture(scene: Scene, views: list[View], size: tuple[int, int], ctx: Context
         g.release()
         hit = images["object_id"][..., 0] > 0.5
         lit = renderer.render(Frame(view, size), RenderSettings(shadows=False))
-        refs.append(ReferenceView(view, images["colour"], images["normal"], images["emission"][..., :3],
-                                  np.where(hit, images["depth"][..., 0], 0.0), lit))
+        refs.append(
+            ReferenceView(
+                view,
+                images["colour"],
+                images["normal"],
+                images["emission"][..., :3],
+                np.where(hit, images["depth"][..., 0], 0.0),
+                lit,
+            )
+        )
     renderer.release()
     return ReferenceSet(refs, list(scene.lights), tuple(scene.ambient), tuple(scene.background))
 
@@ -153,26 +175,54 @@ def _floats(values) -> list[float]:
 
 def _camera_dict(view: View) -> dict:
     c = view.camera
-    return {"eye": _floats(view.pose.position), "target": _floats(view.pose.target), "up": _floats(view.pose.up),
-            "fov": float(c.fov_y), "near": float(c.near), "far": float(c.far), "shift": _floats(c.shift),
-            "pixel_aspect": float(c.pixel_aspect)}
+    return {
+        "eye": _floats(view.pose.position),
+        "target": _floats(view.pose.target),
+        "up": _floats(view.pose.up),
+        "fov": float(c.fov_y),
+        "near": float(c.near),
+        "far": float(c.far),
+        "shift": _floats(c.shift),
+        "pixel_aspect": float(c.pixel_aspect),
+    }
 
 
 def _light_dict(light) -> dict:
     if isinstance(light, PointLight):
-        return {"type": "point", "position": _floats(light.position), "colour": _floats(light.colour),
-                "intensity": float(light.intensity)}
-    return {"type": "area", "centre": _floats(light.centre), "edge_u": _floats(light.edge_u), "edge_v": _floats(light.edge_v),
-            "colour": _floats(light.colour), "radiance": float(light.radiance), "samples": int(light.samples)}
+        return {
+            "type": "point",
+            "position": _floats(light.position),
+            "colour": _floats(light.colour),
+            "intensity": float(light.intensity),
+        }
+    return {
+        "type": "area",
+        "centre": _floats(light.centre),
+        "edge_u": _floats(light.edge_u),
+        "edge_v": _floats(light.edge_v),
+        "colour": _floats(light.colour),
+        "radiance": float(light.radiance),
+        "samples": int(light.samples),
+    }
 
 
 def _camera_from_dict(cam, where: str) -> View:
     """A camera entry (eye, target, fov, near, far, optionally up and shift) → View."""
     try:
-        return View(Pose(tuple(float(v) for v in cam["eye"]), tuple(float(v) for v in cam["target"]),
-                         tuple(float(v) for v in cam.get("up", (0, 1, 0)))),
-                    Camera(float(cam["fov"]), float(cam["near"]), float(cam["far"]),
-                           tuple(float(v) for v in cam.get("shift", (0, 0))), float(cam.get("pixel_aspect", 1.0))))
+        return View(
+            Pose(
+                tuple(float(v) for v in cam["eye"]),
+                tuple(float(v) for v in cam["target"]),
+                tuple(float(v) for v in cam.get("up", (0, 1, 0))),
+            ),
+            Camera(
+                float(cam["fov"]),
+                float(cam["near"]),
+                float(cam["far"]),
+                tuple(float(v) for v in cam.get("shift", (0, 0))),
+                float(cam.get("pixel_aspect", 1.0)),
+            ),
+        )
     except (KeyError, TypeError, ValueError, AttributeError) as exc:
         raise InputError(f"{where}: a camera needs eye, target, fov, near, far ({exc})") from None
     except InputError as exc:
@@ -188,11 +238,16 @@ def load_cameras(path: str | os.PathLike) -> list[View]:
     except json.JSONDecodeError as exc:
         raise InputError(f"{path}: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
     if isinstance(doc, dict) and isinstance(doc.get("views"), list):
-        entries = [(f"{path}: views[{k}]", e.get("camera") if isinstance(e, dict) else None) for k, e in enumerate(doc["views"])]
+        entries = [
+            (f"{path}: views[{k}]", e.get("camera") if isinstance(e, dict) else None)
+            for k, e in enumerate(doc["views"])
+        ]
     elif isinstance(doc, list):
         entries = [(f"{path}: camera {k + 1}", e) for k, e in enumerate(doc)]
     else:
-        raise InputError(f"{path}: expected a JSON list of cameras {{eye, target, fov, near, far}} or a references.json")
+        raise InputError(
+            f"{path}: expected a JSON list of cameras {{eye, target, fov, near, far}} or a references.json"
+        )
     if not 1 <= len(entries) <= 16:
         raise InputError(f"{path}: 1 to 16 cameras, got {len(entries)}")
     return [_camera_from_dict(cam, where) for where, cam in entries]
@@ -206,10 +261,9 @@ def save_references(refs: ReferenceSet, folder: str | os.PathLike) -> Path:
     entries = []
     for k, v in enumerate(refs.views):
         name = f"view-{k}.npz"
-        with atomic_output(out / name) as tmp:
-            with open(tmp, "wb") as f:
-                extra = {"colour": v.colour} if v.colour is not None else {}
-                np.savez_compressed(f, albedo=v.albedo, normal=v.normal, emission=v.emission, depth=v.depth, **extra)
+        with atomic_output(out / name) as tmp, open(tmp, "wb") as f:
+            extra = {"colour": v.colour} if v.colour is not None else {}
+            np.savez_compressed(f, albedo=v.albedo, normal=v.normal, emission=v.emission, depth=v.depth, **extra)
         entries.append({"file": name, "camera": _camera_dict(v.view)})
     frames = []
     for k, (view, photo) in enumerate(refs.frames):
@@ -221,8 +275,12 @@ def save_references(refs: ReferenceSet, folder: str | os.PathLike) -> Path:
             (out / "frames").mkdir(exist_ok=True)
             write_image(out / name, read_image(photo))
         frames.append({"photo": name, "camera": _camera_dict(view)})
-    doc = {"views": entries, "lights": [_light_dict(light) for light in refs.lights],
-           "ambient": list(refs.ambient), "background": list(refs.background)}
+    doc = {
+        "views": entries,
+        "lights": [_light_dict(light) for light in refs.lights],
+        "ambient": list(refs.ambient),
+        "background": list(refs.background),
+    }
     if frames:
         doc["frames"] = frames
     if refs.albedo_from_photo:
@@ -254,8 +312,10 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
             raise InputError(f"{where}: a view needs a file name and a camera")
         path = root / entry["file"]
         if Path(entry["file"]).is_absolute() or not path.resolve().is_relative_to(root.resolve()):
-            raise InputError(f"{where}: {entry['file']!r} is outside the folder; a view's file is named "
-                             "relative to references.json, inside its folder")
+            raise InputError(
+                f"{where}: {entry['file']!r} is outside the folder; a view's file is named "
+                "relative to references.json, inside its folder"
+            )
         view = _camera_from_dict(entry.get("camera"), where)
         if not path.is_file():
             raise InputError(f"{where}: {path.name} is missing")
@@ -276,12 +336,23 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
     for k, ld in enumerate(doc.get("lights") or []):
         try:
             if ld.get("type", "point") == "point":
-                lights.append(PointLight(tuple(ld["position"]), tuple(ld.get("colour", (1, 1, 1))), float(ld["intensity"]),
-                                         shadows=False))
+                lights.append(
+                    PointLight(
+                        tuple(ld["position"]), tuple(ld.get("colour", (1, 1, 1))), float(ld["intensity"]), shadows=False
+                    )
+                )
             else:
-                lights.append(AreaLight(tuple(ld["centre"]), tuple(ld["edge_u"]), tuple(ld["edge_v"]),
-                                        tuple(ld.get("colour", (1, 1, 1))), float(ld["radiance"]), samples=int(ld.get("samples", 2)),
-                                        shadows=False))
+                lights.append(
+                    AreaLight(
+                        tuple(ld["centre"]),
+                        tuple(ld["edge_u"]),
+                        tuple(ld["edge_v"]),
+                        tuple(ld.get("colour", (1, 1, 1))),
+                        float(ld["radiance"]),
+                        samples=int(ld.get("samples", 2)),
+                        shadows=False,
+                    )
+                )
         except (KeyError, TypeError, ValueError, AttributeError) as exc:
             raise InputError(f"{index}: lights[{k}]: a light needs a type and its numbers ({exc})") from None
     colours = {}
@@ -302,7 +373,8 @@ def load_references(folder: str | os.PathLike) -> ReferenceSet:
             raise InputError(f"{where}: {entry['photo']!r} is outside the folder")
         frames.append((_camera_from_dict(entry.get("camera"), where), photo))
     try:
-        return ReferenceSet(views, lights, colours["ambient"], colours["background"], frames,
-                            bool(doc.get("albedo_from_photo", False)))
+        return ReferenceSet(
+            views, lights, colours["ambient"], colours["background"], frames, bool(doc.get("albedo_from_photo", False))
+        )
     except InputError as exc:
         raise InputError(f"{index}: {exc}") from None

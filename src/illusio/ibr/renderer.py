@@ -15,8 +15,8 @@ import numpy as np
 from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.renderer import Frame, Renderer
-from ..passes.lights import emitters_from_lights
 from ..passes.gbuffer import GBuffer
+from ..passes.lights import emitters_from_lights
 from ..passes.shading import MAX_EMITTERS, ShadingParams
 from .params import IbrParams
 from .reconstruct import ReconstructPass
@@ -27,8 +27,19 @@ from .select import ReferenceArrays, SelectPass
 __all__ = ["IbrRenderer", "render_views", "SOURCE_COLOURS", "source_view", "fill_holes", "fill_hits"]
 
 #: the debug view's colour of each reference (Figure 4.5: red, green, blue first), holes magenta
-SOURCE_COLOURS = np.array([(0.9, 0.15, 0.1), (0.15, 0.75, 0.2), (0.15, 0.3, 0.95), (0.95, 0.8, 0.1),
-                           (0.1, 0.8, 0.85), (0.6, 0.35, 0.15), (0.5, 0.5, 0.5), (0.95, 0.55, 0.75)], np.float32)
+SOURCE_COLOURS = np.array(
+    [
+        (0.9, 0.15, 0.1),
+        (0.15, 0.75, 0.2),
+        (0.15, 0.3, 0.95),
+        (0.95, 0.8, 0.1),
+        (0.1, 0.8, 0.85),
+        (0.6, 0.35, 0.15),
+        (0.5, 0.5, 0.5),
+        (0.95, 0.55, 0.75),
+    ],
+    np.float32,
+)
 HOLE_COLOUR = np.array((1.0, 0.0, 1.0), np.float32)
 
 
@@ -41,8 +52,12 @@ def _fill_from_rings(source: np.ndarray, empty: np.ndarray, radius: int, key: in
     h, w = out.shape[:2]
     for y, x in zip(*np.nonzero(empty)):
         for r in range(1, int(radius) + 1):
-            ring = [(y - dy, x + dx) for dy in range(-r, r + 1) for dx in range(-r, r + 1)  # GL rows go up
-                    if max(abs(dx), abs(dy)) == r]
+            ring = [
+                (y - dy, x + dx)
+                for dy in range(-r, r + 1)
+                for dx in range(-r, r + 1)  # GL rows go up
+                if max(abs(dx), abs(dy)) == r
+            ]
             found = [source[q] for q in ring if 0 <= q[0] < h and 0 <= q[1] < w and source[q][key] > 0]
             if found:
                 out[y, x] = max(found, key=lambda texel: texel[key])  # max keeps the first of equals
@@ -130,9 +145,14 @@ class IbrRenderer(Renderer):
 
     def _selection(self, params: IbrParams) -> dict:
         """SelectPass's arguments after the new view, its depth and the references."""
-        return dict(use_3d=params.distance == "3d", bilinear=params.bilinear_depth, max_distance=params.max_distance,
-                    photographic=not params.relight, single_pass=params.selection == "single-pass",
-                    fill=0 if params.show_sources else params.fill_disocclusions)
+        return dict(
+            use_3d=params.distance == "3d",
+            bilinear=params.bilinear_depth,
+            max_distance=params.max_distance,
+            photographic=not params.relight,
+            single_pass=params.selection == "single-pass",
+            fill=0 if params.show_sources else params.fill_disocclusions,
+        )
 
     def gbuffer(self, frame: Frame, params: IbrParams | None = None) -> GBuffer:
         """The new view's G-buffer (the chosen reference's albedo, normal, emission; the corrected
@@ -140,16 +160,21 @@ class IbrRenderer(Renderer):
         params = self._params(params)
         self._require_subject()
         view = frame.view or self.refs.views[0].view
-        return self.select(self.reconstructed_depth(view, frame.size, params), view, self._arrays, **self._selection(params))
+        return self.select(
+            self.reconstructed_depth(view, frame.size, params), view, self._arrays, **self._selection(params)
+        )
 
     def render_texture(self, frame: Frame, params: IbrParams | None = None) -> moderngl.Texture:
         params = self._params(params)
         self._require_subject()
         view = frame.view or self.refs.views[0].view
         depth = self.reconstructed_depth(view, frame.size, params)
-        lights = [replace(light, position=tuple(np.asarray(light.position) + params.light_offset))
-                  if hasattr(light, "position") else replace(light, centre=tuple(np.asarray(light.centre) + params.light_offset))
-                  for light in self.refs.lights]
+        lights = [
+            replace(light, position=tuple(np.asarray(light.position) + params.light_offset))
+            if hasattr(light, "position")
+            else replace(light, centre=tuple(np.asarray(light.centre) + params.light_offset))
+            for light in self.refs.lights
+        ]
         emitters = emitters_from_lights(lights if params.relight else [], False, MAX_EMITTERS)
         ambient = self.refs.ambient if params.relight else (0.0, 0.0, 0.0)
         shading = ShadingParams(ambient, self.refs.background, params.settings.exposure)
@@ -162,7 +187,9 @@ class IbrRenderer(Renderer):
         return out
 
 
-def render_views(refs: ReferenceSet, frame: Frame, params: IbrParams = IbrParams(), ctx: Context | None = None) -> np.ndarray:
+def render_views(
+    refs: ReferenceSet, frame: Frame, params: IbrParams = IbrParams(), ctx: Context | None = None
+) -> np.ndarray:
     """One new view from ``refs``: float32 (H, W, 3) linear, row 0 on top (the context keeps the
     renderer and its last reference set)."""
     renderer = (ctx or default_context()).kept(IbrRenderer)

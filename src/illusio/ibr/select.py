@@ -40,8 +40,9 @@ class ReferenceArrays:
         w, h = self.size
 
         def array(name, components, filter=moderngl.LINEAR):
-            data = np.stack([np.asarray(getattr(v, name), np.float32).reshape(h, w, -1)[::-1, :, :components]
-                             for v in views])
+            data = np.stack(
+                [np.asarray(getattr(v, name), np.float32).reshape(h, w, -1)[::-1, :, :components] for v in views]
+            )
             tex = ctx.gl.texture_array((w, h, len(views)), components, np.ascontiguousarray(data).tobytes(), dtype="f4")
             tex.filter = (filter, filter)  # linear: the resolve's one-sample bilinear attributes
             tex.repeat_x = tex.repeat_y = False  # as the reference's clamped texel indices
@@ -55,9 +56,15 @@ class ReferenceArrays:
     def bind(self, program, first_unit: int = 1, photographic: bool = False) -> None:
         """The arrays on units ``first_unit``…, the cameras' uniforms; ``photographic``: the recorded
         colour in the emission's place."""
-        for unit, (name, tex) in enumerate((("ref_albedo", self.albedo), ("ref_normal", self.normal),
-                                            ("ref_emission", self.colour if photographic else self.emission),
-                                            ("ref_depth", self.depth)), start=first_unit):
+        for unit, (name, tex) in enumerate(
+            (
+                ("ref_albedo", self.albedo),
+                ("ref_normal", self.normal),
+                ("ref_emission", self.colour if photographic else self.emission),
+                ("ref_depth", self.depth),
+            ),
+            start=first_unit,
+        ):
             tex.use(unit)
             set_uniform(program, name, unit)
         count = len(self.views)
@@ -81,29 +88,52 @@ class SelectPass:
         self.resolve = ctx.program("ibr/shaders/select.glsl", RESOLVE=1)
         self.resolve_shaded = ctx.program("ibr/shaders/select.glsl", RESOLVE=1, SHADE=1, MAX_EMITTERS=MAX_EMITTERS)
 
-    def __call__(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
-                 use_3d: bool = False, bilinear: bool = True, max_distance: float = 3.0,
-                 photographic: bool = False, single_pass: bool = False, fill: int = 0) -> GBuffer:
+    def __call__(
+        self,
+        reconstructed: moderngl.Texture,
+        view: View,
+        references: ReferenceArrays,
+        use_3d: bool = False,
+        bilinear: bool = True,
+        max_distance: float = 3.0,
+        photographic: bool = False,
+        single_pass: bool = False,
+        fill: int = 0,
+    ) -> GBuffer:
         """``photographic``: the G-buffer carries the references' recorded colour as emission (and no
         albedo), so shading shows it as it was recorded. ``single_pass``: one draw over every
         reference instead of a draw each (the same choice, ties to the first reference). ``fill``:
         disocclusions (depth but no reference) up to this many pixels from a hit take the farthest
         hit of the nearest ring around them (:meth:`fill_hits`); 0 leaves them holes."""
-        hits = self.hits(reconstructed, view, references, use_3d, bilinear, max_distance, photographic, single_pass, fill)
+        hits = self.hits(
+            reconstructed, view, references, use_3d, bilinear, max_distance, photographic, single_pass, fill
+        )
         w, h = hits.size
         textures = {name: self.ctx.acquire((w, h), comps, dtype) for name, comps, dtype in LAYOUT}
         self._resolve(self.resolve, hits, list(textures.values()), view, references, photographic)
         return GBuffer(self.ctx, textures, (w, h))
 
-    def shaded(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
-               emitters: Emitters, shading: ShadingParams, use_3d: bool = False, bilinear: bool = True,
-               max_distance: float = 3.0, photographic: bool = False, single_pass: bool = False,
-               fill: int = 0) -> tuple[moderngl.Texture, moderngl.Texture]:
+    def shaded(
+        self,
+        reconstructed: moderngl.Texture,
+        view: View,
+        references: ReferenceArrays,
+        emitters: Emitters,
+        shading: ShadingParams,
+        use_3d: bool = False,
+        bilinear: bool = True,
+        max_distance: float = 3.0,
+        photographic: bool = False,
+        single_pass: bool = False,
+        fill: int = 0,
+    ) -> tuple[moderngl.Texture, moderngl.Texture]:
         """The same choice as ``__call__``, lit in the resolve draw itself by ``emitters`` seen from
         the new eye (what ShadingPass makes of the G-buffer, without writing and reading one):
         (radiance RGBA32F linear × exposure, background in holes; source R32F: reference index + 1,
         0 = hole), both pooled."""
-        hits = self.hits(reconstructed, view, references, use_3d, bilinear, max_distance, photographic, single_pass, fill)
+        hits = self.hits(
+            reconstructed, view, references, use_3d, bilinear, max_distance, photographic, single_pass, fill
+        )
         radiance, source = self.ctx.acquire(hits.size, 4, "f4"), self.ctx.acquire(hits.size, 1, "f4")
         prog = self.resolve_shaded
         set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
@@ -112,9 +142,18 @@ class SelectPass:
         self._resolve(prog, hits, [radiance, source], view, references, photographic)
         return radiance, source
 
-    def hits(self, reconstructed: moderngl.Texture, view: View, references: ReferenceArrays,
-             use_3d: bool, bilinear: bool, max_distance: float, photographic: bool, single_pass: bool,
-             fill: int) -> moderngl.Texture:
+    def hits(
+        self,
+        reconstructed: moderngl.Texture,
+        view: View,
+        references: ReferenceArrays,
+        use_3d: bool,
+        bilinear: bool,
+        max_distance: float,
+        photographic: bool,
+        single_pass: bool,
+        fill: int,
+    ) -> moderngl.Texture:
         """The selection and the disocclusion fill: per pixel (uv in the chosen reference, its depth
         there, reference index + 1; 0 = none), pooled RGBA32F."""
         if photographic and not references.has_colour:
@@ -126,8 +165,9 @@ class SelectPass:
         fbo.use()
         fbo.viewport = (0, 0, w, h)
         fbo.clear(0.0, 0.0, 0.0, 0.0, depth=1.0)
-        prog = self.ctx.program("ibr/shaders/select.glsl", SINGLE_PASS=int(single_pass), DISTANCE_3D=int(use_3d),
-                                BILINEAR=int(bilinear))
+        prog = self.ctx.program(
+            "ibr/shaders/select.glsl", SINGLE_PASS=int(single_pass), DISTANCE_3D=int(use_3d), BILINEAR=int(bilinear)
+        )
         reconstructed.use(0)
         set_uniform(prog, "reconstructed", 0)
         references.bind(prog)
@@ -153,13 +193,14 @@ class SelectPass:
                 ctx.gl.disable(moderngl.DEPTH_TEST)
         return self.fill_hits(hits, reconstructed, fill)
 
-    def _resolve(self, prog, hits: moderngl.Texture, targets: list, view: View, references: ReferenceArrays,
-                 photographic: bool) -> None:
+    def _resolve(
+        self, prog, hits: moderngl.Texture, targets: list, view: View, references: ReferenceArrays, photographic: bool
+    ) -> None:
         """The resolve draw of ``prog`` from ``hits`` (released) into ``targets``."""
         out = self.ctx.framebuffer(targets)
         out.use()
         out.viewport = (0, 0, *hits.size)
-        hits.use(0)                      # (no shadow atlas: the emitters take no unit)
+        hits.use(0)  # (no shadow atlas: the emitters take no unit)
         set_uniform(prog, "hits", 0)
         references.bind(prog, first_unit=1, photographic=photographic)
         set_uniform(prog, "new_view", view.view_matrix())  # (the G-buffer's depth)
@@ -173,7 +214,8 @@ class SelectPass:
         texture. NumPy reference: renderer.fill_hits."""
         if radius <= 0:
             return hits
-        filled = self.ctx.draw_fullscreen(self.fill_program, hits.size, textures={"hits": hits, "reconstructed": reconstructed},
-                                          radius=int(radius))
+        filled = self.ctx.draw_fullscreen(
+            self.fill_program, hits.size, textures={"hits": hits, "reconstructed": reconstructed}, radius=int(radius)
+        )
         self.ctx.release(hits)
         return filled

@@ -23,10 +23,17 @@ def reference_subject(source: str, size: tuple[int, int], ctx):
 
 
 TECHNIQUES = (
-    Technique(name="ibr", title="Image-based rendering from reference views with depth (Porquet 2005)",
-              renderer="illusio.ibr.renderer:IbrRenderer", params="illusio.ibr.params:IbrParams",
-              subject="illusio.ibr.technique:reference_subject", source_kind="scene or reference folder",
-              default_source="office", presets=("reconstruction", "sources", "ground-truth"),
-              viewer_mode="illusio.viewer.modes.ibr:IbrMode", showcase="illusio.gallery.ibr:ibr_showcase",
-              benchmarks=("ibr",)),
+    Technique(
+        name="ibr",
+        title="Image-based rendering from reference views with depth (Porquet 2005)",
+        renderer="illusio.ibr.renderer:IbrRenderer",
+        params="illusio.ibr.params:IbrParams",
+        subject="illusio.ibr.technique:reference_subject",
+        source_kind="scene or reference folder",
+        default_source="office",
+        presets=("reconstruction", "sources", "ground-truth"),
+        viewer_mode="illusio.viewer.modes.ibr:IbrMode",
+        showcase="illusio.gallery.ibr:ibr_showcase",
+        benchmarks=("ibr",),
+    ),
 )

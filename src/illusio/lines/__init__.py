@@ -17,9 +17,18 @@ from ..core.lazy import lazy_exports
 # CLI's defaults (lines.params) do not pay for numba and the passes
 _EXPORTS = {
     "TECHNIQUES": "technique",
-    "LineRenderer": "drawing", "Drawing": "drawing", "framing_view": "drawing", "line_drawing": "drawing",
-    "LineParams": "params", "CurvatureParams": "params", "LINE_TYPES": "params", "METHODS": "params",
-    "Curvature": "curvature", "estimate_curvature": "curvature", "DEBUG_VIEWS": "debug", "debug_view": "debug",
+    "LineRenderer": "drawing",
+    "Drawing": "drawing",
+    "framing_view": "drawing",
+    "line_drawing": "drawing",
+    "LineParams": "params",
+    "CurvatureParams": "params",
+    "LINE_TYPES": "params",
+    "METHODS": "params",
+    "Curvature": "curvature",
+    "estimate_curvature": "curvature",
+    "DEBUG_VIEWS": "debug",
+    "debug_view": "debug",
     "write_drawing_svg": "svg",
 }
 

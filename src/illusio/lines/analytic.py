@@ -1,5 +1,6 @@
 """Welded test surfaces with known principal curvatures (sphere, torus, ellipsoid closed; a
-corrugated sheet and an open cylinder), for the curvature and line tests and the accuracy benchmark. Curvatures follow lines.curvature's convention
+corrugated sheet and an open cylinder), for the curvature and line tests and the accuracy benchmark. Curvatures
+follow lines.curvature's convention
 (positive on a sphere with outward normals)."""
 
 from __future__ import annotations
@@ -21,10 +22,14 @@ def icosphere(subdivisions: int = 3, radius: float = 1.0) -> tuple[Mesh, np.ndar
     return Mesh(v, f, name=f"icosphere-{subdivisions}"), k, k.copy()
 
 
-def torus(major: float = 1.0, minor: float = 0.35, segments: int = 96, sides: int = 32) -> tuple[Mesh, np.ndarray, np.ndarray]:
+def torus(
+    major: float = 1.0, minor: float = 0.35, segments: int = 96, sides: int = 32
+) -> tuple[Mesh, np.ndarray, np.ndarray]:
     """Returns (mesh, k_min, k_max) of a welded torus around z. Around the tube k = 1/minor; along
     the ring k = cos φ / (major + minor cos φ) (negative on the inner side)."""
-    th, ph = np.meshgrid(np.arange(segments) * 2 * np.pi / segments, np.arange(sides) * 2 * np.pi / sides, indexing="ij")
+    th, ph = np.meshgrid(
+        np.arange(segments) * 2 * np.pi / segments, np.arange(sides) * 2 * np.pi / sides, indexing="ij"
+    )
     rr = major + minor * np.cos(ph)
     v = np.stack([rr * np.cos(th), rr * np.sin(th), minor * np.sin(ph)], axis=-1).reshape(-1, 3)
     i, j = np.meshgrid(np.arange(segments), np.arange(sides), indexing="ij")
@@ -62,23 +67,32 @@ def _grid_faces(rows: int, columns: int, wrap: bool = False) -> np.ndarray:
     return np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)])
 
 
-def corrugated(amplitude: float = 0.1, wavenumber: float = 2 * np.pi, extent: float = 2.0,
-               n: int = 161) -> tuple[Mesh, np.ndarray, np.ndarray]:
+def corrugated(
+    amplitude: float = 0.1, wavenumber: float = 2 * np.pi, extent: float = 2.0, n: int = 161
+) -> tuple[Mesh, np.ndarray, np.ndarray]:
     """Returns (mesh, k_min, k_max) of the sheet z = a·sin(k x) over [−extent/2, extent/2]², wound with
     normals up
     (+z). Across the folds κ = a k² sin(k x) / (1 + a²k² cos² k x)^{3/2} (positive on the crests),
     along them 0."""
     x, y = np.meshgrid(np.linspace(-extent / 2, extent / 2, n), np.linspace(-extent / 2, extent / 2, n), indexing="ij")
     v = np.stack([x, y, amplitude * np.sin(wavenumber * x)], -1).reshape(-1, 3)
-    across = (amplitude * wavenumber**2 * np.sin(wavenumber * x)
-              / (1 + (amplitude * wavenumber * np.cos(wavenumber * x)) ** 2) ** 1.5).reshape(-1)
+    across = (
+        amplitude
+        * wavenumber**2
+        * np.sin(wavenumber * x)
+        / (1 + (amplitude * wavenumber * np.cos(wavenumber * x)) ** 2) ** 1.5
+    ).reshape(-1)
     return Mesh(v, _grid_faces(n, n)[:, ::-1], name="corrugated"), np.minimum(across, 0.0), np.maximum(across, 0.0)
 
 
-def cylinder(radius: float = 0.5, length: float = 2.0, segments: int = 128, rings: int = 64) -> tuple[Mesh, np.ndarray, np.ndarray]:
+def cylinder(
+    radius: float = 0.5, length: float = 2.0, segments: int = 128, rings: int = 64
+) -> tuple[Mesh, np.ndarray, np.ndarray]:
     """Returns (mesh, k_min, k_max) of an open cylinder of axis y (outward normals): k_max = 1/radius
     around it, k_min = 0 along it."""
-    y, t = np.meshgrid(np.linspace(-length / 2, length / 2, rings), np.arange(segments) * 2 * np.pi / segments, indexing="ij")
+    y, t = np.meshgrid(
+        np.linspace(-length / 2, length / 2, rings), np.arange(segments) * 2 * np.pi / segments, indexing="ij"
+    )
     v = np.stack([radius * np.sin(t), y, radius * np.cos(t)], -1).reshape(-1, 3)
     f = _grid_faces(rings, segments, wrap=True)
     k = np.full(len(v), 1.0 / radius)
@@ -96,11 +110,48 @@ def add_noise(mesh: Mesh, amount: float, seed: int = 0) -> Mesh:
 
 def _icosahedron():
     t = (1 + 5**0.5) / 2
-    v = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t], [0, -1, -t], [0, 1, -t],
-                  [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]], np.float64)
-    f = np.array([[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4], [11, 10, 2],
-                  [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9], [4, 9, 5],
-                  [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]], np.int64)
+    v = np.array(
+        [
+            [-1, t, 0],
+            [1, t, 0],
+            [-1, -t, 0],
+            [1, -t, 0],
+            [0, -1, t],
+            [0, 1, t],
+            [0, -1, -t],
+            [0, 1, -t],
+            [t, 0, -1],
+            [t, 0, 1],
+            [-t, 0, -1],
+            [-t, 0, 1],
+        ],
+        np.float64,
+    )
+    f = np.array(
+        [
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ],
+        np.int64,
+    )
     return v / np.linalg.norm(v, axis=1, keepdims=True), f
 
 
@@ -113,5 +164,7 @@ def _subdivide(v, f):
     m = inverse.reshape(3, -1).T + len(v)
     a, b, c = f[:, 0], f[:, 1], f[:, 2]
     ab, bc, ca = m[:, 0], m[:, 1], m[:, 2]
-    nf = np.concatenate([np.stack([a, ab, ca], 1), np.stack([b, bc, ab], 1), np.stack([c, ca, bc], 1), np.stack([ab, bc, ca], 1)])
+    nf = np.concatenate(
+        [np.stack([a, ab, ca], 1), np.stack([b, bc, ab], 1), np.stack([c, ca, bc], 1), np.stack([ab, bc, ca], 1)]
+    )
     return np.concatenate([v, mids]), nf

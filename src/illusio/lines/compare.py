@@ -12,8 +12,17 @@ from scipy import ndimage
 
 from ..core.errors import InputError
 
-__all__ = ["Scores", "score", "registered_score", "shift_mask", "line_mask", "image_edges", "overlay", "phong_render",
-           "EDGE_METHODS"]
+__all__ = [
+    "Scores",
+    "score",
+    "registered_score",
+    "shift_mask",
+    "line_mask",
+    "image_edges",
+    "overlay",
+    "phong_render",
+    "EDGE_METHODS",
+]
 
 EDGE_METHODS = ("sobel", "laplace", "canny")
 
@@ -31,8 +40,10 @@ class Scores:
     tolerance: float
 
     def __str__(self) -> str:
-        return (f"precision {self.precision:.3f}, recall {self.recall:.3f}, F1 {self.f1:.3f}, "
-                f"chamfer {self.chamfer:.2f} px (tolerance {self.tolerance:g} px)")
+        return (
+            f"precision {self.precision:.3f}, recall {self.recall:.3f}, F1 {self.f1:.3f}, "
+            f"chamfer {self.chamfer:.2f} px (tolerance {self.tolerance:g} px)"
+        )
 
 
 def line_mask(image: np.ndarray, level: float = 0.5) -> np.ndarray:
@@ -52,12 +63,15 @@ def shift_mask(mask: np.ndarray, dx: int, dy: int) -> np.ndarray:
     """``mask`` moved by (dx right, dy down) pixels, the uncovered border False."""
     out = np.zeros_like(mask)
     h, w = mask.shape
-    out[max(dy, 0):h + min(dy, 0), max(dx, 0):w + min(dx, 0)] = mask[max(-dy, 0):h - max(dy, 0), max(-dx, 0):w - max(dx, 0)]
+    out[max(dy, 0) : h + min(dy, 0), max(dx, 0) : w + min(dx, 0)] = mask[
+        max(-dy, 0) : h - max(dy, 0), max(-dx, 0) : w - max(dx, 0)
+    ]
     return out
 
 
-def registered_score(predicted: np.ndarray, target: np.ndarray, tolerance: float = 2.0,
-                     max_shift: int = 4) -> tuple[Scores, tuple[int, int]]:
+def registered_score(
+    predicted: np.ndarray, target: np.ndarray, tolerance: float = 2.0, max_shift: int = 4
+) -> tuple[Scores, tuple[int, int]]:
     """The best :func:`score` of ``predicted`` moved by any whole-pixel shift up to ``max_shift`` in x
     and y against ``target`` (a photograph never sits exactly where the drawing's camera was), and
     that shift (dx right, dy down): the misregistration it found (of the shifts with the best F1, the
@@ -103,10 +117,16 @@ def phong_render(ctx, mesh, view, size) -> np.ndarray:
     lo, hi = mesh.bounds
     reach = float(np.linalg.norm(eye - (np.asarray(lo) + hi) / 2))
     right, up, _ = view.pose.axes()
-    scene = Scene(name="phong", nodes=[Node("mesh", mesh, material=Material((0.75, 0.75, 0.75), specular=0.3, shininess=40.0))],
-                  lights=[PointLight(tuple(eye), intensity=reach**2 * 2.2, shadows=False),
-                          PointLight(tuple(eye + (up + right * 0.5) * reach), intensity=reach**2 * 1.2, shadows=False)],
-                  ambient=(0.05, 0.05, 0.05), background=(1.0, 1.0, 1.0))
+    scene = Scene(
+        name="phong",
+        nodes=[Node("mesh", mesh, material=Material((0.75, 0.75, 0.75), specular=0.3, shininess=40.0))],
+        lights=[
+            PointLight(tuple(eye), intensity=reach**2 * 2.2, shadows=False),
+            PointLight(tuple(eye + (up + right * 0.5) * reach), intensity=reach**2 * 1.2, shadows=False),
+        ],
+        ambient=(0.05, 0.05, 0.05),
+        background=(1.0, 1.0, 1.0),
+    )
     return render_scene(scene, view, size, ctx, RenderSettings(shadows=False))
 
 

@@ -20,9 +20,18 @@ class ComposePass:
         self.ctx = ctx
         self.program = ctx.program("lines/shaders/compose.glsl")
 
-    def __call__(self, q_t1: moderngl.Texture, ridges: moderngl.Texture | None, target: moderngl.Texture,
-                 depth: moderngl.Texture | None = None, show_ridges: bool = True, show_silhouettes: bool = False,
-                 ridge_colour=(0.0, 0.0, 0.0), silhouette_colour=(0.0, 0.0, 0.0), depth_jump: float = 0.05) -> moderngl.Framebuffer:
+    def __call__(
+        self,
+        q_t1: moderngl.Texture,
+        ridges: moderngl.Texture | None,
+        target: moderngl.Texture,
+        depth: moderngl.Texture | None = None,
+        show_ridges: bool = True,
+        show_silhouettes: bool = False,
+        ridge_colour=(0.0, 0.0, 0.0),
+        silhouette_colour=(0.0, 0.0, 0.0),
+        depth_jump: float = 0.05,
+    ) -> moderngl.Framebuffer:
         ctx = self.ctx
         w, h = target.size
         fbo = ctx.framebuffer([target], depth=depth if depth is not None else False)
@@ -31,11 +40,15 @@ class ComposePass:
         prog = self.program
         q_t1.use(0)
         (ridges or q_t1).use(1)
-        for name, value in (("q_t1", 0), ("ridges", 1), ("show_ridges", bool(show_ridges and ridges is not None)),
-                            ("show_silhouettes", bool(show_silhouettes)),
-                            ("ridge_colour", tuple(float(c) for c in ridge_colour)),
-                            ("silhouette_colour", tuple(float(c) for c in silhouette_colour)),
-                            ("depth_jump", float(depth_jump))):
+        for name, value in (
+            ("q_t1", 0),
+            ("ridges", 1),
+            ("show_ridges", bool(show_ridges and ridges is not None)),
+            ("show_silhouettes", bool(show_silhouettes)),
+            ("ridge_colour", tuple(float(c) for c in ridge_colour)),
+            ("silhouette_colour", tuple(float(c) for c in silhouette_colour)),
+            ("depth_jump", float(depth_jump)),
+        ):
             set_uniform(prog, name, value)
         ctx.gl.disable(moderngl.DEPTH_TEST)
         ctx.fullscreen.draw(prog)

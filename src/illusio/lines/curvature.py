@@ -17,6 +17,7 @@ content and settings (the report's own suggested improvement: a second run skips
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import os
 from dataclasses import dataclass
@@ -57,13 +58,12 @@ class Curvature:
     def save(self, path: str | os.PathLike, **extra: np.ndarray) -> Path:
         """Write the fields (and ``extra`` arrays beside them) to an .npz, atomically."""
         p = Path(path)
-        with atomic_output(p) as tmp:
-            with open(tmp, "wb") as f:
-                np.savez(f, **self.__dict__, **extra)
+        with atomic_output(p) as tmp, open(tmp, "wb") as f:
+            np.savez(f, **self.__dict__, **extra)
         return p
 
     @classmethod
-    def load(cls, path: str | os.PathLike) -> "Curvature":
+    def load(cls, path: str | os.PathLike) -> Curvature:
         with np.load(path) as data:
             return cls(**{k: data[k] for k in cls.__dataclass_fields__})
 
@@ -72,8 +72,16 @@ def cache_dir() -> Path:
     return Path(os.environ.get("ILLUSIO_CACHE", Path.home() / ".cache" / "illusio")) / "curvature"
 
 
-def estimate_curvature(mesh: Mesh, rings: int = 2, degree: int = 4, cache: bool = True, adaptive: bool = False,
-                       extra_rings: int = 1, confidence: float = 2.0, smoothing: int = 3) -> Curvature:
+def estimate_curvature(
+    mesh: Mesh,
+    rings: int = 2,
+    degree: int = 4,
+    cache: bool = True,
+    adaptive: bool = False,
+    extra_rings: int = 1,
+    confidence: float = 2.0,
+    smoothing: int = 3,
+) -> Curvature:
     """Fit a jet of ``degree`` (2, 3 or 4) at every vertex over the smallest neighbourhood of at least
     ``rings`` rings that holds twice the jet's unknowns (lower degrees where none does).
 
@@ -113,8 +121,10 @@ def estimate_curvature(mesh: Mesh, rings: int = 2, degree: int = 4, cache: bool 
         h = hashlib.sha256()
         for part in (np.ascontiguousarray(mesh.vertices, np.float32), np.ascontiguousarray(mesh.faces, np.int32)):
             h.update(part.tobytes())
-        h.update(f"v{CACHE_VERSION} rings={rings} degree={degree} adaptive={adaptive} extra={extra_rings} "
-                 f"confidence={confidence} smoothing={smoothing}".encode())
+        h.update(
+            f"v{CACHE_VERSION} rings={rings} degree={degree} adaptive={adaptive} extra={extra_rings} "
+            f"confidence={confidence} smoothing={smoothing}".encode()
+        )
         key = cache_dir() / f"{h.hexdigest()[:32]}.npz"
         if key.exists():
             try:
@@ -124,17 +134,23 @@ def estimate_curvature(mesh: Mesh, rings: int = 2, degree: int = 4, cache: bool 
     area_normals = _area_normals(vertices, faces)
     offsets, neighbours = _adjacency(len(vertices), faces)
     normals, k_min, k_max, e_min, e_max, cubic, valid = _fit_all(
-        vertices, area_normals, offsets, neighbours, rings, degree, extra_rings, confidence if adaptive else 0.0,
-        numba.get_num_threads() * 16)
+        vertices,
+        area_normals,
+        offsets,
+        neighbours,
+        rings,
+        degree,
+        extra_rings,
+        confidence if adaptive else 0.0,
+        numba.get_num_threads() * 16,
+    )
     if smoothing:
         _smooth_tensors(normals, k_min, k_max, e_min, e_max, valid, offsets, neighbours, smoothing)
     dcurv = _derivatives(area_normals, e_min, e_max, cubic, valid)
     result = Curvature(*(a.astype(np.float32) for a in (normals, k_min, k_max, e_min, e_max, dcurv)), valid=valid)
     if key is not None:
-        try:
+        with contextlib.suppress(Exception):  # a read-only home must not stop the estimate
             result.save(key)
-        except Exception:  # a read-only home must not stop the estimate
-            pass
     return result
 
 
@@ -247,8 +263,16 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
                         break
                     deg -= 1
                     continue
-                tail = _grow_ring(queue, ends[available - 1] if available else 0, ends[available],
-                                  offsets, neighbours, stamp, i, limit)
+                tail = _grow_ring(
+                    queue,
+                    ends[available - 1] if available else 0,
+                    ends[available],
+                    offsets,
+                    neighbours,
+                    stamp,
+                    i,
+                    limit,
+                )
                 if tail == ends[available]:  # the component is exhausted
                     if ends[available] >= 2 * _unknowns(deg) or deg == 2:
                         break
@@ -280,7 +304,9 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
                 if tail == ends[r]:
                     break
                 ends[r + 1] = tail
-                hh += _accumulate(vertices, i, n0, t1, t2, 1.0 / radius, queue, ends[r], tail, block, gram, moment, columns)
+                hh += _accumulate(
+                    vertices, i, n0, t1, t2, 1.0 / radius, queue, ends[r], tail, block, gram, moment, columns
+                )
                 extra += 1
                 grams[extra, :block, :block] = gram[:block, :block]
                 moments[extra, :block] = moment[:block]
@@ -299,7 +325,9 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
             lowest = 2 if gamma > 0.0 else deg  # not adaptive: the one fit (extra is 0 then too)
             for d in range(deg, lowest - 1, -1):
                 for j in range(extra + 1):
-                    std = _fit_one(grams[j], moments[j], sums[j], ends[start + j], d, radius, ata, coef, work, n0, t1, t2, fit)
+                    std = _fit_one(
+                        grams[j], moments[j], sums[j], ends[start + j], d, radius, ata, coef, work, n0, t1, t2, fit
+                    )
                     lo_low = max(lo_low, fit[3] - gamma * std)
                     lo_high = min(lo_high, fit[3] + gamma * std)
                     hi_low = max(hi_low, fit[4] - gamma * std)
@@ -338,7 +366,8 @@ def _smooth_tensors(normals, k_min, k_max, e_min, e_max, valid, offsets, neighbo
     """``passes`` rounds of averaging each valid vertex's curvature tensor k_min e_min e_minᵀ +
     k_max e_max e_maxᵀ (world space, 6 components) with its valid 1-ring neighbours' (uniform
     weights; each neighbour's rotated into this vertex's tangent plane), then each vertex's
-    principal curvatures and directions from the average restricted to its tangent plane (``normals``: the fits' unit normals). e_max keeps the side of the fit's
+    principal curvatures and directions from the average restricted to its tangent plane (``normals``: the fits' unit
+    normals). e_max keeps the side of the fit's
     e_max, e_min = n × e_max as in :func:`_shape`. Arrays are updated in place."""
     n_vertices = len(k_min)
     tensor = np.zeros((n_vertices, 6))  # xx, xy, xz, yy, yz, zz
@@ -649,7 +678,9 @@ def _cholesky_solve(a, b, n, x):
 @numba.njit(cache=True)
 def _cubic(c0, c1, c2, c3, ux, uy, vx, vy, wx, wy):
     """The symmetric trilinear form C(u, v, w) whose cubic is c0 x³ + 3c1 x²y + 3c2 xy² + c3 y³."""
-    return (c0 * ux * vx * wx
-            + c1 * (ux * vx * wy + ux * vy * wx + uy * vx * wx)
-            + c2 * (ux * vy * wy + uy * vx * wy + uy * vy * wx)
-            + c3 * uy * vy * wy)
+    return (
+        c0 * ux * vx * wx
+        + c1 * (ux * vx * wy + ux * vy * wx + uy * vx * wx)
+        + c2 * (ux * vy * wy + uy * vx * wy + uy * vy * wx)
+        + c3 * uy * vy * wy
+    )

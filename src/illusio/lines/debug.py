@@ -54,7 +54,7 @@ def with_legend(image: np.ndarray, colours: np.ndarray, labels: tuple[str, str, 
     for text, x, anchor in ((labels[0], 2, "la"), (labels[1], w // 2, "ma"), (labels[2], w - 2, "ra")):
         draw.text((x, bar + 1), text, fill=(0, 0, 0), anchor=anchor)
     out = np.array(image, np.float32, copy=True)
-    out[h - band:] = srgb_to_linear(np.asarray(pil, np.float32) / 255)
+    out[h - band :] = srgb_to_linear(np.asarray(pil, np.float32) / 255)
     return out
 
 

@@ -24,16 +24,37 @@ from ..scene.mesh import Mesh
 from .compose import ComposePass
 from .curvature import Curvature, estimate_curvature
 from .gpu_mesh import CurvatureMesh
-from .object_space import (Segments, apparent_ridges, boundaries, contours, dwkr_lines, isophotes, mean_zero_lines,
-                           parabolic_lines, principal_highlights, suggestive_highlights,
-                           ridges, suggestive_contours, valleys)
+from .object_space import (
+    Segments,
+    apparent_ridges,
+    boundaries,
+    contours,
+    dwkr_lines,
+    isophotes,
+    mean_zero_lines,
+    parabolic_lines,
+    principal_highlights,
+    ridges,
+    suggestive_contours,
+    suggestive_highlights,
+    valleys,
+)
 from .params import LINE_TYPES, CurvatureParams, LineParams
 from .reference import view_curvature
 from .ridge_filter import RidgeFilterPass
 from .segments import SegmentsPass
 from .view_curvature import ViewCurvaturePass
 
-__all__ = ["LINE_TYPES", "LineParams", "LineRenderer", "framing_view", "hugging_camera", "Drawing", "drop_short_fragments", "line_drawing"]
+__all__ = [
+    "LINE_TYPES",
+    "LineParams",
+    "LineRenderer",
+    "framing_view",
+    "hugging_camera",
+    "Drawing",
+    "drop_short_fragments",
+    "line_drawing",
+]
 
 
 @dataclass
@@ -65,7 +86,9 @@ def hugging_camera(mesh: Mesh, eye, fov_y: float = 30.0) -> Camera:
     return Camera(fov_y, max(distance - radius * 1.5, distance * 1e-3), distance + radius * 1.5)
 
 
-def framing_view(mesh: Mesh, azimuth: float = 30.0, elevation: float = 15.0, fov_y: float = 30.0, margin: float = 1.1) -> View:
+def framing_view(
+    mesh: Mesh, azimuth: float = 30.0, elevation: float = 15.0, fov_y: float = 30.0, margin: float = 1.1
+) -> View:
     """A camera orbiting the mesh's bounding-box centre that fits its bounding sphere in view, with
     near and far planes hugging it (:func:`hugging_camera`)."""
     centre, radius = _bounding_sphere(mesh)
@@ -135,7 +158,7 @@ def _drop_short(mask, min_pixels):
             # the neighbours already scanned: left, and the three above
             for dy, dx in ((0, -1), (-1, -1), (-1, 0), (-1, 1)):
                 yy, xx = y + dy, x + dx
-                if 0 <= yy and 0 <= xx < w and mask[yy, xx]:
+                if yy >= 0 and 0 <= xx < w and mask[yy, xx]:
                     a, b = _root(parent, i), _root(parent, yy * w + xx)
                     if a != b:
                         parent[max(a, b)] = min(a, b)
@@ -207,12 +230,18 @@ class LineRenderer(Renderer):
         if self._gpu_mesh is None or (self._given is None and curvature != self._curvature_params):
             if self._gpu_mesh is not None:
                 self._gpu_mesh.release()
-            curv = self._given or estimate_curvature(self.mesh, curvature.rings, curvature.degree,
-                                                     adaptive=curvature.adaptive, extra_rings=curvature.extra_rings,
-                                                     confidence=curvature.confidence, smoothing=curvature.smoothing)
+            curv = self._given or estimate_curvature(
+                self.mesh,
+                curvature.rings,
+                curvature.degree,
+                adaptive=curvature.adaptive,
+                extra_rings=curvature.extra_rings,
+                confidence=curvature.confidence,
+                smoothing=curvature.smoothing,
+            )
             self._gpu_mesh = CurvatureMesh(self.ctx, self.mesh, curv)
             self._curvature_params = curvature
-            self._curvature_scale = curv.scale()      # a percentile over every vertex: once, not per frame
+            self._curvature_scale = curv.scale()  # a percentile over every vertex: once, not per frame
         return self._gpu_mesh
 
     def curvature(self, params: CurvatureParams = CurvatureParams()) -> Curvature:
@@ -233,7 +262,9 @@ class LineRenderer(Renderer):
         return self._depth
 
     # -- frames --------------------------------------------------------------------------------
-    def render_texture(self, frame: Frame, params: LineParams | None = None, read_ridges: bool = False) -> moderngl.Texture:
+    def render_texture(
+        self, frame: Frame, params: LineParams | None = None, read_ridges: bool = False
+    ) -> moderngl.Texture:
         """The drawing as an RGBA8 texture (pooled). ``read_ridges``: keep the ridge mask as an array
         in ``self.ridge_mask`` even when no fragment filtering needs it."""
         params = self._params(params)
@@ -269,8 +300,17 @@ class LineRenderer(Renderer):
             fbo.use()
             fbo.viewport = (0, 0, w, h)
         else:
-            self.compose(q_t1, ridges, colour, depth, hybrid, image_silhouettes,
-                         params.colour("apparent-ridges"), params.colour("silhouettes"), params.depth_jump)
+            self.compose(
+                q_t1,
+                ridges,
+                colour,
+                depth,
+                hybrid,
+                image_silhouettes,
+                params.colour("apparent-ridges"),
+                params.colour("silhouettes"),
+                params.depth_jump,
+            )
         # object-space lines, hidden by the surface
         for kind, segs in self._segments.items():
             self.draw_segments(segs, view, (w, h), params.colour(kind), params.width(kind))
@@ -289,7 +329,9 @@ class LineRenderer(Renderer):
         q_t1 = self.ctx.readback(self._maps["q_t1"])
         return Drawing(image, self._segments, self.last_view, frame.size, q_t1, self.ridge_mask)
 
-    def object_space_segments(self, curv: Curvature, view: View, params: LineParams, scale: float) -> dict[str, Segments]:
+    def object_space_segments(
+        self, curv: Curvature, view: View, params: LineParams, scale: float
+    ) -> dict[str, Segments]:
         mesh = self.mesh
         eye = view.pose.position
         out: dict[str, Segments] = {}
@@ -325,8 +367,13 @@ class LineRenderer(Renderer):
         return out
 
 
-def line_drawing(mesh: Mesh, params: LineParams = LineParams(), view: View | None = None, size=(1024, 1024),
-                 ctx: Context | None = None) -> np.ndarray:
+def line_drawing(
+    mesh: Mesh,
+    params: LineParams = LineParams(),
+    view: View | None = None,
+    size=(1024, 1024),
+    ctx: Context | None = None,
+) -> np.ndarray:
     """One drawing of ``mesh``: float32 (H, W, 3) linear, row 0 on top. Without ``ctx`` the process's
     default headless context is used; the context keeps one renderer for these calls."""
     renderer = (ctx or default_context()).kept(LineRenderer)

@@ -23,8 +23,15 @@ class CurvatureMesh:
         self.ctx = ctx
         self.mesh = mesh
         self.curvature = curvature
-        data = np.hstack([mesh.vertices, curvature.normals, curvature.e_min, curvature.e_max,
-                          np.c_[curvature.k_min, curvature.k_max]]).astype(np.float32)
+        data = np.hstack(
+            [
+                mesh.vertices,
+                curvature.normals,
+                curvature.e_min,
+                curvature.e_max,
+                np.c_[curvature.k_min, curvature.k_max],
+            ]
+        ).astype(np.float32)
         ctx.make_current()
         self.vbo = ctx.gl.buffer(np.ascontiguousarray(data).tobytes())
         self.ibo = ctx.gl.buffer(np.ascontiguousarray(mesh.faces, np.int32).tobytes())

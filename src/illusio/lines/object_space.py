@@ -25,27 +25,44 @@ import numpy as np
 from ..scene.mesh import Mesh, weld
 from .curvature import Curvature
 
-__all__ = ["Segments", "zero_crossings", "contours", "suggestive_contours", "suggestive_highlights", "dwkr_lines",
-           "principal_highlights", "ridges", "valleys",
-           "apparent_ridges", "boundaries", "parabolic_lines", "mean_zero_lines", "isophotes", "radial_curvature", "vertex_gradient", "chain"]
+__all__ = [
+    "Segments",
+    "zero_crossings",
+    "contours",
+    "suggestive_contours",
+    "suggestive_highlights",
+    "dwkr_lines",
+    "principal_highlights",
+    "ridges",
+    "valleys",
+    "apparent_ridges",
+    "boundaries",
+    "parabolic_lines",
+    "mean_zero_lines",
+    "isophotes",
+    "radial_curvature",
+    "vertex_gradient",
+    "chain",
+]
 
 
 @dataclass
 class Segments:
     points: np.ndarray  # (S, 2, 3) float64
-    edges: np.ndarray   # (S, 2, 2) int64: the sorted vertex pair of the mesh edge each end lies on
+    edges: np.ndarray  # (S, 2, 2) int64: the sorted vertex pair of the mesh edge each end lies on
     strength: np.ndarray  # (S,) a per-segment strength (for fading or thresholds)
 
     def __len__(self) -> int:
         return len(self.points)
 
     @classmethod
-    def empty(cls) -> "Segments":
+    def empty(cls) -> Segments:
         return cls(np.zeros((0, 2, 3)), np.zeros((0, 2, 2), np.int64), np.zeros(0))
 
 
-def zero_crossings(mesh: Mesh, values: np.ndarray, keep_face: np.ndarray | None = None,
-                   strength: np.ndarray | None = None) -> Segments:
+def zero_crossings(
+    mesh: Mesh, values: np.ndarray, keep_face: np.ndarray | None = None, strength: np.ndarray | None = None
+) -> Segments:
     """Segments where the per-vertex ``values`` (N,) change sign inside a triangle (linear
     interpolation). Triangles whose three values cross zero twice give one segment; ``keep_face``
     (F,) bool filters triangles; ``strength`` (N,) is interpolated to the segment (mean of ends)."""
@@ -144,8 +161,11 @@ def vertex_gradient(mesh: Mesh, values: np.ndarray) -> np.ndarray:
     good = area2 > 1e-30
     unit = n / np.where(good, area2, 1)[:, None]
     # ∇B_i = unit × (edge opposite i) / (2A)
-    grad = (np.cross(unit, p2 - p1) * val[f[:, 0], None] + np.cross(unit, p0 - p2) * val[f[:, 1], None]
-            + np.cross(unit, p1 - p0) * val[f[:, 2], None]) / np.where(good, area2, 1)[:, None]
+    grad = (
+        np.cross(unit, p2 - p1) * val[f[:, 0], None]
+        + np.cross(unit, p0 - p2) * val[f[:, 1], None]
+        + np.cross(unit, p1 - p0) * val[f[:, 2], None]
+    ) / np.where(good, area2, 1)[:, None]
     grad[~good] = 0
     out = np.zeros_like(v)
     weight = np.zeros(len(v))
@@ -253,8 +273,14 @@ def _aligned_derivative(directions: np.ndarray, derivative: np.ndarray, faces: n
     return derivative[faces] * sign, d * sign[..., None]
 
 
-def _extremum_lines(mesh: Mesh, direction: np.ndarray, derivative: np.ndarray, keep_vertex: np.ndarray,
-                    maximum: bool, strength: np.ndarray) -> Segments:
+def _extremum_lines(
+    mesh: Mesh,
+    direction: np.ndarray,
+    derivative: np.ndarray,
+    keep_vertex: np.ndarray,
+    maximum: bool,
+    strength: np.ndarray,
+) -> Segments:
     """Zeros of a directional derivative (with per-face sign alignment) where ``value`` is an
     extremum: the derivative decreases along the direction (maximum) or increases (minimum)."""
     f = np.asarray(mesh.faces, np.int64)
@@ -265,7 +291,9 @@ def _extremum_lines(mesh: Mesh, direction: np.ndarray, derivative: np.ndarray, k
     n = np.cross(p1 - p0, p2 - p0)
     a2 = np.maximum(np.linalg.norm(n, axis=1), 1e-30)
     unit = n / a2[:, None]
-    grad = (np.cross(unit, p2 - p1) * fd[:, :1] + np.cross(unit, p0 - p2) * fd[:, 1:2] + np.cross(unit, p1 - p0) * fd[:, 2:]) / a2[:, None]
+    grad = (
+        np.cross(unit, p2 - p1) * fd[:, :1] + np.cross(unit, p0 - p2) * fd[:, 1:2] + np.cross(unit, p1 - p0) * fd[:, 2:]
+    ) / a2[:, None]
     along = (grad * dirs.mean(1)).sum(1)
     keep = keep_vertex[f].all(1) & ((along < 0) if maximum else (along > 0))
     return _face_corner_crossings(mesh, fd, keep, strength[f].mean(1))
@@ -276,8 +304,9 @@ def _face_corner_crossings(mesh: Mesh, values: np.ndarray, keep: np.ndarray, str
     to face) on the faces ``keep``, ``strength`` per face; segment ends keyed by the mesh's edges."""
     f = np.asarray(mesh.faces, np.int64)
     v = np.asarray(mesh.vertices, np.float64)[f]
-    segs = _crossings(v.reshape(-1, 3), np.arange(len(f) * 3).reshape(-1, 3), values.reshape(-1), keep,
-                      np.repeat(strength, 3))
+    segs = _crossings(
+        v.reshape(-1, 3), np.arange(len(f) * 3).reshape(-1, 3), values.reshape(-1), keep, np.repeat(strength, 3)
+    )
     if len(segs):
         segs.edges = np.sort(f.reshape(-1)[segs.edges], axis=2)  # corner ids back to vertex ids
     return segs
@@ -286,13 +315,17 @@ def _face_corner_crossings(mesh: Mesh, values: np.ndarray, keep: np.ndarray, str
 def ridges(mesh: Mesh, curvature: Curvature, threshold: float, scale: float) -> Segments:
     """Ridge lines: k_max maximal along e_max, k_max > threshold·scale."""
     k = curvature.k_max.astype(np.float64)
-    return _extremum_lines(mesh, curvature.e_max, curvature.dcurv[:, 3].astype(np.float64), k > threshold * scale, True, k / scale)
+    return _extremum_lines(
+        mesh, curvature.e_max, curvature.dcurv[:, 3].astype(np.float64), k > threshold * scale, True, k / scale
+    )
 
 
 def valleys(mesh: Mesh, curvature: Curvature, threshold: float, scale: float) -> Segments:
     """Valley lines: k_min minimal along e_min, k_min < −threshold·scale."""
     k = curvature.k_min.astype(np.float64)
-    return _extremum_lines(mesh, curvature.e_min, curvature.dcurv[:, 0].astype(np.float64), k < -threshold * scale, False, -k / scale)
+    return _extremum_lines(
+        mesh, curvature.e_min, curvature.dcurv[:, 0].astype(np.float64), k < -threshold * scale, False, -k / scale
+    )
 
 
 def apparent_ridges(mesh: Mesh, q1: np.ndarray, w1: np.ndarray, threshold: float, scale: float) -> Segments:

@@ -11,20 +11,53 @@ from .reference import REPORT_THRESHOLD
 
 __all__ = ["LINE_TYPES", "METHODS", "SILHOUETTE_SPACES", "LineParams", "CurvatureParams"]
 
-LINE_TYPES = ("apparent-ridges", "silhouettes", "suggestive", "ridges", "valleys", "boundaries", "k-zero", "h-zero", "isophotes",
-              "suggestive-highlights", "principal-highlights", "dwkr")
+LINE_TYPES = (
+    "apparent-ridges",
+    "silhouettes",
+    "suggestive",
+    "ridges",
+    "valleys",
+    "boundaries",
+    "k-zero",
+    "h-zero",
+    "isophotes",
+    "suggestive-highlights",
+    "principal-highlights",
+    "dwkr",
+)
 METHODS = ("hybrid", "object-space")
 SILHOUETTE_SPACES = ("object", "image")
 
 #: linear RGB per line type
-DEFAULT_COLOURS = (("apparent-ridges", (0.0, 0.0, 0.0)), ("silhouettes", (0.0, 0.0, 0.0)),
-                   ("suggestive", (0.05, 0.1, 0.45)), ("ridges", (0.55, 0.05, 0.05)), ("valleys", (0.05, 0.35, 0.1)),
-                   ("boundaries", (0.0, 0.0, 0.0)), ("k-zero", (0.45, 0.2, 0.0)), ("h-zero", (0.3, 0.0, 0.4)),
-                   ("isophotes", (0.4, 0.4, 0.4)), ("suggestive-highlights", (0.75, 0.45, 0.0)),
-                   ("principal-highlights", (0.85, 0.6, 0.1)), ("dwkr", (0.8, 0.1, 0.5)))
+DEFAULT_COLOURS = (
+    ("apparent-ridges", (0.0, 0.0, 0.0)),
+    ("silhouettes", (0.0, 0.0, 0.0)),
+    ("suggestive", (0.05, 0.1, 0.45)),
+    ("ridges", (0.55, 0.05, 0.05)),
+    ("valleys", (0.05, 0.35, 0.1)),
+    ("boundaries", (0.0, 0.0, 0.0)),
+    ("k-zero", (0.45, 0.2, 0.0)),
+    ("h-zero", (0.3, 0.0, 0.4)),
+    ("isophotes", (0.4, 0.4, 0.4)),
+    ("suggestive-highlights", (0.75, 0.45, 0.0)),
+    ("principal-highlights", (0.85, 0.6, 0.1)),
+    ("dwkr", (0.8, 0.1, 0.5)),
+)
 #: pixels per line type (object-space lines)
-DEFAULT_WIDTHS = (("apparent-ridges", 1.5), ("silhouettes", 2.0), ("suggestive", 1.5), ("ridges", 1.5), ("valleys", 1.5), ("boundaries", 2.0), ("k-zero", 1.5), ("h-zero", 1.5), ("isophotes", 1.0),
-                  ("suggestive-highlights", 2.0), ("principal-highlights", 2.0), ("dwkr", 1.0))
+DEFAULT_WIDTHS = (
+    ("apparent-ridges", 1.5),
+    ("silhouettes", 2.0),
+    ("suggestive", 1.5),
+    ("ridges", 1.5),
+    ("valleys", 1.5),
+    ("boundaries", 2.0),
+    ("k-zero", 1.5),
+    ("h-zero", 1.5),
+    ("isophotes", 1.0),
+    ("suggestive-highlights", 2.0),
+    ("principal-highlights", 2.0),
+    ("dwkr", 1.0),
+)
 
 
 @dataclass(frozen=True)
@@ -61,22 +94,35 @@ class LineParams:
     colours (linear RGB) and widths (pixels, object-space lines): (line type, value) pairs.
     curvature: how the curvature is estimated (:class:`CurvatureParams`)."""
 
-    lines: tuple[str, ...] = param(("apparent-ridges", "silhouettes"), choices=LINE_TYPES, multiple=True,
-                                   label="line types")
+    lines: tuple[str, ...] = param(
+        ("apparent-ridges", "silhouettes"), choices=LINE_TYPES, multiple=True, label="line types"
+    )
     method: str = param("hybrid", choices=METHODS, help="apparent ridges: hybrid GPU or object space")
     tau: float = param(-2.0, range=(-12.0, 12.0), label="τ", help="q = 2^τ q1")
-    lam: float = param(0.5, range=(0.0, 16.0), label="λ", help="direction weight of the adaptive Laplacian", flag="lambda")
+    lam: float = param(
+        0.5, range=(0.0, 16.0), label="λ", help="direction weight of the adaptive Laplacian", flag="lambda"
+    )
     threshold: float = param(REPORT_THRESHOLD, range=(0.0, 100.0), help="ridge filter response threshold")
-    relative: bool = param(True, help="thresholds relative to the mesh's curvature scale (raw: the report's τ, q1 "
-                                      "in 1/mesh units)", flag="relative/raw")
+    relative: bool = param(
+        True,
+        help="thresholds relative to the mesh's curvature scale (raw: the report's τ, q1 in 1/mesh units)",
+        flag="relative/raw",
+    )
     object_threshold: float = param(0.2, range=(0.0, 100.0), help="object-space apparent ridges: q1 / scale")
     ridge_threshold: float = param(1.0, range=(0.0, 100.0), help="ridges and valleys: |k| / scale")
     suggestive_threshold: float = param(0.05, range=(0.0, 100.0), help="suggestive contours: D_w κ_r / scale²")
     isophote_level: float = param(0.5, range=(0.0, 1.0), help="isophotes: the n·l they follow (headlight)")
-    highlight_threshold: float = param(0.05, range=(0.0, 100.0),
-                                       help="suggestive highlights: −D_w κ_r / scale²; principal: (k_max² − k_min²) n·v / scale²")
-    silhouette_space: str = param("object", choices=SILHOUETTE_SPACES, flag="silhouettes",
-                                  help="object: n·v = 0 zero crossings; image: depth edges")
+    highlight_threshold: float = param(
+        0.05,
+        range=(0.0, 100.0),
+        help="suggestive highlights: −D_w κ_r / scale²; principal: (k_max² − k_min²) n·v / scale²",
+    )
+    silhouette_space: str = param(
+        "object",
+        choices=SILHOUETTE_SPACES,
+        flag="silhouettes",
+        help="object: n·v = 0 zero crossings; image: depth edges",
+    )
     depth_jump: float = param(0.05, range=(0.0, 10.0), help="image silhouettes: relative depth jump")
     min_ridge_pixels: int = param(24, range=(0, 100000), step=1, unit="px", help="drop shorter ridge fragments")
     colours: tuple = param(DEFAULT_COLOURS, panel=False)

@@ -49,9 +49,11 @@ def shifted_view(view: View, size, pixels: tuple[float, float]) -> View:
 
 
 def _write_ply(path: Path, vertices: np.ndarray, faces: np.ndarray, colours: np.ndarray) -> None:
-    head = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(vertices)}\n"
-            + "".join(f"property float {c}\n" for c in "xyzrgb")
-            + f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n")
+    head = (
+        f"ply\nformat binary_little_endian 1.0\nelement vertex {len(vertices)}\n"
+        + "".join(f"property float {c}\n" for c in "xyzrgb")
+        + f"element face {len(faces)}\nproperty list uchar int vertex_indices\nend_header\n"
+    )
     face = np.zeros(len(faces), dtype=[("n", "u1"), ("i", "<i4", (3,))])
     face["n"], face["i"] = 3, faces
     with open(path, "wb") as f:
@@ -60,8 +62,14 @@ def _write_ply(path: Path, vertices: np.ndarray, faces: np.ndarray, colours: np.
         f.write(face.tobytes())
 
 
-def photograph(mesh: Mesh, view: View, size: tuple[int, int], samples: int = 32, seed: int = 0,
-               misregistration: tuple[float, float] = (0.0, 0.0)) -> np.ndarray:
+def photograph(
+    mesh: Mesh,
+    view: View,
+    size: tuple[int, int],
+    samples: int = 32,
+    seed: int = 0,
+    misregistration: tuple[float, float] = (0.0, 0.0),
+) -> np.ndarray:
     """The "photograph" of ``mesh`` from ``view`` (turned by ``misregistration`` pixels), float32
     (H, W, 3) linear radiance, row 0 on top: painted albedo (``seed``), a lamp above and to the left
     of the camera, a floor under the mesh, a dim sky; ``samples`` paths a pixel (the noise)."""
@@ -88,15 +96,27 @@ def photograph(mesh: Mesh, view: View, size: tuple[int, int], samples: int = 32,
     with tempfile.TemporaryDirectory(prefix="illusio-photo-") as tmp:
         path = Path(tmp) / "mesh.ply"
         _write_ply(path, v, f, painted_albedo(v, seed))
-        scene = {"type": "scene", "integrator": {"type": "path", "max_depth": 4},
-                 "sensor": sensor(mi, seen, size, samples, seed),
-                 "mesh": {"type": "ply", "filename": str(path),
-                          "bsdf": {"type": "diffuse", "reflectance": {"type": "mesh_attribute", "name": "vertex_color"}}},
-                 "floor": {"type": "rectangle", "to_world": mi.ScalarTransform4f(floor.tolist()),
-                           "bsdf": {"type": "diffuse", "reflectance": rgb((0.8, 0.8, 0.8))}},
-                 "lamp": {"type": "rectangle", "to_world": mi.ScalarTransform4f(lamp.tolist()),
-                          "emitter": {"type": "area", "radiance": rgb((6.0, 6.0, 6.0))}},
-                 "sky": {"type": "constant", "radiance": rgb((0.25, 0.25, 0.25))}}
+        scene = {
+            "type": "scene",
+            "integrator": {"type": "path", "max_depth": 4},
+            "sensor": sensor(mi, seen, size, samples, seed),
+            "mesh": {
+                "type": "ply",
+                "filename": str(path),
+                "bsdf": {"type": "diffuse", "reflectance": {"type": "mesh_attribute", "name": "vertex_color"}},
+            },
+            "floor": {
+                "type": "rectangle",
+                "to_world": mi.ScalarTransform4f(floor.tolist()),
+                "bsdf": {"type": "diffuse", "reflectance": rgb((0.8, 0.8, 0.8))},
+            },
+            "lamp": {
+                "type": "rectangle",
+                "to_world": mi.ScalarTransform4f(lamp.tolist()),
+                "emitter": {"type": "area", "radiance": rgb((6.0, 6.0, 6.0))},
+            },
+            "sky": {"type": "constant", "radiance": rgb((0.25, 0.25, 0.25))},
+        }
         image = np.asarray(mi.render(load_scene(mi, scene)), np.float32)
     return np.ascontiguousarray(image[..., :3])
 

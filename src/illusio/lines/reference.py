@@ -19,8 +19,15 @@ import numpy as np
 
 from ..scene.camera import View
 
-__all__ = ["ViewCurvature", "view_curvature", "ridge_filter", "image_silhouettes", "compose", "segments",
-           "REPORT_THRESHOLD"]
+__all__ = [
+    "ViewCurvature",
+    "view_curvature",
+    "ridge_filter",
+    "image_silhouettes",
+    "compose",
+    "segments",
+    "REPORT_THRESHOLD",
+]
 
 
 @dataclass
@@ -36,8 +43,18 @@ class ViewCurvature:
     ndotv: np.ndarray
 
 
-def view_curvature(positions, normals, e_min, e_max, k_min, k_max, view: View,
-                             tau: float = 0.0, curvature_scale: float = 1.0, model_matrix=None) -> ViewCurvature:
+def view_curvature(
+    positions,
+    normals,
+    e_min,
+    e_max,
+    k_min,
+    k_max,
+    view: View,
+    tau: float = 0.0,
+    curvature_scale: float = 1.0,
+    model_matrix=None,
+) -> ViewCurvature:
     """The vertex shader's maths in NumPy (float64). Arrays are per vertex, object space."""
     model = np.eye(4) if model_matrix is None else np.asarray(model_matrix, np.float64)
     mv = view.view_matrix().astype(np.float64) @ model
@@ -101,7 +118,7 @@ def ridge_filter(q_t1: np.ndarray, lam: float, threshold: float = REPORT_THRESHO
     padded = np.pad(q, 1, mode="edge")
 
     def at(dx, dy):  # neighbour dx right, dy up (up = one row towards row 0)
-        return padded[1 - dy:1 - dy + h, 1 + dx:1 + dx + w]
+        return padded[1 - dy : 1 - dy + h, 1 + dx : 1 + dx + w]
 
     length = np.hypot(tx, ty)
     has = length * length > 1e-12
@@ -116,8 +133,12 @@ def ridge_filter(q_t1: np.ndarray, lam: float, threshold: float = REPORT_THRESHO
     w_v = np.select([case_v, case_h], [l2, 1.0], l1)
     w_d = np.select([case_d, case_a], [l2, 1.0], l1)
     w_a = np.select([case_a, case_d], [l2, 1.0], l1)
-    total = (w_h * (at(1, 0) + at(-1, 0)) + w_v * (at(0, 1) + at(0, -1))
-             + w_d * (at(1, 1) + at(-1, -1)) + w_a * (at(-1, 1) + at(1, -1)))
+    total = (
+        w_h * (at(1, 0) + at(-1, 0))
+        + w_v * (at(0, 1) + at(0, -1))
+        + w_d * (at(1, 1) + at(-1, -1))
+        + w_a * (at(-1, 1) + at(1, -1))
+    )
     response = np.where(has, (8 + 8 * lam) * q - total, 0.0)
     return response, response > threshold
 
@@ -130,13 +151,20 @@ def image_silhouettes(depth: np.ndarray, depth_jump: float = 0.05) -> np.ndarray
     h, w = d.shape
     out = np.zeros_like(d, bool)
     for dy, dx in ((0, 1), (0, -1), (1, 0), (-1, 0)):
-        e = padded[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+        e = padded[1 + dy : 1 + dy + h, 1 + dx : 1 + dx + w]
         out |= (e <= 0) | (e - d > depth_jump * d)
     return out & (d > 0)
 
 
-def compose(q_t1: np.ndarray, ridge_mask: np.ndarray | None, show_ridges: bool, show_silhouettes: bool,
-            ridge_colour, silhouette_colour, depth_jump: float) -> np.ndarray:
+def compose(
+    q_t1: np.ndarray,
+    ridge_mask: np.ndarray | None,
+    show_ridges: bool,
+    show_silhouettes: bool,
+    ridge_colour,
+    silhouette_colour,
+    depth_jump: float,
+) -> np.ndarray:
     """The drawing's base (ComposePass): white paper, the hybrid ridge pixels in ``ridge_colour``, the
     image-space silhouettes of the view depth (``q_t1[..., 3]``, 0 = background) in
     ``silhouette_colour`` over them. (H, W, 3) float32 linear."""
@@ -157,8 +185,10 @@ def segments(points: np.ndarray, view: View, size, width: float) -> np.ndarray:
     w, h = size
     pts = np.asarray(points, np.float64).reshape(-1, 2, 3)
     flat = pts.reshape(-1, 3)
-    clip = np.c_[flat, np.ones(len(flat))] @ (view.projection_matrix(w / h).astype(np.float64)
-                                              @ view.view_matrix().astype(np.float64)).T
+    clip = (
+        np.c_[flat, np.ones(len(flat))]
+        @ (view.projection_matrix(w / h).astype(np.float64) @ view.view_matrix().astype(np.float64)).T
+    )
     # pixel coordinates: x right from the left edge, y up from the bottom (GL), then flipped
     xy = (clip[:, :2] / clip[:, 3:4] * 0.5 + 0.5) * (w, h)
     xy = xy.reshape(-1, 2, 2)

@@ -12,6 +12,7 @@ from .reference import REPORT_THRESHOLD
 
 __all__ = ["RidgeFilterPass", "REPORT_THRESHOLD"]
 
+
 class RidgeFilterPass:
     """q_t1 texture in, (ridge 0/1, response, 0, 1) RGBA32F texture out (pooled)."""
 

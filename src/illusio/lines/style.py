@@ -54,7 +54,7 @@ def parse_colour(text: str) -> tuple[float, float, float]:
     t = text.strip()
     try:
         if t.startswith("#") and len(t) == 7:
-            srgb = np.array([int(t[k:k + 2], 16) for k in (1, 3, 5)], np.float32) / 255
+            srgb = np.array([int(t[k : k + 2], 16) for k in (1, 3, 5)], np.float32) / 255
             return tuple(float(v) for v in srgb_to_linear(srgb))
         values = tuple(float(v) for v in t.split(","))
     except ValueError:
@@ -95,7 +95,9 @@ def stylise(image: np.ndarray, style: LineStyle = LineStyle(), strength: np.ndar
         cover = cover * np.clip(np.asarray(strength, np.float64), 0, 1)
     footprint = _disk(style.width * s)
     if footprint.size > 1:
-        weighted = np.stack([ndimage.maximum_filter(ink[..., c] * cover, footprint=footprint) for c in range(3)], axis=-1)
+        weighted = np.stack(
+            [ndimage.maximum_filter(ink[..., c] * cover, footprint=footprint) for c in range(3)], axis=-1
+        )
         cover = ndimage.maximum_filter(cover, footprint=footprint)
         ink = np.where(cover[..., None] > 1e-6, weighted / np.maximum(cover[..., None], 1e-6), 0.0)
     if style.colour is not None:

@@ -29,8 +29,16 @@ def visible_polylines(segments: Segments, view: View, size, depth: np.ndarray, s
         xi = np.clip(px[:, 0].astype(int), 0, w - 1)
         yi = np.clip(px[:, 1].astype(int), 0, h - 1)
         # a line on the surface is seen if it is not behind what the nearest pixel around it shows
-        near = np.max(np.stack([depth[np.clip(yi + dy, 0, h - 1), np.clip(xi + dx, 0, w - 1)]
-                                for dy in (-1, 0, 1) for dx in (-1, 0, 1)]), axis=0)
+        near = np.max(
+            np.stack(
+                [
+                    depth[np.clip(yi + dy, 0, h - 1), np.clip(xi + dx, 0, w - 1)]
+                    for dy in (-1, 0, 1)
+                    for dx in (-1, 0, 1)
+                ]
+            ),
+            axis=0,
+        )
         visible = (d > 0) & ((near <= 0) | (d <= near * (1 + slack)))
         start = None
         for i, v in enumerate(np.append(visible, False)):
@@ -98,12 +106,16 @@ def trace_polylines(mask: np.ndarray, tolerance: float = 0.5, min_pixels: int = 
 def write_svg(path: str | os.PathLike, size, groups: dict[str, tuple[list[np.ndarray], tuple, float]]) -> Path:
     """groups: line type → (polylines in pixels, linear RGB colour, width px). Written atomically."""
     w, h = size
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">',
-             f'<rect width="{w}" height="{h}" fill="white"/>']
+    parts = [
+        f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">',
+        f'<rect width="{w}" height="{h}" fill="white"/>',
+    ]
     for name, (lines, colour, width) in groups.items():
         rgb = "#" + "".join(f"{int(round(np.clip(c, 0, 1) ** (1 / 2.2) * 255)):02x}" for c in colour)
-        parts.append(f'<g id={quoteattr(name)} fill="none" stroke="{rgb}" stroke-width="{width:g}" '
-                     'stroke-linecap="round" stroke-linejoin="round">')
+        parts.append(
+            f'<g id={quoteattr(name)} fill="none" stroke="{rgb}" stroke-width="{width:g}" '
+            'stroke-linecap="round" stroke-linejoin="round">'
+        )
         for line in lines:
             pts = " ".join(f"{x:.2f},{y:.2f}" for x, y in line)
             parts.append(f'<polyline points="{pts}"/>')
@@ -120,14 +132,22 @@ def drawing_groups(drawing, params: LineParams) -> dict[str, tuple[list[np.ndarr
     :func:`write_svg`: object-space lines clipped by visibility; image-space lines (hybrid ridges,
     image silhouettes) traced from their pixels, so the SVG holds the same lines as the PNG."""
     depth = drawing.q_t1[..., 3]
-    groups = {k: (visible_polylines(s, drawing.view, drawing.size, depth), params.colour(k), params.width(k))
-              for k, s in drawing.segments.items()}
+    groups = {
+        k: (visible_polylines(s, drawing.view, drawing.size, depth), params.colour(k), params.width(k))
+        for k, s in drawing.segments.items()
+    }
     if drawing.ridge_mask is not None:
-        groups["apparent-ridges"] = (trace_polylines(drawing.ridge_mask), params.colour("apparent-ridges"),
-                                     params.width("apparent-ridges"))
+        groups["apparent-ridges"] = (
+            trace_polylines(drawing.ridge_mask),
+            params.colour("apparent-ridges"),
+            params.width("apparent-ridges"),
+        )
     if "silhouettes" in params.lines and params.silhouette_space == "image":
-        groups["silhouettes"] = (trace_polylines(image_silhouettes(depth, params.depth_jump)),
-                                 params.colour("silhouettes"), params.width("silhouettes"))
+        groups["silhouettes"] = (
+            trace_polylines(image_silhouettes(depth, params.depth_jump)),
+            params.colour("silhouettes"),
+            params.width("silhouettes"),
+        )
     return groups
 
 

@@ -9,9 +9,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 from PIL import Image, ImageDraw
 
-from .compare import Scores, image_edges, line_mask, phong_render, score
 from ..core.errors import InputError
 from ..core.renderer import Frame
+from .compare import Scores, image_edges, line_mask, phong_render, score
 from .drawing import LineRenderer
 from .params import LineParams
 
@@ -25,8 +25,9 @@ def _hybrid(params: LineParams) -> LineParams:
     return replace(params, lines=("apparent-ridges",), method="hybrid")
 
 
-def parameter_grid(renderer: LineRenderer, view, size, taus=TAUS, lambdas=LAMBDAS,
-                   params: LineParams = LineParams()) -> np.ndarray:
+def parameter_grid(
+    renderer: LineRenderer, view, size, taus=TAUS, lambdas=LAMBDAS, params: LineParams = LineParams()
+) -> np.ndarray:
     """One hybrid apparent-ridge drawing of the prepared mesh per (τ, λ): rows τ, columns λ, labelled.
     (H, W, 3) linear."""
     w, h = size
@@ -45,8 +46,11 @@ def parameter_grid(renderer: LineRenderer, view, size, taus=TAUS, lambdas=LAMBDA
 
 #: the values the automatic choice tries for each parameter (τ and the threshold relative to the
 #: mesh's curvature scale, as the defaults are)
-AUTO_GRID = (("tau", (-4.0, -3.0, -2.0, -1.0, 0.0, 1.0)), ("lam", (0.0, 0.5, 1.0, 2.0, 4.0, 8.0)),
-             ("threshold", (0.05, 0.1, 0.2, 0.4, 0.8)))
+AUTO_GRID = (
+    ("tau", (-4.0, -3.0, -2.0, -1.0, 0.0, 1.0)),
+    ("lam", (0.0, 0.5, 1.0, 2.0, 4.0, 8.0)),
+    ("threshold", (0.05, 0.1, 0.2, 0.4, 0.8)),
+)
 
 
 @dataclass(frozen=True)
@@ -64,8 +68,10 @@ class AutoResult:
 
     def __str__(self) -> str:
         p = self.params
-        return (f"tau {p.tau:g}, lambda {p.lam:g}, threshold {p.threshold:g}: F1 {self.scores.f1:.3f} "
-                f"(from {self.start.f1:.3f}, {self.drawings} drawings)")
+        return (
+            f"tau {p.tau:g}, lambda {p.lam:g}, threshold {p.threshold:g}: F1 {self.scores.f1:.3f} "
+            f"(from {self.start.f1:.3f}, {self.drawings} drawings)"
+        )
 
 
 def edge_target(renderer: LineRenderer, mesh, view, size, method: str = "canny") -> np.ndarray:
@@ -73,8 +79,16 @@ def edge_target(renderer: LineRenderer, mesh, view, size, method: str = "canny")
     return image_edges(phong_render(renderer.ctx, mesh, view, size), method)
 
 
-def auto_parameters(renderer: LineRenderer, view, size, target: np.ndarray, params: LineParams = LineParams(),
-                    tolerance: float = 2.0, grid=AUTO_GRID, rounds: int = 4) -> AutoResult:
+def auto_parameters(
+    renderer: LineRenderer,
+    view,
+    size,
+    target: np.ndarray,
+    params: LineParams = LineParams(),
+    tolerance: float = 2.0,
+    grid=AUTO_GRID,
+    rounds: int = 4,
+) -> AutoResult:
     """τ, λ and the ridge filter's threshold of the hybrid apparent ridges that make the drawing of
     the prepared mesh (every line type of ``params``) best match the ``target`` line mask (F1 of
     line pixels within ``tolerance`` px): coordinate ascent from ``params`` over ``grid``, each
@@ -103,5 +117,10 @@ def auto_parameters(renderer: LineRenderer, view, size, target: np.ndarray, para
         if not changed:
             converged = True
             break
-    return AutoResult(best, scored[(best.tau, best.lam, best.threshold)], scored[(params.tau, params.lam, params.threshold)],
-                      len(scored), converged)
+    return AutoResult(
+        best,
+        scored[(best.tau, best.lam, best.threshold)],
+        scored[(params.tau, params.lam, params.threshold)],
+        len(scored),
+        converged,
+    )

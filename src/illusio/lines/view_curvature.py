@@ -32,8 +32,16 @@ class ViewCurvaturePass:
         self.ctx = ctx
         self.program = ctx.program("lines/shaders/view_curvature.glsl")
 
-    def __call__(self, mesh: CurvatureMesh, view: View, size, tau: float = 0.0, curvature_scale: float = 1.0,
-                 model_matrix=None, depth: moderngl.Texture | bool = True) -> moderngl.Texture:
+    def __call__(
+        self,
+        mesh: CurvatureMesh,
+        view: View,
+        size,
+        tau: float = 0.0,
+        curvature_scale: float = 1.0,
+        model_matrix=None,
+        depth: moderngl.Texture | bool = True,
+    ) -> moderngl.Texture:
         ctx = self.ctx
         w, h = size
         out = ctx.acquire((w, h), 4, "f4")
@@ -59,7 +67,9 @@ class ViewCurvaturePass:
         set_uniform(program, "tau", float(tau))
         set_uniform(program, "curvature_scale", float(curvature_scale))
 
-    def per_vertex(self, mesh: CurvatureMesh, view: View, size, tau: float = 0.0, curvature_scale: float = 1.0) -> np.ndarray:
+    def per_vertex(
+        self, mesh: CurvatureMesh, view: View, size, tau: float = 0.0, curvature_scale: float = 1.0
+    ) -> np.ndarray:
         """The vertex stage's (q, t1.x, t1.y, view depth) for every vertex, captured by transform feedback
         (to check the shader against :func:`reference.view_curvature`)."""
         ctx = self.ctx

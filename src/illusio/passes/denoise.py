@@ -36,8 +36,10 @@ def denoise(color: np.ndarray, albedo: np.ndarray | None = None, normal: np.ndar
         for name, image in (("albedo", albedo), ("normal", normal)):
             if np.shape(image) != color.shape:
                 raise InputError(f"denoise: {name} must be {color.shape}, got {np.shape(image)}")
-        aux = {"albedo": np.clip(np.asarray(albedo, np.float32), 0, 1),
-               "normal": np.clip(np.asarray(normal, np.float32), -1, 1)}
+        aux = {
+            "albedo": np.clip(np.asarray(albedo, np.float32), 0, 1),
+            "normal": np.clip(np.asarray(normal, np.float32), -1, 1),
+        }
     if not np.isfinite(color).all():
         raise InputError("denoise: the colour holds NaN or infinite values")
     out = pyoidn.denoise(np.ascontiguousarray(np.maximum(color, 0)), **aux, hdr=True)

@@ -14,8 +14,8 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
-from ..scene.camera import View
 from ..core.gl import set_uniform
+from ..scene.camera import View
 from .gpu_scene import GpuScene
 from .lights import Emitters
 from .shading import MAX_EMITTERS, ShadingParams, bind_emitters
@@ -52,11 +52,19 @@ class ForwardPass:
         self.depth_prepass = depth_prepass
         self.depth_program = ctx.program("passes/shaders/depth_only.glsl")
 
-    def __call__(self, gpu_scene: GpuScene, view: View, size: tuple[int, int], emitters: Emitters,
-                 params: ShadingParams = ShadingParams(), shadow_atlas: moderngl.Texture | None = None,
-                 shadow_matrices: np.ndarray | None = None, shadow_tile_size: int = 512,
-                 screen_material: ScreenMaterial | None = None,
-                 object_ids: bool = False) -> tuple[moderngl.Texture, moderngl.Texture | None]:
+    def __call__(
+        self,
+        gpu_scene: GpuScene,
+        view: View,
+        size: tuple[int, int],
+        emitters: Emitters,
+        params: ShadingParams = ShadingParams(),
+        shadow_atlas: moderngl.Texture | None = None,
+        shadow_matrices: np.ndarray | None = None,
+        shadow_tile_size: int = 512,
+        screen_material: ScreenMaterial | None = None,
+        object_ids: bool = False,
+    ) -> tuple[moderngl.Texture, moderngl.Texture | None]:
         w, h = int(size[0]), int(size[1])
         out = self.ctx.acquire((w, h), 4, "f4")
         ids = self.ctx.acquire((w, h), 1, "f4") if object_ids else None
@@ -65,13 +73,33 @@ class ForwardPass:
             fbo.color_attachments[1].write(np.zeros((h, w), np.float32).tobytes())
         if self.depth_prepass:
             self._depth(fbo, gpu_scene, view, (w, h))
-        self._shade(fbo, gpu_scene, view, (w, h), emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size,
-                    screen_material, equal_depth=self.depth_prepass)
+        self._shade(
+            fbo,
+            gpu_scene,
+            view,
+            (w, h),
+            emitters,
+            params,
+            shadow_atlas,
+            shadow_matrices,
+            shadow_tile_size,
+            screen_material,
+            equal_depth=self.depth_prepass,
+        )
         return out, ids
 
-    def static_layer(self, gpu_scene: GpuScene, view: View, size: tuple[int, int], emitters: Emitters,
-                     params: ShadingParams, shadow_atlas, shadow_matrices, shadow_tile_size: int,
-                     dynamic: frozenset[int]) -> tuple[moderngl.Texture, moderngl.Texture]:
+    def static_layer(
+        self,
+        gpu_scene: GpuScene,
+        view: View,
+        size: tuple[int, int],
+        emitters: Emitters,
+        params: ShadingParams,
+        shadow_atlas,
+        shadow_matrices,
+        shadow_tile_size: int,
+        dynamic: frozenset[int],
+    ) -> tuple[moderngl.Texture, moderngl.Texture]:
         """Every node but the ``dynamic`` ones shaded (RGBA32F, pooled), and the depth of every node
         (a depth texture the caller owns and releases): what :meth:`dynamic_layer` completes."""
         w, h = int(size[0]), int(size[1])
@@ -80,13 +108,35 @@ class ForwardPass:
         fbo = self._target([base], depth, params)
         self._depth(fbo, gpu_scene, view, (w, h))
         others = [i for i in range(len(gpu_scene.scene.nodes)) if i not in dynamic]
-        self._shade(fbo, gpu_scene, view, (w, h), emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size,
-                    None, equal_depth=True, only=others)
+        self._shade(
+            fbo,
+            gpu_scene,
+            view,
+            (w, h),
+            emitters,
+            params,
+            shadow_atlas,
+            shadow_matrices,
+            shadow_tile_size,
+            None,
+            equal_depth=True,
+            only=others,
+        )
         return base, depth
 
-    def dynamic_layer(self, base: moderngl.Texture, depth: moderngl.Texture, gpu_scene: GpuScene, view: View,
-                      emitters: Emitters, params: ShadingParams, shadow_atlas, shadow_matrices,
-                      shadow_tile_size: int, screen_material: ScreenMaterial) -> moderngl.Texture:
+    def dynamic_layer(
+        self,
+        base: moderngl.Texture,
+        depth: moderngl.Texture,
+        gpu_scene: GpuScene,
+        view: View,
+        emitters: Emitters,
+        params: ShadingParams,
+        shadow_atlas,
+        shadow_matrices,
+        shadow_tile_size: int,
+        screen_material: ScreenMaterial,
+    ) -> moderngl.Texture:
         """A copy of ``base`` with the screen-material nodes shaded where ``depth`` shows them
         (RGBA32F, pooled): the same image as one forward pass of the whole scene."""
         out = self.ctx.acquire(base.size, 4, "f4")
@@ -94,8 +144,20 @@ class ForwardPass:
         fbo = self.ctx.framebuffer([out], depth=depth)
         fbo.use()
         fbo.viewport = (0, 0, *base.size)
-        self._shade(fbo, gpu_scene, view, base.size, emitters, params, shadow_atlas, shadow_matrices, shadow_tile_size,
-                    screen_material, equal_depth=True, only=screen_material.nodes)
+        self._shade(
+            fbo,
+            gpu_scene,
+            view,
+            base.size,
+            emitters,
+            params,
+            shadow_atlas,
+            shadow_matrices,
+            shadow_tile_size,
+            screen_material,
+            equal_depth=True,
+            only=screen_material.nodes,
+        )
         return out
 
     def _target(self, colour, depth, params: ShadingParams) -> moderngl.Framebuffer:
@@ -115,14 +177,30 @@ class ForwardPass:
         set_uniform(pre, "projection_matrix", view.projection_matrix(size[0] / size[1]))
         attachments = len(fbo.color_attachments)  # one mask per attachment when there are several
         fbo.color_mask = (False,) * 4 if attachments == 1 else ((False,) * 4,) * attachments
-        gpu_scene.draw(pre, lambda index, node: set_uniform(pre, "model_matrix", node.transform), view.pose.position,
-                       cull_to=view.view_projection(size))
+        gpu_scene.draw(
+            pre,
+            lambda index, node: set_uniform(pre, "model_matrix", node.transform),
+            view.pose.position,
+            cull_to=view.view_projection(size),
+        )
         fbo.color_mask = (True,) * 4 if attachments == 1 else ((True,) * 4,) * attachments
         gl.disable(moderngl.DEPTH_TEST)
 
-    def _shade(self, fbo: moderngl.Framebuffer, gpu_scene: GpuScene, view: View, size, emitters: Emitters, params: ShadingParams,
-               shadow_atlas, shadow_matrices, shadow_tile_size: int, screen_material: ScreenMaterial | None,
-               equal_depth: bool, only=None) -> None:
+    def _shade(
+        self,
+        fbo: moderngl.Framebuffer,
+        gpu_scene: GpuScene,
+        view: View,
+        size,
+        emitters: Emitters,
+        params: ShadingParams,
+        shadow_atlas,
+        shadow_matrices,
+        shadow_tile_size: int,
+        screen_material: ScreenMaterial | None,
+        equal_depth: bool,
+        only=None,
+    ) -> None:
         """Lit nodes into ``fbo`` (bound); ``equal_depth``: against a finished depth buffer
         (no depth writes, pass where equal)."""
         w, h = int(size[0]), int(size[1])
@@ -144,8 +222,14 @@ class ForwardPass:
         # depth test decides), within a group front to back
         for (textured, glossy, screen), indices in gpu_scene.groups(variant, only).items():
             shadowed = shadow_atlas is not None and not (screen and not screen_material.shadows)
-            prog = self.ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadowed),
-                                    TEXTURED=int(textured), GLOSSY=int(glossy), SCREEN_MATERIAL=int(screen))
+            prog = self.ctx.program(
+                SHADER,
+                MAX_EMITTERS=MAX_EMITTERS,
+                SHADOW_MAPS=int(shadowed),
+                TEXTURED=int(textured),
+                GLOSSY=int(glossy),
+                SCREEN_MATERIAL=int(screen),
+            )
             set_uniform(prog, "view_matrix", view.view_matrix())
             set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
             set_uniform(prog, "camera_position", np.asarray(eye, np.float32))

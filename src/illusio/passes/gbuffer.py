@@ -9,16 +9,22 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
-from ..scene.camera import View
 from ..core.gl import set_uniform
+from ..scene.camera import View
 from .gpu_scene import GpuScene
 
 __all__ = ["GBufferPass", "GBuffer", "GBufferImages"]
 
 SHADER = "passes/shaders/gbuffer.glsl"
 # name, components, dtype of each attachment, in shader location order
-LAYOUT = (("colour", 4, "f2"), ("depth", 1, "f4"), ("normal", 4, "f2"), ("position", 4, "f4"),
-          ("object_id", 1, "f4"), ("emission", 4, "f2"))
+LAYOUT = (
+    ("colour", 4, "f2"),
+    ("depth", 1, "f4"),
+    ("normal", 4, "f2"),
+    ("position", 4, "f4"),
+    ("object_id", 1, "f4"),
+    ("emission", 4, "f2"),
+)
 
 
 @dataclass
@@ -56,9 +62,15 @@ class GBuffer:
         hit = r["object_id"][..., 0] > 0.5
         depth = np.where(hit, r["depth"][..., 0], np.inf).astype(np.float32)
         return GBufferImages(
-            colour=r["colour"][..., :3], specular=r["colour"][..., 3], depth=depth,
-            normal=r["normal"][..., :3], shininess=r["normal"][..., 3], position=r["position"][..., :3],
-            object_id=np.rint(r["object_id"][..., 0]).astype(np.int32), emission=r["emission"][..., :3])
+            colour=r["colour"][..., :3],
+            specular=r["colour"][..., 3],
+            depth=depth,
+            normal=r["normal"][..., :3],
+            shininess=r["normal"][..., 3],
+            position=r["position"][..., :3],
+            object_id=np.rint(r["object_id"][..., 0]).astype(np.int32),
+            emission=r["emission"][..., :3],
+        )
 
     def release(self) -> None:
         self.ctx.release(*self.textures.values())
@@ -89,6 +101,11 @@ class GBufferPass:
             set_uniform(prog, "view_matrix", view.view_matrix())
             set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
             set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
-            gpu_scene.draw(prog, lambda index, node, prog=prog: gpu_scene.bind_surface(prog, index, node, view=view, size=(w, h)), only=indices, cull_to=cull)
+            gpu_scene.draw(
+                prog,
+                lambda index, node, prog=prog: gpu_scene.bind_surface(prog, index, node, view=view, size=(w, h)),
+                only=indices,
+                cull_to=cull,
+            )
         gl.disable(moderngl.DEPTH_TEST)
         return GBuffer(self.ctx, textures, (w, h))

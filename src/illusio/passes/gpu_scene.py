@@ -57,8 +57,12 @@ class GpuScene:
             uvs = m.uvs if m.uvs is not None else np.zeros((len(m.vertices), 2), np.float32)
             data = np.hstack([m.vertices, m.normals, uvs]).astype(np.float32)
             self.ctx.make_current()
-            gm = GpuMesh(self.ctx.gl.buffer(data.tobytes()), self.ctx.gl.buffer(m.faces.astype(np.int32).tobytes()),
-                         len(m.faces), m.uvs is not None)
+            gm = GpuMesh(
+                self.ctx.gl.buffer(data.tobytes()),
+                self.ctx.gl.buffer(m.faces.astype(np.int32).tobytes()),
+                len(m.faces),
+                m.uvs is not None,
+            )
             self._meshes[key] = gm
         return gm
 
@@ -100,14 +104,23 @@ class GpuScene:
         ratio = footprint_anisotropy(transform_points(node.transform, mesh.vertices), mesh.faces, texels, view, size)
         return 1.0 if ratio <= ANISOTROPY_THRESHOLD else MAX_ANISOTROPY
 
-    def bind_surface(self, program: moderngl.Program, index: int, node: Node, texture_unit: int = 0,
-                     view: View | None = None, size: tuple[int, int] | None = None) -> None:
+    def bind_surface(
+        self,
+        program: moderngl.Program,
+        index: int,
+        node: Node,
+        texture_unit: int = 0,
+        view: View | None = None,
+        size: tuple[int, int] | None = None,
+    ) -> None:
         """Set the uniforms of ``shaders/surface.glsl`` for drawing ``node`` (index: its place in the
         scene; the object id is index + 1). With ``view`` and ``size``, the texture is filtered
         anisotropically only where the node's footprint needs it (:meth:`anisotropy`)."""
         mat = node.material
         set_uniform(program, "model_matrix", node.transform)
-        set_uniform(program, "normal_matrix", np.linalg.inv(node.transform[:3, :3].astype(np.float64)).T.astype(np.float32))
+        set_uniform(
+            program, "normal_matrix", np.linalg.inv(node.transform[:3, :3].astype(np.float64)).T.astype(np.float32)
+        )
         set_uniform(program, "albedo", mat.colour)
         set_uniform(program, "specular", float(mat.specular))
         set_uniform(program, "shininess", float(mat.shininess))
@@ -120,16 +133,25 @@ class GpuScene:
             tex.anisotropy = self.anisotropy(node, view, size) if view is not None else MAX_ANISOTROPY
             tex.use(texture_unit)
 
-    def draw(self, program: moderngl.Program, set_node=None, front_to_back_from=None, only=None,
-             cull_to: np.ndarray | None = None) -> None:
+    def draw(
+        self,
+        program: moderngl.Program,
+        set_node=None,
+        front_to_back_from=None,
+        only=None,
+        cull_to: np.ndarray | None = None,
+    ) -> None:
         """Draw every visible node (``only``: of these node indices), calling ``set_node(index, node)``
         before each. With ``front_to_back_from`` (an eye position), nearest bounding boxes first: the
         depth test then rejects hidden fragments before they are shaded. ``cull_to``: a 4×4
         view-projection matrix (row-major); nodes whose bounding box lies wholly outside its frustum
         are skipped (they would draw no pixel)."""
         keep = self.in_frustum(cull_to) if cull_to is not None else None
-        order = [i for i, node in enumerate(self.scene.nodes)
-                 if node.visible and (only is None or i in only) and (keep is None or keep[i])]
+        order = [
+            i
+            for i, node in enumerate(self.scene.nodes)
+            if node.visible and (only is None or i in only) and (keep is None or keep[i])
+        ]
         if front_to_back_from is not None and len(order) > 1:
             distance = self.box_distances(np.asarray(front_to_back_from, np.float64))
             order.sort(key=lambda i: distance[i])
@@ -177,8 +199,12 @@ class GpuScene:
         meshes = tuple(id(n.mesh) for n in self.scene.nodes)
         if self._corner_key != meshes:  # nodes added or meshes swapped since
             boxes = [np.asarray(n.mesh.bounds, np.float64) for n in self.scene.nodes]
-            self._corner_cache = np.array([[[x, y, z, 1.0] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
-                                           for lo, hi in boxes]).reshape(len(boxes), 8, 4)
+            self._corner_cache = np.array(
+                [
+                    [[x, y, z, 1.0] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+                    for lo, hi in boxes
+                ]
+            ).reshape(len(boxes), 8, 4)
             self._corner_key = meshes
         return self._corner_cache
 

@@ -54,7 +54,11 @@ def emitters_from_lights(lights: list[PointLight | AreaLight], shadows: bool = T
     if not pos:
         z = np.zeros((0, 3), np.float32)
         return Emitters(z, z, z, np.zeros(0, np.int32), z)
-    e = Emitters(np.concatenate(pos), np.concatenate(nor), np.concatenate(wei), np.concatenate(rows), np.concatenate(origins))
+    e = Emitters(
+        np.concatenate(pos), np.concatenate(nor), np.concatenate(wei), np.concatenate(rows), np.concatenate(origins)
+    )
     if len(e) > limit:
-        raise InputError(f"{len(e)} light samples exceed the shading limit of {limit}; use fewer lights or fewer area samples")
+        raise InputError(
+            f"{len(e)} light samples exceed the shading limit of {limit}; use fewer lights or fewer area samples"
+        )
     return e

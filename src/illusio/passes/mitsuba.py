@@ -43,10 +43,17 @@ def sensor(mi, view: View, size: tuple[int, int], samples: int, seed: int) -> di
     if any(abs(s) > 0 for s in view.camera.shift):
         raise InputError("Mitsuba renders take centred cameras (no lens shift)")
     w, h = size
-    return {"type": "perspective", "fov": float(view.camera.fov_y), "fov_axis": "y",
-            "near_clip": float(view.camera.near), "far_clip": float(view.camera.far),
-            "to_world": mi.ScalarTransform4f.look_at(origin=[float(v) for v in view.pose.position],
-                                                      target=[float(v) for v in view.pose.target],
-                                                      up=[float(v) for v in view.pose.up]),
-            "film": {"type": "hdrfilm", "width": int(w), "height": int(h), "rfilter": {"type": "box"}},
-            "sampler": {"type": "independent", "sample_count": int(samples), "seed": int(seed)}}
+    return {
+        "type": "perspective",
+        "fov": float(view.camera.fov_y),
+        "fov_axis": "y",
+        "near_clip": float(view.camera.near),
+        "far_clip": float(view.camera.far),
+        "to_world": mi.ScalarTransform4f.look_at(
+            origin=[float(v) for v in view.pose.position],
+            target=[float(v) for v in view.pose.target],
+            up=[float(v) for v in view.pose.up],
+        ),
+        "film": {"type": "hdrfilm", "width": int(w), "height": int(h), "rfilter": {"type": "box"}},
+        "sampler": {"type": "independent", "sample_count": int(samples), "seed": int(seed)},
+    }

@@ -44,13 +44,13 @@ def gbuffer(scene: Scene, view: View, size: tuple[int, int]) -> GBufferImages:
         e1, e2 = b - a, c - a
         for chunk in range(0, len(f), 256):
             sl = slice(chunk, chunk + 256)
-            p = np.cross(dirs[:, None, :], e2[None, sl])             # (P, T, 3)
+            p = np.cross(dirs[:, None, :], e2[None, sl])  # (P, T, 3)
             det = np.einsum("ptk,tk->pt", p, e1[sl])
             ok = np.abs(det) > 1e-12
             inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-            s = origin - a[sl]                                      # (T, 3)
+            s = origin - a[sl]  # (T, 3)
             u = np.einsum("ptk,tk->pt", p, s) * inv
-            q = np.cross(s, e1[sl])                                 # (T, 3)
+            q = np.cross(s, e1[sl])  # (T, 3)
             vv = (dirs @ q.T) * inv
             t = (q * e2[sl]).sum(1)[None, :] * inv
             hit = ok & (u >= 0) & (vv >= 0) & (u + vv <= 1) & (t > view.camera.near * 0.999)
@@ -82,12 +82,21 @@ def gbuffer(scene: Scene, view: View, size: tuple[int, int]) -> GBufferImages:
     def img(a, c=None):
         return a.reshape((h, w) if c is None else (h, w, c)).astype(np.float32)
 
-    return GBufferImages(colour=img(colour, 3), specular=img(spec), depth=img(depth), normal=img(normal, 3),
-                         shininess=img(shin), position=img(position, 3), object_id=obj.reshape(h, w),
-                         emission=img(emis, 3))
+    return GBufferImages(
+        colour=img(colour, 3),
+        specular=img(spec),
+        depth=img(depth),
+        normal=img(normal, 3),
+        shininess=img(shin),
+        position=img(position, 3),
+        object_id=obj.reshape(h, w),
+        emission=img(emis, 3),
+    )
 
 
-def shading(g: GBufferImages, emitters: Emitters, camera_position, params: ShadingParams = ShadingParams()) -> np.ndarray:
+def shading(
+    g: GBufferImages, emitters: Emitters, camera_position, params: ShadingParams = ShadingParams()
+) -> np.ndarray:
     """Linear radiance (H, W, 3): Σ_k (ρ/π + k_s (s+2)/(2π) max(0, r_k·v)^s) E_k + ambient·ρ + emission,
     E_k = W_k max(0, n·l_k) (m_k = 0 ? 1 : max(0, −m_k·l_k)) / max(r_k², r_min²); background elsewhere."""
     p = g.position.astype(np.float64)
@@ -98,13 +107,13 @@ def shading(g: GBufferImages, emitters: Emitters, camera_position, params: Shadi
     v /= np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-30)
     total = np.zeros_like(p)
     for pos, m, weight in zip(emitters.position, emitters.normal, emitters.weight):
-        l = pos.astype(np.float64) - p
-        r2 = np.maximum((l * l).sum(-1), params.min_distance**2)
-        l /= np.maximum(np.linalg.norm(l, axis=-1, keepdims=True), 1e-30)
-        cos_r = np.maximum((n * l).sum(-1), 0)
-        cos_e = np.maximum(-(l @ m), 0) if np.dot(m, m) > 0 else 1.0
+        to_light = pos.astype(np.float64) - p
+        r2 = np.maximum((to_light * to_light).sum(-1), params.min_distance**2)
+        to_light /= np.maximum(np.linalg.norm(to_light, axis=-1, keepdims=True), 1e-30)
+        cos_r = np.maximum((n * to_light).sum(-1), 0)
+        cos_e = np.maximum(-(to_light @ m), 0) if np.dot(m, m) > 0 else 1.0
         irradiance = weight[None, None, :] * (cos_r * cos_e / r2)[..., None]
-        refl = 2 * (n * l).sum(-1, keepdims=True) * n - l
+        refl = 2 * (n * to_light).sum(-1, keepdims=True) * n - to_light
         phong = g.specular * (g.shininess + 2) / (2 * np.pi) * np.maximum((refl * v).sum(-1), 0) ** g.shininess
         total += (albedo / np.pi + phong[..., None]) * irradiance * (cos_r > 0)[..., None]
     total += np.asarray(params.ambient) * albedo + g.emission

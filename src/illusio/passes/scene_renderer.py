@@ -7,7 +7,6 @@ set-up cost. Techniques that draw a scene keep one inside their own renderer.
 
 from __future__ import annotations
 
-
 import moderngl
 import numpy as np
 
@@ -20,8 +19,8 @@ from .forward import ForwardPass, ScreenMaterial
 from .gbuffer import GBuffer, GBufferPass
 from .gpu_scene import GpuScene
 from .lights import Emitters, emitters_from_lights
-from .shading import MAX_EMITTERS, ShadingParams, ShadingPass
 from .settings import RenderSettings
+from .shading import MAX_EMITTERS, ShadingParams, ShadingPass
 from .shadows import ShadowPass
 
 __all__ = ["SceneRenderer", "RenderSettings", "render_scene", "MAX_SIZE", "check_size"]
@@ -103,9 +102,14 @@ class SceneRenderer(Renderer):
         self._keep_maps(dict(gbuf.textures))  # the G-buffer stays readable until the next frame
         return out
 
-    def render_forward(self, frame: Frame, settings: RenderSettings | None = None,
-                       screen_material: ScreenMaterial | None = None, object_ids: bool = False,
-                       reuse_static: bool = False) -> tuple[moderngl.Texture, moderngl.Texture | None]:
+    def render_forward(
+        self,
+        frame: Frame,
+        settings: RenderSettings | None = None,
+        screen_material: ScreenMaterial | None = None,
+        object_ids: bool = False,
+        reuse_static: bool = False,
+    ) -> tuple[moderngl.Texture, moderngl.Texture | None]:
         """The forward path: (radiance RGBA float32, object ids R32F or None), both pooled.
         ``screen_material``: nodes coloured from a screen-space texture (see :class:`ScreenMaterial`).
         ``reuse_static``: frame after frame where only the screen texture changes (a stereogram on a TV
@@ -125,20 +129,23 @@ class SceneRenderer(Renderer):
             kept = self._static is not None and self._static[0] == key
             if not kept and key == self._last_key:  # the view stood still: keep the rest from now on
                 self._drop_static()
-                base, depth = self.forward_pass.static_layer(gpu, view, size, emitters, params, atlas, matrices,
-                                                             s.shadow_tile_size, screen_material.nodes)
+                base, depth = self.forward_pass.static_layer(
+                    gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size, screen_material.nodes
+                )
                 self._static = (key, base, depth)
                 kept = True
             self._last_key = key
             if kept:
                 _, base, depth = self._static
-                out = self.forward_pass.dynamic_layer(base, depth, gpu, view, emitters, params, atlas, matrices,
-                                                      s.shadow_tile_size, screen_material)
+                out = self.forward_pass.dynamic_layer(
+                    base, depth, gpu, view, emitters, params, atlas, matrices, s.shadow_tile_size, screen_material
+                )
                 return out, None
             # a moving view: one whole pass is cheaper than building a layer used once
             self._drop_static()
-        return self.forward_pass(gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size,
-                                 screen_material, object_ids)
+        return self.forward_pass(
+            gpu, view, size, emitters, params, atlas, matrices, s.shadow_tile_size, screen_material, object_ids
+        )
 
     @property
     def static_layer_kept(self) -> bool:
@@ -175,8 +182,9 @@ class SceneRenderer(Renderer):
             self._shadows = None
 
 
-def render_scene(scene: Scene, view=None, size=(640, 480), ctx: Context | None = None,
-                 settings: RenderSettings = RenderSettings()) -> np.ndarray:
+def render_scene(
+    scene: Scene, view=None, size=(640, 480), ctx: Context | None = None, settings: RenderSettings = RenderSettings()
+) -> np.ndarray:
     """One-shot render of ``scene`` (its ``main`` camera by default): float32 (H, W, 3), row 0 on
     top. Without ``ctx``, the process's default headless context is used (and kept). The context
     keeps one renderer for these calls, holding the last scene: called again with a scene equal by

@@ -10,8 +10,15 @@ from ..core.params import check_ranges, param
 __all__ = ["RenderSettings", "COMPOSITES"]
 
 #: stereo layouts, then anaglyph schemes (passes.stereo.StereoCompositePass)
-COMPOSITES = ("side-by-side", "cross-eyed", "top-bottom", "anaglyph", "anaglyph-colour", "anaglyph-half-colour",
-              "anaglyph-grey")
+COMPOSITES = (
+    "side-by-side",
+    "cross-eyed",
+    "top-bottom",
+    "anaglyph",
+    "anaglyph-colour",
+    "anaglyph-half-colour",
+    "anaglyph-grey",
+)
 
 
 @dataclass(frozen=True)
@@ -22,8 +29,9 @@ class RenderSettings:
     CPU rasteriser at high resolution)."""
 
     shadows: bool = param(True, help="cube shadow maps of every light")
-    shadow_tile_size: int = param(512, range=(64, 4096), unit="px", step=64, label="shadow map size",
-                                  help="pixels per cube face")
+    shadow_tile_size: int = param(
+        512, range=(64, 4096), unit="px", step=64, label="shadow map size", help="pixels per cube face"
+    )
     exposure: float = param(1.0, range=(0.01, 16.0), log=True, help="scale on the linear radiance")
     forward: bool = param(False, label="forward shading", help="light in the pass that draws (same image)")
 

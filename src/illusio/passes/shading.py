@@ -9,8 +9,8 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
-from .gbuffer import GBuffer
 from ..core.gl import set_uniform
+from .gbuffer import GBuffer
 from .lights import Emitters
 
 __all__ = ["ShadingPass", "ShadingParams", "MAX_EMITTERS", "bind_emitters"]
@@ -36,12 +36,21 @@ class ShadingPass:
     def __init__(self, ctx: Context):
         self.ctx = ctx
         # with and without the shadow lookups (emitters.glsl: a variant, not a uniform switch)
-        self.programs = {shadows: ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadows))
-                         for shadows in (False, True)}
+        self.programs = {
+            shadows: ctx.program(SHADER, MAX_EMITTERS=MAX_EMITTERS, SHADOW_MAPS=int(shadows))
+            for shadows in (False, True)
+        }
 
-    def __call__(self, gbuffer: GBuffer, emitters: Emitters, camera_position, params: ShadingParams = ShadingParams(),
-                 shadow_atlas: moderngl.Texture | None = None, shadow_matrices: np.ndarray | None = None,
-                 shadow_tile_size: int = 512) -> moderngl.Texture:
+    def __call__(
+        self,
+        gbuffer: GBuffer,
+        emitters: Emitters,
+        camera_position,
+        params: ShadingParams = ShadingParams(),
+        shadow_atlas: moderngl.Texture | None = None,
+        shadow_matrices: np.ndarray | None = None,
+        shadow_tile_size: int = 512,
+    ) -> moderngl.Texture:
         w, h = gbuffer.size
         out = self.ctx.acquire((w, h), 4, "f4")
         fbo = self.ctx.framebuffer([out])
@@ -58,8 +67,15 @@ class ShadingPass:
         return out
 
 
-def bind_emitters(prog, emitters: Emitters, params: ShadingParams, shadow_atlas: moderngl.Texture | None,
-                  shadow_matrices: np.ndarray | None, shadow_tile_size: int, unit: int) -> None:
+def bind_emitters(
+    prog,
+    emitters: Emitters,
+    params: ShadingParams,
+    shadow_atlas: moderngl.Texture | None,
+    shadow_matrices: np.ndarray | None,
+    shadow_tile_size: int,
+    unit: int,
+) -> None:
     """Set the uniforms of ``shaders/emitters.glsl`` (and the ambient term and exposure); the shadow
     atlas, if any, goes on texture ``unit`` (the program must be its SHADOW_MAPS=1 variant)."""
     k = len(emitters)

@@ -7,15 +7,21 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context
-from ..scene.transforms import frustum, look_at
 from ..core.gl import set_uniform
+from ..scene.transforms import frustum, look_at
 from .gpu_scene import GpuScene
 
 __all__ = ["ShadowPass", "cube_face_matrices"]
 
 SHADER = "passes/shaders/shadow.glsl"
-_FACES = (((1, 0, 0), (0, -1, 0)), ((-1, 0, 0), (0, -1, 0)), ((0, 1, 0), (0, 0, 1)),
-          ((0, -1, 0), (0, 0, -1)), ((0, 0, 1), (0, -1, 0)), ((0, 0, -1), (0, -1, 0)))
+_FACES = (
+    ((1, 0, 0), (0, -1, 0)),
+    ((-1, 0, 0), (0, -1, 0)),
+    ((0, 1, 0), (0, 0, 1)),
+    ((0, -1, 0), (0, 0, -1)),
+    ((0, 0, 1), (0, -1, 0)),
+    ((0, 0, -1), (0, -1, 0)),
+)
 
 
 def cube_face_matrices(near: float, far: float) -> np.ndarray:
@@ -32,7 +38,9 @@ class ShadowPass:
         self.tile_size = int(tile_size)
         self.program = ctx.program(SHADER, **defines)
 
-    def __call__(self, gpu_scene: GpuScene, positions: np.ndarray, near: float, far: float) -> tuple[moderngl.Texture, np.ndarray]:
+    def __call__(
+        self, gpu_scene: GpuScene, positions: np.ndarray, near: float, far: float
+    ) -> tuple[moderngl.Texture, np.ndarray]:
         """Atlas texture (pooled: release it) and the face matrices it was rendered with."""
         s = self.tile_size
         rows = max(1, len(positions))

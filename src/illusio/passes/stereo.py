@@ -8,10 +8,10 @@ from __future__ import annotations
 import moderngl
 import numpy as np
 
-from .settings import COMPOSITES
 from ..core.context import Context
 from ..core.errors import InputError
 from ..core.gl import set_uniform
+from .settings import COMPOSITES
 
 __all__ = ["StereoCompositePass", "COMPOSITES", "ANAGLYPH_MATRICES", "composite_size"]
 
@@ -26,8 +26,10 @@ _GREY_TO_CYAN = np.outer([0, 1.0, 1.0], _LUMA)
 #: is Dubois's least-squares red-cyan projection (E. Dubois, "A projection method to generate anaglyph
 #: stereo images", ICASSP 2001).
 ANAGLYPH_MATRICES = {
-    "anaglyph": (np.array([[0.456, 0.500, 0.176], [-0.040, -0.038, -0.016], [-0.015, -0.021, -0.005]]),
-                 np.array([[-0.043, -0.088, -0.002], [0.378, 0.734, -0.018], [-0.072, -0.113, 1.226]])),
+    "anaglyph": (
+        np.array([[0.456, 0.500, 0.176], [-0.040, -0.038, -0.016], [-0.015, -0.021, -0.005]]),
+        np.array([[-0.043, -0.088, -0.002], [0.378, 0.734, -0.018], [-0.072, -0.113, 1.226]]),
+    ),
     "anaglyph-colour": (_RED, _CYAN),
     "anaglyph-half-colour": (_GREY_TO_RED, _CYAN),
     "anaglyph-grey": (_GREY_TO_RED, _GREY_TO_CYAN),

@@ -3,9 +3,15 @@
 from ..core.technique import Technique
 
 TECHNIQUES = (
-    Technique(name="plain", title="Scenes through the shared core: G-buffer, cube shadow maps, Lambert + Phong shading",
-              renderer="illusio.passes.scene_renderer:SceneRenderer",
-              params="illusio.passes.scene_renderer:RenderSettings",
-              subject="illusio.scene.sources:scene_subject", source_kind="scene", default_source="living-room",
-              viewer_mode="illusio.viewer.modes.plain:PlainMode", benchmarks=("core",)),
+    Technique(
+        name="plain",
+        title="Scenes through the shared core: G-buffer, cube shadow maps, Lambert + Phong shading",
+        renderer="illusio.passes.scene_renderer:SceneRenderer",
+        params="illusio.passes.scene_renderer:RenderSettings",
+        subject="illusio.scene.sources:scene_subject",
+        source_kind="scene",
+        default_source="living-room",
+        viewer_mode="illusio.viewer.modes.plain:PlainMode",
+        benchmarks=("core",),
+    ),
 )

@@ -24,8 +24,9 @@ __all__ = ["ANISOTROPY_THRESHOLD", "footprint_anisotropy"]
 ANISOTROPY_THRESHOLD = 1.1
 
 
-def footprint_anisotropy(vertices: np.ndarray, faces: np.ndarray, texels: np.ndarray, view: View,
-                         size: tuple[int, int]) -> float:
+def footprint_anisotropy(
+    vertices: np.ndarray, faces: np.ndarray, texels: np.ndarray, view: View, size: tuple[int, int]
+) -> float:
     """Largest footprint ratio over the corners of the triangles ``faces`` (F, 3) of world-space
     ``vertices`` (N, 3) with texture coordinates ``texels`` (N, 2) in texels (uv × texture size),
     seen in ``view`` at ``size`` = (width, height) pixels.
@@ -42,7 +43,7 @@ def footprint_anisotropy(vertices: np.ndarray, faces: np.ndarray, texels: np.nda
         return 1.0
     m = view.view_matrix().astype(np.float64)
     cam = np.asarray(vertices, np.float64) @ m[:3, :3].T + m[:3, 3]
-    p = cam[np.asarray(faces)]                      # (F, 3 corners, 3)
+    p = cam[np.asarray(faces)]  # (F, 3 corners, 3)
     depth = -p[..., 2]
     near = view.camera.near
     seen = (depth > near).any(axis=1)
@@ -61,18 +62,18 @@ def footprint_anisotropy(vertices: np.ndarray, faces: np.ndarray, texels: np.nda
     # texel offset per world offset within each plane: G [e1 e2 n] = [t1-t0 t2-t0 0]
     basis = np.stack([e1, e2, normal], axis=-1)
     offsets = np.stack([t[:, 1] - t[:, 0], t[:, 2] - t[:, 0], np.zeros((len(t), 2))], axis=-1)
-    gradient = offsets @ np.linalg.inv(basis)       # (F, 2, 3)
-    ray = p / depth[..., None]                      # unit depth: (x, y, -1) in camera space
+    gradient = offsets @ np.linalg.inv(basis)  # (F, 2, 3)
+    ray = p / depth[..., None]  # unit depth: (x, y, -1) in camera space
     n_dot_r = np.einsum("fk,fck->fc", normal, ray)
     if (np.abs(n_dot_r) < 1e-9).any():
         return math.inf
     pixel = 2.0 * math.tan(math.radians(view.camera.fov_y) / 2) / size[1]
     steps = []
-    for axis in (0, 1):                             # camera right, camera up
+    for axis in (0, 1):  # camera right, camera up
         e = np.zeros(3)
         e[axis] = 1.0
         step = e - ray * (normal[:, None, axis] / n_dot_r)[..., None]
-        steps.append(pixel * depth[..., None] * step)            # (F, 3, 3): world offset per pixel
+        steps.append(pixel * depth[..., None] * step)  # (F, 3, 3): world offset per pixel
     jac = np.einsum("fij,fcjk->fcik", gradient, np.stack(steps, axis=-1))  # (F, 3, 2, 2) texels per pixel
     a, b, c, d = jac[..., 0, 0], jac[..., 0, 1], jac[..., 1, 0], jac[..., 1, 1]
     # singular values of [[a b] [c d]]: s1 s2 = |det|, s1² + s2² = Frobenius²

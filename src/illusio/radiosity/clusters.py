@@ -40,7 +40,8 @@ taken as 1): a pair is linked where T_ij ≤ ε·Φ, else the larger node (box d
 cluster into its two children, an element into its four while above A_ε — and a pair of two
 elements goes to :func:`illusio.radiosity.refine.refine`, the hierarchy's own criterion with exact
 form factors. Pairs whose element end has the other node's whole box behind its plane carry nothing
-and are dropped, as are accepted pairs none of whose sampled rays leaves a front toward a front. The bound makes a cluster link's error at most ε·Φ, the same as an element link's.
+and are dropped, as are accepted pairs none of whose sampled rays leaves a front toward a front. The bound makes a
+cluster link's error at most ε·Φ, the same as an element link's.
 """
 
 from __future__ import annotations
@@ -89,7 +90,7 @@ def _halve(n, left, right, start, end):
         for side in range(2):
             a, b = (s, mid) if side == 0 else (mid, e)
             if b - a == 1:
-                node = a                        # a position in the order, mapped to its root later
+                node = a  # a position in the order, mapped to its root later
             else:
                 start[count], end[count] = a, b
                 node = -1 - count
@@ -121,7 +122,7 @@ class ClusterTree:
     included: np.ndarray
 
     @classmethod
-    def build(cls, h: Hierarchy, roots: np.ndarray | None = None) -> "ClusterTree":
+    def build(cls, h: Hierarchy, roots: np.ndarray | None = None) -> ClusterTree:
         roots = h.roots[h.active[h.roots]] if roots is None else np.asarray(roots, np.int64)
         n = len(roots)
         order = roots[np.argsort(_morton(h.centre[roots]), kind="stable")] if n else roots
@@ -133,8 +134,19 @@ class ClusterTree:
             for child in (left, right):
                 leaf = child >= 0
                 child[leaf] = order[child[leaf]]
-        tree = cls(order, start, end, left, right, np.zeros((clusters, 3)), np.zeros((clusters, 3)),
-                   np.zeros((clusters, 3)), np.zeros(clusters), np.zeros((clusters, 3)), np.ones(n, bool))
+        tree = cls(
+            order,
+            start,
+            end,
+            left,
+            right,
+            np.zeros((clusters, 3)),
+            np.zeros((clusters, 3)),
+            np.zeros((clusters, 3)),
+            np.zeros(clusters),
+            np.zeros((clusters, 3)),
+            np.ones(n, bool),
+        )
         tree._summarise(h)
         return tree
 
@@ -192,8 +204,15 @@ class ClusterTree:
         """Add to every included member root's row of ``out`` the irradiance its clusters' incident
         ``moments`` (C, 3, 10) give it, by its ``normal`` (per element): the moments of all the
         clusters above a root are summed, then turned into irradiance (member_irradiance)."""
-        _push(self.order, self.start, self.end, self.included, np.ascontiguousarray(moments, np.float64),
-              np.ascontiguousarray(normal, np.float64), out)
+        _push(
+            self.order,
+            self.start,
+            self.end,
+            self.included,
+            np.ascontiguousarray(moments, np.float64),
+            np.ascontiguousarray(normal, np.float64),
+            out,
+        )
 
     def members(self, cluster: int) -> np.ndarray:
         """The included member roots of cluster ``cluster``."""
@@ -257,8 +276,9 @@ class ClusterLinks:
         self.source = np.asarray(source, np.int64).reshape(-1)
         self.kernel = np.asarray(kernel, np.float64).reshape(-1)
         self.visibility = np.asarray(visibility, np.float64).reshape(-1)
-        self.direction = (np.zeros((len(self.receiver), 3)) if direction is None
-                          else np.asarray(direction, np.float64).reshape(-1, 3))
+        self.direction = (
+            np.zeros((len(self.receiver), 3)) if direction is None else np.asarray(direction, np.float64).reshape(-1, 3)
+        )
 
     def __len__(self) -> int:
         return len(self.receiver)
@@ -267,7 +287,7 @@ class ClusterLinks:
         for name, value in zip(self._FIELDS, (receiver, source, kernel, visibility, direction)):
             setattr(self, name, np.concatenate([getattr(self, name), np.asarray(value, getattr(self, name).dtype)]))
 
-    def remove(self, drop: np.ndarray) -> "ClusterLinks":
+    def remove(self, drop: np.ndarray) -> ClusterLinks:
         """Remove the links where ``drop`` and return them."""
         drop = np.asarray(drop, bool)
         gone = ClusterLinks(*(getattr(self, name)[drop] for name in self._FIELDS))
@@ -279,8 +299,9 @@ class ClusterLinks:
         """Mask of the links with an end among ``elements`` (element nodes only)."""
         mine = np.zeros(size, bool)
         mine[elements] = True
-        return (((self.receiver >= 0) & mine[np.maximum(self.receiver, 0)])
-                | ((self.source >= 0) & mine[np.maximum(self.source, 0)]))
+        return ((self.receiver >= 0) & mine[np.maximum(self.receiver, 0)]) | (
+            (self.source >= 0) & mine[np.maximum(self.source, 0)]
+        )
 
 
 class ClusteredGather:
@@ -305,8 +326,17 @@ class ClusteredGather:
         power_cluster = tree.member_sums(self.area[:, None] * b) if len(tree) else np.zeros((0, 3))
         element = np.zeros((len(self.area), 3))
         moments = np.zeros((len(tree), 3, 10))
-        _cluster_gather(L.receiver, L.source, self.weight, L.direction, self.area,
-                        np.ascontiguousarray(b, np.float64), power_cluster, element, moments)
+        _cluster_gather(
+            L.receiver,
+            L.source,
+            self.weight,
+            L.direction,
+            self.area,
+            np.ascontiguousarray(b, np.float64),
+            power_cluster,
+            element,
+            moments,
+        )
         return element, moments
 
     def __matmul__(self, b: np.ndarray) -> np.ndarray:
@@ -357,12 +387,12 @@ def member_irradiance(m, n0, n1, n2):
     on, 0.06–0.09 of it where none should arrive (grazing, from behind) — and linear in the light,
     so B stays linear in the lamps' exitances (lamp sliders re-solve, relight's lamp basis)."""
     along = n0 * m[1] + n1 * m[2] + n2 * m[3]
-    square = (n0 * n0 * m[4] + n1 * n1 * m[5] + n2 * n2 * m[6]
-              + 2 * (n0 * n1 * m[7] + n0 * n2 * m[8] + n1 * n2 * m[9]))
+    square = n0 * n0 * m[4] + n1 * n1 * m[5] + n2 * n2 * m[6] + 2 * (n0 * n1 * m[7] + n0 * n2 * m[8] + n1 * n2 * m[9])
     return PUSH_COEFFICIENTS[0] * m[0] + PUSH_COEFFICIENTS[1] * along + PUSH_COEFFICIENTS[2] * square
 
 
 # --- refinement over nodes
+
 
 def _node_boxes(h: Hierarchy, tree: ClusterTree, nodes: np.ndarray):
     """(lo, hi, centre, area, normal) of ``nodes`` (elements and clusters mixed)."""
@@ -403,8 +433,11 @@ def transfer_bound(h, tree, receivers, sources, b_max_element, b_max_cluster):
     d = _box_distance(lo_r, hi_r, lo_s, hi_s)
     with np.errstate(divide="ignore"):
         ff = np.minimum(area_s / (np.pi * d * d), 1.0)
-    b = np.where(sources >= 0, b_max_element[np.maximum(sources, 0)],
-                 b_max_cluster[np.maximum(-1 - sources, 0)] if len(tree) else 0.0)
+    b = np.where(
+        sources >= 0,
+        b_max_element[np.maximum(sources, 0)],
+        b_max_cluster[np.maximum(-1 - sources, 0)] if len(tree) else 0.0,
+    )
     return b * area_r * ff
 
 
@@ -449,9 +482,12 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         if visibility.empty:
             clear[counted] = True
         else:
-            hit = visibility.scene.run(origin[counted].astype(np.float32), unit[counted].astype(np.float32),
-                                       dists=np.maximum(length[counted] - offset, 0).astype(np.float32),
-                                       query="OCCLUDED")
+            hit = visibility.scene.run(
+                origin[counted].astype(np.float32),
+                unit[counted].astype(np.float32),
+                dists=np.maximum(length[counted] - offset, 0).astype(np.float32),
+                query="OCCLUDED",
+            )
             clear[counted] = np.asarray(hit) < 0
             visibility.rays += int(counted.sum())
     seen = counted.sum(axis=1)
@@ -504,14 +540,27 @@ def _live(tree, nodes) -> np.ndarray:
     return out
 
 
-def refine_nodes(h: Hierarchy, tree: ClusterTree, visibility, receivers, sources, threshold: float,
-                 min_area: float, criterion: str, links, cluster_links: ClusterLinks, radiosity=None) -> None:
+def refine_nodes(
+    h: Hierarchy,
+    tree: ClusterTree,
+    visibility,
+    receivers,
+    sources,
+    threshold: float,
+    min_area: float,
+    criterion: str,
+    links,
+    cluster_links: ClusterLinks,
+    radiosity=None,
+) -> None:
     """Refine node pairs (the module docstring) into ``cluster_links`` and, through
     :func:`refine.refine`, element ``links``. ``radiosity``: the B estimate (default the
     hierarchy's). A root excluded from the tree is never reached from a cluster, only when named."""
     # clusters' B_max and ρ_max from the roots (fixed); the elements' grow with every split (children
     # inherit their parent's values), so they are read again each round
-    b_cluster = tree.member_max(channel_max(h.radiosity if radiosity is None else radiosity)) if len(tree) else np.zeros(0)
+    b_cluster = (
+        tree.member_max(channel_max(h.radiosity if radiosity is None else radiosity)) if len(tree) else np.zeros(0)
+    )
     rho_cluster = tree.member_max(channel_max(h.reflectance)) if len(tree) else np.zeros(0)
     position = np.full(len(h), -1)
     position[tree.order] = np.arange(len(tree.order))

@@ -39,8 +39,9 @@ def _link_keys(receiver: np.ndarray, source: np.ndarray) -> np.ndarray:
 
 
 @numba.njit(parallel=True, cache=True)
-def _fresh_blocks(offset, count, first_under, leaf_under, source, ready, corners, centre, normal, triangle,
-                  arena_leaf, arena_ff):
+def _fresh_blocks(
+    offset, count, first_under, leaf_under, source, ready, corners, centre, normal, triangle, arena_leaf, arena_ff
+):
     """Fill block q (its pairs from offset[q]): the leaves under its receiver, from the leaf table,
     and the form factors from each of their corners to its source (display.corner_form_factors);
     only its leaves where not ``ready[q]``."""
@@ -57,8 +58,9 @@ def _fresh_blocks(offset, count, first_under, leaf_under, source, ready, corners
                 x0 = corners[e, c, 0] + 0.01 * (centre[e, 0] - corners[e, c, 0])
                 x1 = corners[e, c, 1] + 0.01 * (centre[e, 1] - corners[e, c, 1])
                 x2 = corners[e, c, 2] + 0.01 * (centre[e, 2] - corners[e, c, 2])
-                arena_ff[offset[q] + p, c] = contour_integral(x0, x1, x2, normal[e, 0], normal[e, 1], normal[e, 2],
-                                                              corners[j], m)
+                arena_ff[offset[q] + p, c] = contour_integral(
+                    x0, x1, x2, normal[e, 0], normal[e, 1], normal[e, 2], corners[j], m
+                )
 
 
 @numba.njit(parallel=True, cache=True)
@@ -144,13 +146,13 @@ class CornerGather:
         # per block: its first pair in the arena, its pairs, and its link's key (views of buffers
         # with room to grow: a drag appends a few thousand blocks to ~200k a call)
         self._set_blocks(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, bool))
-        self._live = np.zeros(0, bool)          # the blocks the last call's links used
-        self._leaf = np.zeros(0, np.int32)      # the arena: leaf and F at its 4 corners per pair
+        self._live = np.zeros(0, bool)  # the blocks the last call's links used
+        self._leaf = np.zeros(0, np.int32)  # the arena: leaf and F at its 4 corners per pair
         self._ff = np.zeros((0, 4), FF_DTYPE)
         self._used = 0
         self._child = np.zeros(0, np.int64)
         self._corners = np.zeros((0, 4, 3))
-        self._asked = np.zeros(0, bool)         # the leaves of the last call, as a mask
+        self._asked = np.zeros(0, bool)  # the leaves of the last call, as a mask
         self.reused = self.computed = self.deferred = self.pairs = 0
 
     def _changed(self, h: Hierarchy, asked: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -194,7 +196,7 @@ class CornerGather:
         if size > len(self._leaf):
             capacity = int(size * 1.25) + 16
             leaf, ff = np.empty(capacity, np.int32), np.empty((capacity, 4), FF_DTYPE)
-            leaf[:self._used], ff[:self._used] = self._leaf[:self._used], self._ff[:self._used]
+            leaf[: self._used], ff[: self._used] = self._leaf[: self._used], self._ff[: self._used]
             self._leaf, self._ff = leaf, ff
 
     def _compact(self, block: np.ndarray) -> np.ndarray:
@@ -221,8 +223,8 @@ class CornerGather:
                 new[:n] = old[:n]
             self._buffers = grown
         for buffer, values in zip(self._buffers, (offset, count, key, ready)):
-            buffer[n:n + k] = values
-        self._offset, self._count, self._key, self._ready = (buffer[:n + k] for buffer in self._buffers)
+            buffer[n : n + k] = values
+        self._offset, self._count, self._key, self._ready = (buffer[: n + k] for buffer in self._buffers)
 
     def __call__(self, h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
         asked = np.zeros(len(h), bool)
@@ -240,9 +242,20 @@ class CornerGather:
         count = np.searchsorted(element, r[fresh], side="right") - first_under
         offset = (self._used + np.cumsum(count) - count).astype(np.int64)
         self._grow(self._used + int(count.sum()))
-        _fresh_blocks(offset, count, first_under, leaf_under, s[fresh], ready, np.ascontiguousarray(h.corners, np.float64),
-                      np.ascontiguousarray(h.centre, np.float64), np.ascontiguousarray(h.normal, np.float64),
-                      np.ascontiguousarray(h.triangle, np.bool_), self._leaf, self._ff)
+        _fresh_blocks(
+            offset,
+            count,
+            first_under,
+            leaf_under,
+            s[fresh],
+            ready,
+            np.ascontiguousarray(h.corners, np.float64),
+            np.ascontiguousarray(h.centre, np.float64),
+            np.ascontiguousarray(h.normal, np.float64),
+            np.ascontiguousarray(h.triangle, np.bool_),
+            self._leaf,
+            self._ff,
+        )
         self._used += int(count.sum())
         block[fresh] = len(self._offset) + np.arange(len(fresh))
         self._append_blocks(offset, count, _link_keys(r[fresh], s[fresh]), ready)
@@ -260,7 +273,16 @@ class CornerGather:
         row = np.full(len(h), -1, np.int64)
         row[leaves] = np.arange(len(leaves))
         parts = np.zeros((SLICES, len(leaves), 4, 3))
-        _gather(self._offset[block], self._count[block], self._leaf, self._ff, visibility, s,
-                np.ascontiguousarray(h.radiosity, np.float64), row, parts)
+        _gather(
+            self._offset[block],
+            self._count[block],
+            self._leaf,
+            self._ff,
+            visibility,
+            s,
+            np.ascontiguousarray(h.radiosity, np.float64),
+            row,
+            parts,
+        )
         irradiance = parts.sum(axis=0)
         return exitance[leaves][:, None] + h.reflectance[leaves][:, None] * irradiance

@@ -5,7 +5,8 @@ and the links an element receives as lines (shaders/links.glsl). The reference i
 Smooth display (the chapter's, radiosity interpolated from the vertices): the radiosity at each leaf
 corner is gathered at that point, B(x) = E + ρ·Σ F_x→j·V_ij·B_j over the links the leaf and its
 ancestors receive, with the exact point-to-polygon form factor at x and the link's visibility; the
-values of the leaves of one surface (Polygons.surfaces: polygons sharing edges in one plane) meeting at a point are averaged, leaves that see nothing (under a
+values of the leaves of one surface (Polygons.surfaces: polygons sharing edges in one plane) meeting at a point are
+averaged, leaves that see nothing (under a
 block, behind a door) all but left out so their black does not bleed out. (The usual mean of the
 neighbouring elements' B flattens every gradient toward a polygon's border: on the Cornell box's
 back wall it renders the direct light 2.8 % too dark where the element values themselves are within
@@ -23,10 +24,10 @@ import numpy as np
 from ..core.context import Context
 from ..core.gl import set_uniform
 from ..scene.camera import View
+from .corner_cache import CornerGather
 from .formfactor import point_polygon
 from .hierarchy import Hierarchy, leaves_under
 from .links import Links
-from .corner_cache import CornerGather
 from .visibility import INVISIBLE, PARTIAL, VISIBLE, splitmix
 
 __all__ = ["LeafMesh", "leaf_mesh", "corner_average", "DisplayPass", "LINK_COLOURS"]
@@ -66,7 +67,7 @@ def corner_gather(h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.n
     element, leaf_under = leaves_under(h, leaves)
     lo = np.searchsorted(element, links.receiver)
     count = np.searchsorted(element, links.receiver, side="right") - lo
-    pair_link = np.repeat(np.arange(len(links)), count)                  # every (link, leaf under it)
+    pair_link = np.repeat(np.arange(len(links)), count)  # every (link, leaf under it)
     leaf = leaf_under[lo[pair_link] + np.arange(len(pair_link)) - np.repeat(np.cumsum(count) - count, count)]
     weight = corner_form_factors(h, leaf, links.source[pair_link]) * links.visibility[pair_link][:, None]
     row = np.full(len(h), -1)
@@ -131,12 +132,19 @@ def corner_ids(key: np.ndarray) -> np.ndarray:
     return vertex
 
 
-def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = None,
-                     exitance: np.ndarray | None = None, gather=None, shown: np.ndarray | None = None) -> np.ndarray:
+def vertex_radiosity(
+    h: Hierarchy,
+    leaves: np.ndarray,
+    links: Links | None = None,
+    exitance: np.ndarray | None = None,
+    gather=None,
+    shown: np.ndarray | None = None,
+) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3): gathered at the corners (with ``links`` and
     ``exitance``; by ``gather``, a CornerGather that keeps its form factors between calls, when
     given) or each leaf's own B, then averaged over the leaves of the same surface sharing that
-    corner point (``Polygons.surfaces``: a wall cut into triangles is smoothed as one). ``shown`` (mask over the elements, optional): the leaves whose pixels will be
+    corner point (``Polygons.surfaces``: a wall cut into triangles is smoothed as one). ``shown`` (mask over the
+    elements, optional): the leaves whose pixels will be
     displayed; only they and the leaves sharing a corner point with them are gathered (every corner
     of a shown leaf is then exact), the others keep their own B: a view that sees part of a room
     pays for that part."""
@@ -160,7 +168,7 @@ def vertex_radiosity(h: Hierarchy, leaves: np.ndarray, links: Links | None = Non
 def _corner_points(h: Hierarchy, leaves: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(the id of each corner's point on its surface (4n,), whether the corner is a real one (a
     triangle's fourth is a repeat)): corners of leaves of one surface at one point share an id."""
-    corners = h.corners[leaves]                                     # (n, 4, 3)
+    corners = h.corners[leaves]  # (n, 4, 3)
     extent = max(float(np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max()), 1e-9)
     q = np.round(corners / (1e-7 * extent)).astype(np.int64)
     key = np.c_[np.repeat(h.polygons.surfaces()[h.polygon[leaves]], 4), q.reshape(-1, 3)]
@@ -186,22 +194,37 @@ def corner_average(h: Hierarchy, leaves: np.ndarray, values: np.ndarray) -> np.n
     return _average_at(vertex, corner_of_tri, np.repeat(np.asarray(values, np.float64)[:, None], 4, axis=1))
 
 
-def leaf_mesh(h: Hierarchy, links: Links | None = None, exitance: np.ndarray | None = None,
-              smooth: bool = True, gather=None, shown: np.ndarray | None = None) -> LeafMesh:
+def leaf_mesh(
+    h: Hierarchy,
+    links: Links | None = None,
+    exitance: np.ndarray | None = None,
+    smooth: bool = True,
+    gather=None,
+    shown: np.ndarray | None = None,
+) -> LeafMesh:
     """The leaves as a triangle mesh for display (see the module docstring). Smooth: gathered at the
     corners with ``links`` and ``exitance`` (E per element; ``gather``, ``shown``: see
     vertex_radiosity), or averaged from the leaves without."""
     leaves = h.leaves()
     n = len(leaves)
-    b = vertex_radiosity(h, leaves, links, exitance if exitance is not None else h.exitance, gather, shown) if smooth else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
+    b = (
+        vertex_radiosity(h, leaves, links, exitance if exitance is not None else h.exitance, gather, shown)
+        if smooth
+        else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
+    )
     tri = h.triangle[leaves]
     base = np.arange(n) * 4
     faces = np.concatenate([np.c_[base, base + 1, base + 2], np.c_[base[~tri], base[~tri] + 2, base[~tri] + 3]])
     face_element = np.r_[leaves, leaves[~tri]]
     corner = np.where(tri[:, None, None], _TRI_UV, _QUAD_UV)
-    return LeafMesh(h.corners[leaves].reshape(-1, 3).astype(np.float32), (b / np.pi).reshape(-1, 3).astype(np.float32),
-                    corner.reshape(-1, 3).astype(np.float32), np.repeat(leaves, 4).astype(np.float32),
-                    faces.astype(np.int32), face_element)
+    return LeafMesh(
+        h.corners[leaves].reshape(-1, 3).astype(np.float32),
+        (b / np.pi).reshape(-1, 3).astype(np.float32),
+        corner.reshape(-1, 3).astype(np.float32),
+        np.repeat(leaves, 4).astype(np.float32),
+        faces.astype(np.int32),
+        face_element,
+    )
 
 
 class DisplayPass:
@@ -216,9 +239,9 @@ class DisplayPass:
         self._vaos: dict = {}
 
     def load(self, mesh: LeafMesh) -> None:
-        self.ctx.make_current()          # buffers belong to the context current when they are made
+        self.ctx.make_current()  # buffers belong to the context current when they are made
         self.release()
-        if not len(mesh.faces):          # nothing shown (no leaf in view): draws nothing; GL refuses empty buffers
+        if not len(mesh.faces):  # nothing shown (no leaf in view): draws nothing; GL refuses empty buffers
             return
         gl = self.ctx.gl
         data = np.hstack([mesh.positions, mesh.radiance, mesh.corner, mesh.element[:, None]]).astype(np.float32)
@@ -226,12 +249,22 @@ class DisplayPass:
         ibo = gl.buffer(np.ascontiguousarray(mesh.faces).tobytes())
         self._buffers = [vbo, ibo]
         for edges, program in self.programs.items():
-            layout = (vbo, "3f 3f 3f 1f", "in_position", "in_radiance", "in_corner", "in_element") if edges \
+            layout = (
+                (vbo, "3f 3f 3f 1f", "in_position", "in_radiance", "in_corner", "in_element")
+                if edges
                 else (vbo, "3f 3f 12x 1f", "in_position", "in_radiance", "in_element")
+            )
             self._vaos[edges] = gl.vertex_array(program, [layout], ibo)
 
-    def __call__(self, view: View, size: tuple[int, int], exposure: float = 1.0, edges: bool = False,
-                 edge_colour=(0.0, 0.0, 0.0), elements: bool = True):
+    def __call__(
+        self,
+        view: View,
+        size: tuple[int, int],
+        exposure: float = 1.0,
+        edges: bool = False,
+        edge_colour=(0.0, 0.0, 0.0),
+        elements: bool = True,
+    ):
         """(colour, element) targets; ``elements=False``: no element target (None), a cheaper draw."""
         ctx = self.ctx
         w, h = size

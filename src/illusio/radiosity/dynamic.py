@@ -20,7 +20,6 @@ import numba
 import numpy as np
 
 from ..core.errors import InputError
-
 from .clusters import cluster_visibility
 from .polygons import MAX_POLYGONS, Polygons, rectangle
 from .refine import refine
@@ -31,8 +30,10 @@ __all__ = ["shaft_meets_box", "add_object", "add_lamp", "move_object", "remove_o
 def element_boxes(h, elements) -> tuple[np.ndarray, np.ndarray]:
     c = h.corners[elements]
     # four arrays compared: a reduction along the short corner axis costs several times more
-    return (np.minimum(np.minimum(c[:, 0], c[:, 1]), np.minimum(c[:, 2], c[:, 3])),
-            np.maximum(np.maximum(c[:, 0], c[:, 1]), np.maximum(c[:, 2], c[:, 3])))
+    return (
+        np.minimum(np.minimum(c[:, 0], c[:, 1]), np.minimum(c[:, 2], c[:, 3])),
+        np.maximum(np.maximum(c[:, 0], c[:, 1]), np.maximum(c[:, 2], c[:, 3])),
+    )
 
 
 def _touching(sol, elements) -> np.ndarray:
@@ -53,7 +54,7 @@ def shaft_meets_box(lo_i, hi_i, lo_j, hi_j, box_lo, box_hi) -> np.ndarray:
             c, d = c0[:, a], dc[:, a]
             b = bound[a]
             sign = 1.0 if upper else -1.0
-            c, d, b = sign * c, sign * d, sign * b          # now c + d·t ≤ b
+            c, d, b = sign * c, sign * d, sign * b  # now c + d·t ≤ b
             pos, neg, zero = d > 1e-15, d < -1e-15, np.abs(d) <= 1e-15
             with np.errstate(divide="ignore", invalid="ignore"):
                 limit = (b - c) / d
@@ -73,8 +74,10 @@ def _links_in_shafts(lo, hi, receiver, source, box_lo, box_hi, out):
             t0, t1, ok = 0.0, 1.0, True
             for a in range(3):
                 # lower faces: lo_i + (lo_j − lo_i)·t ≤ box_hi; upper: hi_i + (hi_j − hi_i)·t ≥ box_lo
-                for c, d, bound in ((lo[i, a], lo[j, a] - lo[i, a], box_hi[b, a]),
-                                    (-hi[i, a], hi[i, a] - hi[j, a], -box_lo[b, a])):
+                for c, d, bound in (
+                    (lo[i, a], lo[j, a] - lo[i, a], box_hi[b, a]),
+                    (-hi[i, a], hi[i, a] - hi[j, a], -box_lo[b, a]),
+                ):
                     if d > 1e-15:
                         t1 = min(t1, (bound - c) / d)
                     elif d < -1e-15:
@@ -115,15 +118,33 @@ def _relink_shafts(sol, boxes) -> int:
     """Take out the links whose shaft meets any of ``boxes`` and refine their pairs again. Returns
     how many were redone."""
     h, L = sol.hierarchy, sol.links
-    lo, hi = element_boxes(h, np.arange(len(h)))          # once per element, then per link end
+    lo, hi = element_boxes(h, np.arange(len(h)))  # once per element, then per link end
     hit = np.zeros(len(L), bool)
-    _links_in_shafts(lo, hi, L.receiver, L.source, np.array([b[0] for b in boxes], np.float64),
-                     np.array([b[1] for b in boxes], np.float64), hit)
+    _links_in_shafts(
+        lo,
+        hi,
+        L.receiver,
+        L.source,
+        np.array([b[0] for b in boxes], np.float64),
+        np.array([b[1] for b in boxes], np.float64),
+        hit,
+    )
     gone = L.remove(hit)
     # their ends did not move: F stands, only V is cast again — the rays through the boxes (and the
     # pair split if it must be)
-    refine(h, sol.visibility, gone.receiver, gone.source, sol.threshold, sol.min_area,
-           sol.params.criterion, links=L, form_factor=gone.form_factor, rays=gone.rays, boxes=boxes)
+    refine(
+        h,
+        sol.visibility,
+        gone.receiver,
+        gone.source,
+        sol.threshold,
+        sol.min_area,
+        sol.params.criterion,
+        links=L,
+        form_factor=gone.form_factor,
+        rays=gone.rays,
+        boxes=boxes,
+    )
     return len(gone) + _recast_cluster_links(sol, boxes, lo, hi)
 
 
@@ -135,10 +156,20 @@ def _recast_cluster_links(sol, boxes, lo, hi) -> int:
         return 0
     n = len(lo)
     lo, hi = np.r_[lo, tree.lo], np.r_[hi, tree.hi]
-    index = lambda node: np.where(node >= 0, node, n - 1 - node)          # cluster c after the elements
+
+    def index(node):
+        return np.where(node >= 0, node, n - 1 - node)  # cluster c after the elements
+
     hit = np.zeros(len(C), bool)
-    _links_in_shafts(lo, hi, index(C.receiver), index(C.source), np.array([b[0] for b in boxes], np.float64),
-                     np.array([b[1] for b in boxes], np.float64), hit)
+    _links_in_shafts(
+        lo,
+        hi,
+        index(C.receiver),
+        index(C.source),
+        np.array([b[0] for b in boxes], np.float64),
+        np.array([b[1] for b in boxes], np.float64),
+        hit,
+    )
     if hit.any():
         C.visibility[hit] = cluster_visibility(sol.hierarchy, tree, sol.visibility, C.receiver[hit], C.source[hit])
     return int(hit.sum())
@@ -178,21 +209,23 @@ def _finish(sol, started: float, phase: str, tolerance: float, max_iterations: i
     against the solved B and solve again if any had to be refined (as a build's second round does)."""
     sol.links_changed()
     result = sol.solve(tolerance, max_iterations)
-    if elements is not None:
-        if sol.rerefine(_touching(sol, elements)):
-            result = sol.solve(tolerance, max_iterations)
+    if elements is not None and sol.rerefine(_touching(sol, elements)):
+        result = sol.solve(tolerance, max_iterations)
     sol.stats.add_time(phase, time.perf_counter() - started)
     return result
 
 
-def add_object(sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_iterations: int = 200,
-               lamp: bool = False):
+def add_object(
+    sol, polygons: Polygons, name: str, tolerance: float = 1e-4, max_iterations: int = 200, lamp: bool = False
+):
     """Add ``polygons`` as a new object ``name``: its links, and the links whose shafts it enters."""
     t = time.perf_counter()
     first = len(sol.polygons)
     if first + len(polygons) > MAX_POLYGONS and sol.tree is None:
-        raise InputError(f"{name!r} has {len(polygons)} polygons: with the scene's {first} that is past the "
-                         f"{MAX_POLYGONS} radiosity takes without clusters; use a coarser mesh")
+        raise InputError(
+            f"{name!r} has {len(polygons)} polygons: with the scene's {first} that is past the "
+            f"{MAX_POLYGONS} radiosity takes without clusters; use a coarser mesh"
+        )
     sol.polygons = sol.polygons.extended(polygons, name, lamp)
     sol.hierarchy.polygons = sol.polygons
     sol.lamp_scale = np.r_[sol.lamp_scale, 1.0]
@@ -249,7 +282,7 @@ def move_object(sol, name: str, matrix: np.ndarray, tolerance: float = 1e-4, max
     corners = sol.polygons.corners.copy()
     rows = np.flatnonzero(sol.polygons.group == group)
     corners[rows] = corners[rows] @ np.asarray(matrix, np.float64)[:3, :3].T + np.asarray(matrix, np.float64)[:3, 3]
-    sol.polygons = dataclasses.replace(sol.polygons, corners=corners)   # never edit the caller's
+    sol.polygons = dataclasses.replace(sol.polygons, corners=corners)  # never edit the caller's
     sol.hierarchy.polygons = sol.polygons
     sol.visibility.rebuild()
     new_box = _object_box(sol, elements)

@@ -59,8 +59,11 @@ def contour_integral(x0, x1, x2, n0, n1, n2, corners, m):
     x's tangent plane first (the part behind it would count negatively)."""
     s0, s1, s2 = corners[1, 0] - corners[0, 0], corners[1, 1] - corners[0, 1], corners[1, 2] - corners[0, 2]
     t0, t1, t2 = corners[m - 1, 0] - corners[0, 0], corners[m - 1, 1] - corners[0, 1], corners[m - 1, 2] - corners[0, 2]
-    side = ((s1 * t2 - s2 * t1) * (x0 - corners[0, 0]) + (s2 * t0 - s0 * t2) * (x1 - corners[0, 1])
-            + (s0 * t1 - s1 * t0) * (x2 - corners[0, 2]))
+    side = (
+        (s1 * t2 - s2 * t1) * (x0 - corners[0, 0])
+        + (s2 * t0 - s0 * t2) * (x1 - corners[0, 1])
+        + (s0 * t1 - s1 * t0) * (x2 - corners[0, 2])
+    )
     if side <= 0.0:
         return 0.0
     behind = 0
@@ -71,7 +74,7 @@ def contour_integral(x0, x1, x2, n0, n1, n2, corners, m):
         return 0.0
     if behind == 0:
         total = _edge_sum(x0, x1, x2, n0, n1, n2, corners, m)
-    else:       # Sutherland–Hodgman against the tangent plane: at most m + 1 corners
+    else:  # Sutherland–Hodgman against the tangent plane: at most m + 1 corners
         clipped = np.empty((5, 3))
         k = 0
         for e in range(m):
@@ -99,19 +102,33 @@ def _point_polygon(points, normals, corners, triangle, out):
     for p in numba.prange(n):
         m = 3 if triangle[p] else 4
         for s in range(k):
-            out[p, s] = contour_integral(points[p, s, 0], points[p, s, 1], points[p, s, 2],
-                                         normals[p, 0], normals[p, 1], normals[p, 2], corners[p], m)
+            out[p, s] = contour_integral(
+                points[p, s, 0],
+                points[p, s, 1],
+                points[p, s, 2],
+                normals[p, 0],
+                normals[p, 1],
+                normals[p, 2],
+                corners[p],
+                m,
+            )
 
 
-def point_polygon(points: np.ndarray, normals: np.ndarray, corners: np.ndarray, triangle: np.ndarray,
-                  average: bool = True) -> np.ndarray:
+def point_polygon(
+    points: np.ndarray, normals: np.ndarray, corners: np.ndarray, triangle: np.ndarray, average: bool = True
+) -> np.ndarray:
     """The form factor from each of ``points`` (n, k, 3), oriented by ``normals`` (n, 3), to the
     polygon ``corners`` (n, 4, 3) (``triangle``: corner 3 unused): (n,) averaged over the k points,
     or (n, k) with ``average=False``."""
     out = np.empty(points.shape[:2])
     if len(points):
-        _point_polygon(np.ascontiguousarray(points, np.float64), np.ascontiguousarray(normals, np.float64),
-                       np.ascontiguousarray(corners, np.float64), np.ascontiguousarray(triangle, np.bool_), out)
+        _point_polygon(
+            np.ascontiguousarray(points, np.float64),
+            np.ascontiguousarray(normals, np.float64),
+            np.ascontiguousarray(corners, np.float64),
+            np.ascontiguousarray(triangle, np.bool_),
+            out,
+        )
     return out.mean(axis=1) if average else out
 
 
@@ -126,8 +143,15 @@ def point_to_disk(receiver_centre, receiver_normal, source_centre, source_normal
     return source_area * cos_i * cos_j / (np.pi * r2 + source_area)
 
 
-def facing(receiver_corners, receiver_normal, receiver_centre, source_corners, source_normal, source_centre,
-           tolerance: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
+def facing(
+    receiver_corners,
+    receiver_normal,
+    receiver_centre,
+    source_corners,
+    source_normal,
+    source_centre,
+    tolerance: float = 1e-6,
+) -> tuple[np.ndarray, np.ndarray]:
     """(some, every) per pair: does some corner of the source lie in front of the receiver's plane and
     some corner of the receiver in front of the source's — and is no corner of either behind the
     other's plane (``tolerance`` metres)? A pair without ``some`` exchanges no light; one with
@@ -146,9 +170,16 @@ def facing_pairs(corners, normal, centre, receivers, sources, tolerance: float =
     n = len(receivers)
     some, every = np.empty(n, np.bool_), np.empty(n, np.bool_)
     if n:
-        _facing_pairs(np.ascontiguousarray(corners, np.float64), np.ascontiguousarray(normal, np.float64),
-                      np.ascontiguousarray(centre, np.float64), np.asarray(receivers, np.int64),
-                      np.asarray(sources, np.int64), float(tolerance), some, every)
+        _facing_pairs(
+            np.ascontiguousarray(corners, np.float64),
+            np.ascontiguousarray(normal, np.float64),
+            np.ascontiguousarray(centre, np.float64),
+            np.asarray(receivers, np.int64),
+            np.asarray(sources, np.int64),
+            float(tolerance),
+            some,
+            every,
+        )
     return some, every
 
 
@@ -157,8 +188,11 @@ def _heights(corners, e, centre, normal, f, tolerance):
     """(some corner of e above f's plane, no corner of e below it), within ``tolerance``."""
     above, behind = False, False
     for c in range(4):
-        height = ((corners[e, c, 0] - centre[f, 0]) * normal[f, 0] + (corners[e, c, 1] - centre[f, 1]) * normal[f, 1]
-                  + (corners[e, c, 2] - centre[f, 2]) * normal[f, 2])
+        height = (
+            (corners[e, c, 0] - centre[f, 0]) * normal[f, 0]
+            + (corners[e, c, 1] - centre[f, 1]) * normal[f, 1]
+            + (corners[e, c, 2] - centre[f, 2]) * normal[f, 2]
+        )
         above |= height > tolerance
         behind |= height <= -tolerance
     return above, not behind

@@ -18,11 +18,22 @@ from .polygons import Polygons, polygon_areas
 __all__ = ["Hierarchy", "FIELDS", "leaves_under"]
 
 # per-element arrays: name → (shape after the element axis, dtype)
-FIELDS = {"corners": ((4, 3), np.float64), "triangle": ((), bool), "polygon": ((), np.int64),
-           "parent": ((), np.int64), "child": ((), np.int64), "level": ((), np.int32),
-           "area": ((), np.float64), "centre": ((3,), np.float64), "normal": ((3,), np.float64),
-           "reflectance": ((3,), np.float64), "exitance": ((3,), np.float64),
-           "radiosity": ((3,), np.float64), "irradiance": ((3,), np.float64), "active": ((), bool)}
+FIELDS = {
+    "corners": ((4, 3), np.float64),
+    "triangle": ((), bool),
+    "polygon": ((), np.int64),
+    "parent": ((), np.int64),
+    "child": ((), np.int64),
+    "level": ((), np.int32),
+    "area": ((), np.float64),
+    "centre": ((3,), np.float64),
+    "normal": ((3,), np.float64),
+    "reflectance": ((3,), np.float64),
+    "exitance": ((3,), np.float64),
+    "radiosity": ((3,), np.float64),
+    "irradiance": ((3,), np.float64),
+    "active": ((), bool),
+}
 
 
 class Hierarchy:
@@ -33,8 +44,9 @@ class Hierarchy:
         self.size = 0
         self._capacity = 0
         self._grow(max(4 * len(polygons), 64))
-        self.roots = self._append(polygons.corners, polygons.triangle, np.arange(len(polygons)),
-                                  np.full(len(polygons), -1), 0)
+        self.roots = self._append(
+            polygons.corners, polygons.triangle, np.arange(len(polygons)), np.full(len(polygons), -1), 0
+        )
         self.reflectance[self.roots] = polygons.reflectance
         self.exitance[self.roots] = polygons.exitance
         self.radiosity[self.roots] = polygons.exitance
@@ -49,7 +61,7 @@ class Hierarchy:
         return out
 
     @classmethod
-    def from_arrays(cls, polygons: Polygons, arrays: dict[str, np.ndarray]) -> "Hierarchy":
+    def from_arrays(cls, polygons: Polygons, arrays: dict[str, np.ndarray]) -> Hierarchy:
         """A hierarchy saved by :meth:`arrays` (a saved relighting session)."""
         from ..core.errors import InputError
 
@@ -74,8 +86,9 @@ class Hierarchy:
 
         n = len(self)
         parent, child, level = self.parent, self.child, self.level
-        if ((parent < -1) | (parent >= n) | (child < -1) | (child > n - 4)).any() or \
-                ((self.roots < 0) | (self.roots >= n)).any():
+        if ((parent < -1) | (parent >= n) | (child < -1) | (child > n - 4)).any() or (
+            (self.roots < 0) | (self.roots >= n)
+        ).any():
             raise InputError("saved hierarchy: an index points outside the elements")
         is_root = np.zeros(n, bool)
         is_root[self.roots] = True
@@ -84,8 +97,9 @@ class Hierarchy:
         if (parent[is_root] != -1).any() or (parent[others] < 0).any():
             raise InputError("saved hierarchy: roots must have no parent and every other element one")
         first = child[parent[others]]
-        if ((first < 0) | (others < first) | (others >= first + 4)).any() or \
-                (level[others] != level[parent[others]] + 1).any():
+        if ((first < 0) | (others < first) | (others >= first + 4)).any() or (
+            level[others] != level[parent[others]] + 1
+        ).any():
             raise InputError("saved hierarchy: an element is not among its parent's four children")
         with_children = np.flatnonzero((child >= 0) & self.active)
         if (parent[child[with_children][:, None] + np.arange(4)] != with_children[:, None]).any():
@@ -93,8 +107,9 @@ class Hierarchy:
 
     def add_roots(self, polygons: Polygons, first_polygon: int) -> np.ndarray:
         """New roots for ``polygons``, which are rows ``first_polygon``… of the (extended) input."""
-        roots = self._append(polygons.corners, polygons.triangle, first_polygon + np.arange(len(polygons)),
-                             np.full(len(polygons), -1), 0)
+        roots = self._append(
+            polygons.corners, polygons.triangle, first_polygon + np.arange(len(polygons)), np.full(len(polygons), -1), 0
+        )
         self.reflectance[roots] = polygons.reflectance
         self.exitance[roots] = polygons.exitance
         self.radiosity[roots] = polygons.exitance
@@ -159,17 +174,40 @@ class Hierarchy:
             m01, m12, m23, m30 = ((c[:, k] + c[:, (k + 1) % 4]) / 2 for k in range(4))
             m20 = (c[:, 2] + c[:, 0]) / 2
             centre = c.mean(axis=1)
-            quad_children = np.stack([np.stack(q, axis=1) for q in (
-                (c[:, 0], m01, centre, m30), (m01, c[:, 1], m12, centre),
-                (centre, m12, c[:, 2], m23), (m30, centre, m23, c[:, 3]))], axis=1)
-            tri_children = np.stack([np.stack(q, axis=1) for q in (
-                (c[:, 0], m01, m20, m20), (m01, c[:, 1], m12, m12),
-                (m20, m12, c[:, 2], c[:, 2]), (m01, m12, m20, m20))], axis=1)
-            children = np.where(tri[:, None, None, None], tri_children, quad_children)   # (n, 4, 4, 3)
+            quad_children = np.stack(
+                [
+                    np.stack(q, axis=1)
+                    for q in (
+                        (c[:, 0], m01, centre, m30),
+                        (m01, c[:, 1], m12, centre),
+                        (centre, m12, c[:, 2], m23),
+                        (m30, centre, m23, c[:, 3]),
+                    )
+                ],
+                axis=1,
+            )
+            tri_children = np.stack(
+                [
+                    np.stack(q, axis=1)
+                    for q in (
+                        (c[:, 0], m01, m20, m20),
+                        (m01, c[:, 1], m12, m12),
+                        (m20, m12, c[:, 2], c[:, 2]),
+                        (m01, m12, m20, m20),
+                    )
+                ],
+                axis=1,
+            )
+            children = np.where(tri[:, None, None, None], tri_children, quad_children)  # (n, 4, 4, 3)
             n = len(todo)
             rep = np.repeat(todo, 4)
-            first = self._append(children.reshape(-1, 4, 3), np.repeat(tri, 4), self._polygon[rep], rep,
-                                 np.repeat(self._level[todo] + 1, 4))[::4]
+            first = self._append(
+                children.reshape(-1, 4, 3),
+                np.repeat(tri, 4),
+                self._polygon[rep],
+                rep,
+                np.repeat(self._level[todo] + 1, 4),
+            )[::4]
             self._child[todo] = first
             for name in ("reflectance", "exitance", "radiosity"):
                 arr = getattr(self, "_" + name)
@@ -224,7 +262,9 @@ class Hierarchy:
         """Points on ``elements`` (n,) at parameters ``uv`` (n, k, 2) in [0, 1)²: bilinear on quads,
         folded barycentric on triangles. Returns (n, k, 3)."""
         out = np.empty(uv.shape[:2] + (3,))
-        _sample_points(self._corners, self._triangle, np.asarray(elements, np.int64), np.ascontiguousarray(uv, np.float64), out)
+        _sample_points(
+            self._corners, self._triangle, np.asarray(elements, np.int64), np.ascontiguousarray(uv, np.float64), out
+        )
         return out
 
 
@@ -238,11 +278,19 @@ def _sample_points(corners, triangle, elements, uv, out):
                 if u + v > 1:
                     u, v = 1 - u, 1 - v
                 for c in range(3):
-                    out[p, s, c] = corners[e, 0, c] + u * (corners[e, 1, c] - corners[e, 0, c]) + v * (corners[e, 2, c] - corners[e, 0, c])
+                    out[p, s, c] = (
+                        corners[e, 0, c]
+                        + u * (corners[e, 1, c] - corners[e, 0, c])
+                        + v * (corners[e, 2, c] - corners[e, 0, c])
+                    )
             else:
                 for c in range(3):
-                    out[p, s, c] = ((1 - u) * (1 - v) * corners[e, 0, c] + u * (1 - v) * corners[e, 1, c]
-                                    + u * v * corners[e, 2, c] + (1 - u) * v * corners[e, 3, c])
+                    out[p, s, c] = (
+                        (1 - u) * (1 - v) * corners[e, 0, c]
+                        + u * (1 - v) * corners[e, 1, c]
+                        + u * v * corners[e, 2, c]
+                        + (1 - u) * v * corners[e, 3, c]
+                    )
 
 
 def leaves_under(h: Hierarchy, leaves: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -28,7 +28,7 @@ def _compact(drop, receiver, source, tag, rays, form_factor, visibility):
             first = min(first, k)
     gone_r, gone_s, gone_t = np.empty(gone, np.int64), np.empty(gone, np.int64), np.empty(gone, np.int64)
     gone_x, gone_f, gone_v = np.empty(gone, np.int64), np.empty(gone), np.empty(gone)
-    a, b = first, 0                # the links before the first removed one stay where they are
+    a, b = first, 0  # the links before the first removed one stay where they are
     for k in range(first, len(drop)):
         if drop[k]:
             gone_r[b], gone_s[b], gone_t[b], gone_x[b] = receiver[k], source[k], tag[k], rays[k]
@@ -56,7 +56,7 @@ class LinkGather:
     A drag changes the links each move and its solve takes ~4 products: building the CSR matrix (a
     counting sort and scipy's checks) cost as much as the products. Holds copies of the links."""
 
-    def __init__(self, links: "Links", n: int):
+    def __init__(self, links: Links, n: int):
         self.shape = (n, n)
         self._receiver, self._source = links.receiver.copy(), links.source.copy()
         self._weight = links.form_factor * links.visibility
@@ -87,21 +87,23 @@ class Links:
         self._visibility = np.array(visibility, np.float64).reshape(-1)
         self._tag = np.full(self._n, -1, np.int64) if tag is None or len(tag) != self._n else np.array(tag, np.int64)
         self.tag_owner = tag_owner
-        self._rays = np.full(self._n, -1, np.int64) if rays is None or len(rays) != self._n else np.array(rays, np.int64)
+        self._rays = (
+            np.full(self._n, -1, np.int64) if rays is None or len(rays) != self._n else np.array(rays, np.int64)
+        )
 
-    receiver = property(lambda self: self._receiver[:self._n])
-    source = property(lambda self: self._source[:self._n])
-    form_factor = property(lambda self: self._form_factor[:self._n])
-    visibility = property(lambda self: self._visibility[:self._n])
-    rays = property(lambda self: self._rays[:self._n])
+    receiver = property(lambda self: self._receiver[: self._n])
+    source = property(lambda self: self._source[: self._n])
+    form_factor = property(lambda self: self._form_factor[: self._n])
+    visibility = property(lambda self: self._visibility[: self._n])
+    rays = property(lambda self: self._rays[: self._n])
 
     @property
     def tag(self) -> np.ndarray:
-        return self._tag[:self._n]
+        return self._tag[: self._n]
 
     @tag.setter
     def tag(self, value) -> None:
-        self._tag[:self._n] = value
+        self._tag[: self._n] = value
 
     def __len__(self) -> int:
         return self._n
@@ -117,24 +119,38 @@ class Links:
             for name in ("_receiver", "_source", "_form_factor", "_visibility", "_tag", "_rays"):
                 old = getattr(self, name)
                 grown = np.empty(capacity, old.dtype)
-                grown[:self._n] = old[:self._n]
+                grown[: self._n] = old[: self._n]
                 setattr(self, name, grown)
         end = self._n + k
-        self._receiver[self._n:end], self._source[self._n:end] = receiver, source
-        self._form_factor[self._n:end], self._visibility[self._n:end] = form_factor, visibility
-        self._tag[self._n:end] = -1
-        self._rays[self._n:end] = -1 if rays is None else rays
+        self._receiver[self._n : end], self._source[self._n : end] = receiver, source
+        self._form_factor[self._n : end], self._visibility[self._n : end] = form_factor, visibility
+        self._tag[self._n : end] = -1
+        self._rays[self._n : end] = -1 if rays is None else rays
         self._n = end
 
-    def take(self, keep: np.ndarray) -> "Links":
+    def take(self, keep: np.ndarray) -> Links:
         """The links where ``keep`` (a mask or indices)."""
-        return Links(self.receiver[keep], self.source[keep], self.form_factor[keep], self.visibility[keep],
-                     self.tag[keep], self.tag_owner, self.rays[keep])
+        return Links(
+            self.receiver[keep],
+            self.source[keep],
+            self.form_factor[keep],
+            self.visibility[keep],
+            self.tag[keep],
+            self.tag_owner,
+            self.rays[keep],
+        )
 
-    def remove(self, drop: np.ndarray) -> "Links":
+    def remove(self, drop: np.ndarray) -> Links:
         """Remove the links where ``drop`` (a mask) and return them (both in link order)."""
-        r, s, t, x, f, v = _compact(np.asarray(drop, np.bool_), self.receiver, self.source, self.tag, self.rays,
-                                    self.form_factor, self.visibility)
+        r, s, t, x, f, v = _compact(
+            np.asarray(drop, np.bool_),
+            self.receiver,
+            self.source,
+            self.tag,
+            self.rays,
+            self.form_factor,
+            self.visibility,
+        )
         self._n -= len(r)
         return Links(r, s, f, v, t, self.tag_owner, x)
 
@@ -150,5 +166,5 @@ class Links:
         """The gather H = K·B as an operator (``@``), equal to :meth:`matrix` with nothing built."""
         return LinkGather(self, n)
 
-    def received_by(self, element: int) -> "Links":
+    def received_by(self, element: int) -> Links:
         return self.take(self.receiver == element)

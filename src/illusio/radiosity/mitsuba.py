@@ -33,16 +33,27 @@ def _scene_dict(polygons: Polygons, folder: Path) -> dict:
         path = folder / f"group-{g}.ply"
         trimesh.Trimesh(vertices.astype(np.float64), faces[take], process=False).export(path)
         k = members[0]
-        shape = {"type": "ply", "filename": str(path), "face_normals": True,
-                 "bsdf": {"type": "diffuse", "reflectance": rgb(polygons.reflectance[k])}}
+        shape = {
+            "type": "ply",
+            "filename": str(path),
+            "face_normals": True,
+            "bsdf": {"type": "diffuse", "reflectance": rgb(polygons.reflectance[k])},
+        }
         if polygons.exitance[k].max() > 0:
             shape["emitter"] = {"type": "area", "radiance": rgb(polygons.exitance[k] / np.pi)}
         out[f"group_{g}"] = shape
     return out
 
 
-def render_mitsuba(polygons: Polygons, view: View, size: tuple[int, int], samples: int = 256,
-                   seed: int = 0, max_depth: int = -1, denoise: bool = False) -> np.ndarray:
+def render_mitsuba(
+    polygons: Polygons,
+    view: View,
+    size: tuple[int, int],
+    samples: int = 256,
+    seed: int = 0,
+    max_depth: int = -1,
+    denoise: bool = False,
+) -> np.ndarray:
     """Radiance (H, W, 3) float32 of ``polygons`` seen from ``view``: Mitsuba's path tracer with
     ``samples`` paths a pixel (box filter), unbounded path length (Russian roulette) by default.
     ``denoise``: through Open Image Denoise (``passes.denoise``), guided by the first hit's albedo
@@ -73,8 +84,9 @@ class Score:
     pixels: int
 
 
-def score(render: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None, floor: float = 0.01,
-          block: int = 1) -> Score:
+def score(
+    render: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = None, floor: float = 0.01, block: int = 1
+) -> Score:
     """Score ``render`` against ``reference`` (both radiance, same exposure) over ``mask`` (e.g. the
     non-emitter geometry), leaving out pixels darker than ``floor`` × the reference's mean (a
     relative error of near-black is noise). ``block``: both images first averaged over block×block
@@ -91,9 +103,11 @@ def score(render: np.ndarray, reference: np.ndarray, mask: np.ndarray | None = N
         return score(squares(np.asarray(render)[..., :3]), squares(np.asarray(reference)[..., :3]), whole, floor)
     r = np.asarray(render, np.float64)[..., :3].mean(axis=2)
     m = np.asarray(reference, np.float64)[..., :3].mean(axis=2)
-    keep = np.ones(m.shape, bool) if mask is None else np.array(mask, bool)   # a copy: the caller's mask is not ours to change
+    keep = (
+        np.ones(m.shape, bool) if mask is None else np.array(mask, bool)
+    )  # a copy: the caller's mask is not ours to change
     keep &= m > floor * m[keep].mean()
     rel = np.abs(r - m)[keep] / m[keep]
     peak = np.percentile(np.asarray(reference, np.float64)[keep], 99)
     mse = ((np.asarray(render, np.float64)[..., :3] - np.asarray(reference, np.float64)[..., :3])[keep] ** 2).mean()
-    return Score(float(rel.mean()), float(10 * np.log10(peak ** 2 / max(mse, 1e-30))), int(keep.sum()))
+    return Score(float(rel.mean()), float(10 * np.log10(peak**2 / max(mse, 1e-30))), int(keep.sum()))

@@ -44,12 +44,18 @@ class HierarchyParams:
     min_area: float = param(0.0, range=(0.0, 100.0), unit="m²", label="minimum element area A_ε (0: automatic)")
     criterion: str = param("bf", choices=CRITERIA)
     visibility_samples: int = param(16, range=(1, 256), step=1, help="rays per link for the visibility V_ij")
-    lights_to_leaves: bool = param(False, help="links from lamps pushed to the receivers' leaves (Loscos 1999, Figure 4.6b)")
+    lights_to_leaves: bool = param(
+        False, help="links from lamps pushed to the receivers' leaves (Loscos 1999, Figure 4.6b)"
+    )
     refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds")
     seed: int = param(0, range=(0, 2**31 - 1), step=1, help="visibility rays (and the path tracer of a reference)")
     clusters: bool = param(True, help="link through clusters of polygons (off: every pair of input polygons)")
-    sliver_piece: float = param(1.0, range=(0.0, 100.0), label="sliver pieces (× √A_ε, 0: uncut)",
-                                help="quads longer than 4× their width are cut into pieces this long (× √A_ε)")
+    sliver_piece: float = param(
+        1.0,
+        range=(0.0, 100.0),
+        label="sliver pieces (× √A_ε, 0: uncut)",
+        help="quads longer than 4× their width are cut into pieces this long (× √A_ε)",
+    )
 
     __post_init__ = check_ranges
 
@@ -70,8 +76,14 @@ class RadiosityParams:
     lamp_scales: tuple = param((), panel=False)
     show: str = param("radiosity", choices=SHOW)
     exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="scale on the radiance B/π before encoding")
-    element: int = param(-1, range=(-1, 2**31 - 1), step=1, panel=False, cli=True,
-                         help="show links: the receiving element (-1: the most linked)")
+    element: int = param(
+        -1,
+        range=(-1, 2**31 - 1),
+        step=1,
+        panel=False,
+        cli=True,
+        help="show links: the receiving element (-1: the most linked)",
+    )
 
     def __post_init__(self):
         check_ranges(self)

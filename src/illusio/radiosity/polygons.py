@@ -75,23 +75,30 @@ class Polygons:
         bad = ~((self.reflectance >= 0) & (self.reflectance < 1)).all(axis=1)
         if bad.any():
             k = int(np.flatnonzero(bad)[0])
-            raise InputError(f"{self.where(k)} has reflectance {tuple(np.round(self.reflectance[k], 4))}: "
-                             "radiosity needs every channel in [0, 1) (energy must not grow)")
+            raise InputError(
+                f"{self.where(k)} has reflectance {tuple(np.round(self.reflectance[k], 4))}: "
+                "radiosity needs every channel in [0, 1) (energy must not grow)"
+            )
         if not (np.isfinite(self.exitance) & (self.exitance >= 0)).all():
             k = int(np.flatnonzero(~(np.isfinite(self.exitance) & (self.exitance >= 0)).all(axis=1))[0])
             raise InputError(f"{self.where(k)} has exitance {tuple(self.exitance[k])}: it must be finite and ≥ 0")
 
-    def extended(self, other: "Polygons", name: str, lamp: bool = False) -> "Polygons":
+    def extended(self, other: Polygons, name: str, lamp: bool = False) -> Polygons:
         """These polygons followed by ``other``, all of which form one new group ``name``."""
         if name in self.names:
             raise InputError(f"there is already an object or lamp named {name!r}")
         g = len(self.names)
-        return Polygons(np.concatenate([self.corners, other.corners]), np.r_[self.triangle, other.triangle],
-                        np.concatenate([self.reflectance, other.reflectance]),
-                        np.concatenate([self.exitance, other.exitance]), np.r_[self.group, np.full(len(other), g)],
-                        self.names + [name], self.lamps + ([g] if lamp else []))
+        return Polygons(
+            np.concatenate([self.corners, other.corners]),
+            np.r_[self.triangle, other.triangle],
+            np.concatenate([self.reflectance, other.reflectance]),
+            np.concatenate([self.exitance, other.exitance]),
+            np.r_[self.group, np.full(len(other), g)],
+            self.names + [name],
+            self.lamps + ([g] if lamp else []),
+        )
 
-    def split_slivers(self, piece_length: float) -> "Polygons":
+    def split_slivers(self, piece_length: float) -> Polygons:
         """Every quad longer than max(4 × its width, ``piece_length``) (m) cut across its length into
         equal pieces no shorter than that, in the same plane, group and material; triangles and
         other quads kept as they are (first, in their order; the pieces follow). Why: an element is
@@ -102,21 +109,29 @@ class Polygons:
         c = self.corners
         first, second = np.linalg.norm(c[:, 1] - c[:, 0], axis=1), np.linalg.norm(c[:, 3] - c[:, 0], axis=1)
         length, width = np.maximum(first, second), np.minimum(first, second)
-        pieces = np.where(self.triangle | (piece_length <= 0), 1,
-                          np.floor(length / np.maximum(4 * width, max(piece_length, 1e-12)))).astype(np.int64)
+        pieces = np.where(
+            self.triangle | (piece_length <= 0), 1, np.floor(length / np.maximum(4 * width, max(piece_length, 1e-12)))
+        ).astype(np.int64)
         pieces = np.maximum(pieces, 1)
         cut = np.flatnonzero(pieces > 1)
         if not len(cut):
             return self
         parts = []
         for k in cut:
-            q = c[k] if first[k] >= second[k] else c[k][[1, 2, 3, 0]]      # edge 0→1 along the length
+            q = c[k] if first[k] >= second[k] else c[k][[1, 2, 3, 0]]  # edge 0→1 along the length
             t = np.linspace(0.0, 1.0, pieces[k] + 1)[:, None]
             a, b = q[0] + t * (q[1] - q[0]), q[3] + t * (q[2] - q[3])
             parts.append(np.stack([a[:-1], a[1:], b[1:], b[:-1]], axis=1))
         index = np.r_[np.flatnonzero(pieces == 1), np.repeat(cut, pieces[cut])]
-        return Polygons(np.concatenate([c[pieces == 1]] + parts), self.triangle[index], self.reflectance[index],
-                        self.exitance[index], self.group[index], list(self.names), list(self.lamps))
+        return Polygons(
+            np.concatenate([c[pieces == 1]] + parts),
+            self.triangle[index],
+            self.reflectance[index],
+            self.exitance[index],
+            self.group[index],
+            list(self.names),
+            list(self.lamps),
+        )
 
     def group_of(self, name: str) -> int:
         if name not in self.names:
@@ -130,15 +145,19 @@ class Polygons:
     def normals(self) -> np.ndarray:
         """Unit front normals (n, 3): the diagonals' cross product of a quad, the edges' of a triangle."""
         c = self.corners
-        n = np.where(self.triangle[:, None], np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]),
-                     np.cross(c[:, 2] - c[:, 0], c[:, 3] - c[:, 1]))
+        n = np.where(
+            self.triangle[:, None],
+            np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]),
+            np.cross(c[:, 2] - c[:, 0], c[:, 3] - c[:, 1]),
+        )
         return n / np.linalg.norm(n, axis=1, keepdims=True)
 
     def surfaces(self, degrees: float = 1.0) -> np.ndarray:
         """A surface id per polygon (n,) int: polygons joined by a shared edge (both end points equal
         within 10⁻⁷ of the scene's extent) whose normals agree within ``degrees`` are one surface — a
         wall cut into triangles, a quad split in two. What relighting calls neighbours and the display
-        smooths over is a surface, so a triangulated model behaves as its quads would. (A T-junction, an edge meeting another's
+        smooths over is a surface, so a triangulated model behaves as its quads would. (A T-junction, an edge meeting
+        another's
         middle, does not join.) Kept once computed: the polygons do not change."""
         cached = getattr(self, "_surfaces", None)
         if cached is not None and cached[0] == degrees:
@@ -148,14 +167,14 @@ class Polygons:
 
         n = len(self)
         extent = max(float(np.ptp(self.corners.reshape(-1, 3), axis=0).max()), 1e-9) if n else 1.0
-        q = np.round(self.corners / (1e-7 * extent)).astype(np.int64)               # (n, 4, 3)
+        q = np.round(self.corners / (1e-7 * extent)).astype(np.int64)  # (n, 4, 3)
         edges, owner = [], []
-        for k in range(4):                  # a triangle's corner 3 repeats corner 2: its edge 2–3 is a point
+        for k in range(4):  # a triangle's corner 3 repeats corner 2: its edge 2–3 is a point
             a, b = q[:, k], q[:, (k + 1) % 4]
             diff = a - b
             real = np.flatnonzero(np.any(diff != 0, axis=1))
             first = np.argmax(diff[real] != 0, axis=1)
-            swap = (diff[real, first] > 0)[:, None]          # each edge with its lexicographically smaller end first
+            swap = (diff[real, first] > 0)[:, None]  # each edge with its lexicographically smaller end first
             edges.append(np.c_[np.where(swap, b[real], a[real]), np.where(swap, a[real], b[real])])
             owner.append(real)
         edges, owner = np.concatenate(edges), np.concatenate(owner)
@@ -196,7 +215,7 @@ def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: flo
     scale = max(float(np.ptp(v, axis=0).max()), 1e-9)
     _, ids = np.unique(np.round(v / (tolerance * scale)).astype(np.int64), axis=0, return_inverse=True)
     ids = ids.reshape(-1)
-    p = v[f]                                                   # (m, 3, 3)
+    p = v[f]  # (m, 3, 3)
     # the edge opposite corner k joins corners k+1 and k+2; the longest one is the diagonal
     lengths = np.stack([np.linalg.norm(p[:, (k + 2) % 3] - p[:, (k + 1) % 3], axis=1) for k in range(3)], axis=1)
     apex = lengths.argmax(axis=1)
@@ -223,7 +242,10 @@ def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: flo
     coplanar = (normal[first] * normal[second]).sum(axis=1) > 1 - 1e-4
     quad = np.stack([v[a[first]], v[b[first]], v[d], v[c[first]]], axis=1)
     # convex: every corner turns the same way as the normal
-    turn = np.stack([np.cross(quad[:, (k + 1) % 4] - quad[:, k], quad[:, (k + 2) % 4] - quad[:, (k + 1) % 4]) for k in range(4)], axis=1)
+    turn = np.stack(
+        [np.cross(quad[:, (k + 1) % 4] - quad[:, k], quad[:, (k + 2) % 4] - quad[:, (k + 1) % 4]) for k in range(4)],
+        axis=1,
+    )
     convex = ((turn * normal[first][:, None]).sum(axis=2) > 0).all(axis=1)
     take = coplanar & convex
     partner[first[take]] = second[take]
@@ -292,7 +314,7 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
             e = np.pi * light.radiance * np.asarray(light.colour, np.float64)
         elif isinstance(light, PointLight):
             c = _cube(light.position, point_lamp_size)
-            e = 4 * np.pi * light.intensity * np.asarray(light.colour, np.float64) / (6 * point_lamp_size ** 2)
+            e = 4 * np.pi * light.intensity * np.asarray(light.colour, np.float64) / (6 * point_lamp_size**2)
         else:
             continue
         g = len(names)
@@ -305,5 +327,12 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         group.append(np.full(len(c), g))
     if not corners:
         raise InputError(f"scene {scene.name!r} has no visible geometry for radiosity")
-    return Polygons(np.concatenate(corners), np.concatenate(triangle), np.concatenate(rho),
-                    np.concatenate(exitance), np.concatenate(group), names, lamps)
+    return Polygons(
+        np.concatenate(corners),
+        np.concatenate(triangle),
+        np.concatenate(rho),
+        np.concatenate(exitance),
+        np.concatenate(group),
+        names,
+        lamps,
+    )

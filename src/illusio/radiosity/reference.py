@@ -21,7 +21,7 @@ def point_polygon_form_factor(x, normal, corners) -> float:
     corners = [np.asarray(c, float) for c in corners]
     if np.cross(corners[1] - corners[0], corners[-1] - corners[0]) @ (x - corners[0]) <= 0:
         return 0.0
-    clipped = []                      # Sutherland–Hodgman: keep the corners above the plane, cut the edges that cross it
+    clipped = []  # Sutherland–Hodgman: keep the corners above the plane, cut the edges that cross it
     for e in range(len(corners)):
         a, b = corners[e], corners[(e + 1) % len(corners)]
         ha, hb = float(normal @ (a - x)), float(normal @ (b - x))
@@ -53,8 +53,9 @@ def gather(receivers, sources, form_factors, visibilities, radiosity, n: int) ->
     return h
 
 
-def cluster_gather(members, receivers, sources, kernels, visibilities, directions, area, normal, radiosity,
-                   n: int) -> np.ndarray:
+def cluster_gather(
+    members, receivers, sources, kernels, visibilities, directions, area, normal, radiosity, n: int
+) -> np.ndarray:
     """The irradiance cluster links bring (radiosity.clusters): ``members[c]`` lists the roots of
     cluster c, a node is an element (≥ 0) or cluster −1 − c. A link carries E = G_ij·V_ij·P_j, the
     source's power P_j = Σ A_k B_k over its members (A_j B_j for an element). An element receiver
@@ -63,7 +64,9 @@ def cluster_gather(members, receivers, sources, kernels, visibilities, direction
     at a time."""
     h = np.zeros((n, 3))
     for i, j, g, v, d in zip(receivers, sources, kernels, visibilities, directions):
-        power = area[j] * radiosity[j] if j >= 0 else sum((area[k] * radiosity[k] for k in members[-1 - j]), np.zeros(3))
+        power = (
+            area[j] * radiosity[j] if j >= 0 else sum((area[k] * radiosity[k] for k in members[-1 - j]), np.zeros(3))
+        )
         e = g * v * np.asarray(power, float)
         if i >= 0:
             h[i] += e
@@ -121,5 +124,7 @@ def display(positions, radiance, faces, view: View, size) -> tuple[np.ndarray, n
     ok = face >= 0
     f = np.asarray(faces)[face[ok]]
     rad = np.asarray(radiance)
-    image[ok] = (1 - u[ok] - v[ok])[:, None] * rad[f[:, 0]] + u[ok][:, None] * rad[f[:, 1]] + v[ok][:, None] * rad[f[:, 2]]
+    image[ok] = (
+        (1 - u[ok] - v[ok])[:, None] * rad[f[:, 0]] + u[ok][:, None] * rad[f[:, 1]] + v[ok][:, None] * rad[f[:, 2]]
+    )
     return image.reshape(h, w, 3), face.reshape(h, w)

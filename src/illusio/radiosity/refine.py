@@ -39,7 +39,7 @@ def channel_max(rgb: np.ndarray) -> np.ndarray:
 
 def transfer_estimate(h: Hierarchy, receiver, source, form_factor, radiosity=None) -> np.ndarray:
     """B_j·F_ij·A_i (W, max over RGB) for each pair: the power the link would carry unoccluded."""
-    b = channel_max(h.radiosity if radiosity is None else radiosity)[source]     # per element, then pair
+    b = channel_max(h.radiosity if radiosity is None else radiosity)[source]  # per element, then pair
     return b * form_factor * h.area[receiver]
 
 
@@ -50,9 +50,20 @@ def needs_refinement(transfer, visibility, threshold: float, criterion: str) -> 
     return transfer * visibility > threshold
 
 
-def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: float, min_area: float,
-           criterion: str = "bfv", radiosity=None, links: Links | None = None,
-           form_factor: np.ndarray | None = None, rays: np.ndarray | None = None, boxes=()) -> Links:
+def refine(
+    h: Hierarchy,
+    visibility: Visibility,
+    receivers,
+    sources,
+    threshold: float,
+    min_area: float,
+    criterion: str = "bfv",
+    radiosity=None,
+    links: Links | None = None,
+    form_factor: np.ndarray | None = None,
+    rays: np.ndarray | None = None,
+    boxes=(),
+) -> Links:
     """Refine the candidate pairs into links (appended to ``links``, which is returned). ``radiosity``:
     the B estimate of the criterion (default: the hierarchy's). ``form_factor``: the candidates' F
     where already known (links taken out to be tested again after something moved inside ``boxes``,
@@ -66,7 +77,7 @@ def refine(h: Hierarchy, visibility: Visibility, receivers, sources, threshold: 
     queue = [(receivers, np.asarray(sources, np.int64), form_factor, rays)]
     while queue:
         recv, src, known, kept_rays = queue.pop()
-        if len(recv) > CHUNK:       # bounded memory: a round holds k samples × 3 coordinates per pair
+        if len(recv) > CHUNK:  # bounded memory: a round holds k samples × 3 coordinates per pair
             rest = [None if a is None else a[CHUNK:] for a in (known, kept_rays)]
             queue.append((recv[CHUNK:], src[CHUNK:], *rest))
             recv, src = recv[:CHUNK], src[:CHUNK]

@@ -2,7 +2,8 @@
 Polygons); the solution is built on the first frame for the params' ``hierarchy`` and kept — a
 frame whose params change only the lamp scales re-solves with the links kept (Loscos 4.4.2), one
 that changes only the display draws again. ``show="links"`` draws the links lighting the chosen
-element: those it receives and those its ancestors receive (pushed down to it). Maps: ``element`` (R32F, the leaf index under each pixel,
+element: those it receives and those its ancestors receive (pushed down to it). Maps: ``element`` (R32F, the leaf
+index under each pixel,
 −1 off the geometry)."""
 
 from __future__ import annotations
@@ -31,13 +32,14 @@ class RadiosityRenderer(Renderer):
         self._solution: Radiosity | None = None
         self.polygons: Polygons | None = None
         self._scene: Scene | None = None
-        self._state = None      # (hierarchy params, lamp scales, tolerance, smooth) of the loaded mesh
+        self._state = None  # (hierarchy params, lamp scales, tolerance, smooth) of the loaded mesh
 
     def _load(self, subject) -> None:
         self._scene = subject if isinstance(subject, Scene) else None
         self.polygons = scene_polygons(subject) if isinstance(subject, Scene) else subject
         if not isinstance(self.polygons, Polygons):
             from ..core.errors import InputError
+
             raise InputError(f"RadiosityRenderer takes a Scene or Polygons, got {type(subject).__name__}")
 
     def _unload(self) -> None:
@@ -61,8 +63,14 @@ class RadiosityRenderer(Renderer):
         if self._state != state:
             if self._state is None or self._state[1:3] != state[1:3]:
                 self._solution.set_lamps(dict(params.lamp_scales), params.tolerance, params.max_iterations)
-            self.display.load(leaf_mesh(self._solution.hierarchy, self._solution.links, self._solution.display_exitance(),
-                                        smooth=params.show != "mesh"))
+            self.display.load(
+                leaf_mesh(
+                    self._solution.hierarchy,
+                    self._solution.links,
+                    self._solution.display_exitance(),
+                    smooth=params.show != "mesh",
+                )
+            )
             self._state = state
         return self._solution
 
@@ -78,7 +86,6 @@ class RadiosityRenderer(Renderer):
             self.display.links(colour, view, solution.hierarchy, lighting(solution, chosen))
         self._keep_maps({"element": element})
         return colour
-
 
     def radiance(self, frame: Frame, params: RadiosityParams | None = None, supersample: int = 1):
         """(radiance × exposure, float32 (H, W, 3), unclipped; emitter mask (H, W) bool) of the frame,
@@ -119,4 +126,6 @@ def _framing_view(polygons: Polygons):
     pts = polygons.corners.reshape(-1, 3)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     centre, radius = (lo + hi) / 2, float(np.linalg.norm(hi - lo)) / 2
-    return View(Pose(centre + np.array([0.0, 0.3, 1.0]) * 2.2 * radius, centre), Camera(45.0, radius * 0.01, radius * 10))
+    return View(
+        Pose(centre + np.array([0.0, 0.3, 1.0]) * 2.2 * radius, centre), Camera(45.0, radius * 0.01, radius * 10)
+    )

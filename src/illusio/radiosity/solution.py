@@ -15,11 +15,11 @@ import numpy as np
 
 from ..core.errors import InputError, did_you_mean
 from .clusters import ClusteredGather, ClusterLinks, ClusterTree, refine_nodes, transfer_bound
+from .dynamic import add_lamp, add_object, move_object, remove_object
 from .hierarchy import Hierarchy
 from .links import Links
 from .params import HierarchyParams
 from .polygons import MAX_POLYGONS, Polygons, polygon_areas
-from .dynamic import add_lamp, add_object, move_object, remove_object
 from .refine import needs_refinement, refine, transfer_estimate
 from .solve import SolveResult, solve
 from .visibility import Visibility
@@ -52,9 +52,12 @@ class Stats:
 
     def lines(self) -> list[str]:
         times = ", ".join(f"{k} {v * 1000:.0f} ms" for k, v in self.seconds.items())
-        return [f"elements {self.elements} ({self.leaves} leaves), links {self.links} ({self.cluster_links} through "
-                f"{self.clusters} clusters), rays {self.rays}, "
-                f"iterations {self.iterations} (residual {self.residual:.2g})", f"time: {times}"]
+        return [
+            f"elements {self.elements} ({self.leaves} leaves), links {self.links} ({self.cluster_links} through "
+            f"{self.clusters} clusters), rays {self.rays}, "
+            f"iterations {self.iterations} (residual {self.residual:.2g})",
+            f"time: {times}",
+        ]
 
 
 class Radiosity:
@@ -63,14 +66,16 @@ class Radiosity:
     def __init__(self, polygons: Polygons, params: HierarchyParams = HierarchyParams()):
         self.params = params
         self._auto_min_area = AUTO_MIN_AREA * float(polygon_areas(polygons.corners, polygons.triangle).sum())
-        if params.sliver_piece > 0:      # self.polygons are then the cut ones: h.polygon indexes them
+        if params.sliver_piece > 0:  # self.polygons are then the cut ones: h.polygon indexes them
             polygons = polygons.split_slivers(params.sliver_piece * np.sqrt(self.min_area))
         if len(polygons) > MAX_POLYGONS and not params.clusters:
             counts = np.bincount(polygons.group, minlength=len(polygons.names))
             worst = int(counts.argmax())
-            raise InputError(f"without clusters radiosity takes at most {MAX_POLYGONS} input polygons; this scene has "
-                             f"{len(polygons)}, {counts[worst]} of them in {polygons.names[worst]!r}: link through "
-                             "clusters (--clusters) or use coarser meshes")
+            raise InputError(
+                f"without clusters radiosity takes at most {MAX_POLYGONS} input polygons; this scene has "
+                f"{len(polygons)}, {counts[worst]} of them in {polygons.names[worst]!r}: link through "
+                "clusters (--clusters) or use coarser meshes"
+            )
         self.polygons = polygons
         self.hierarchy = Hierarchy(polygons)
         self.visibility = Visibility(self.hierarchy, params.visibility_samples, params.seed)
@@ -78,15 +83,16 @@ class Radiosity:
         #: the clusters over the input polygons (None without ``params.clusters``) and their links
         self.tree = ClusterTree.build(self.hierarchy) if params.clusters else None
         self.cluster_links = ClusterLinks()
-        self.lamp_scale = np.ones(len(polygons.names))     # per group
+        self.lamp_scale = np.ones(len(polygons.names))  # per group
         self.stats = Stats()
         self.result: SolveResult | None = None
         self._matrix = None
         self.built = False
 
     @classmethod
-    def from_state(cls, polygons: Polygons, params: HierarchyParams, hierarchy: Hierarchy, links: Links,
-                   lamp_scale: np.ndarray) -> "Radiosity":
+    def from_state(
+        cls, polygons: Polygons, params: HierarchyParams, hierarchy: Hierarchy, links: Links, lamp_scale: np.ndarray
+    ) -> Radiosity:
         """A built solution from its saved parts (the ray-casting scene is made again; its jitter
         starts over from ``params.seed``). Only solutions without clusters are saved."""
         if params.clusters:
@@ -143,7 +149,7 @@ class Radiosity:
         return h.exitance + h.reflectance * self.ambient_irradiance()
 
     # --- building
-    def build(self, tolerance: float = 1e-4, max_iterations: int = 200) -> "Radiosity":
+    def build(self, tolerance: float = 1e-4, max_iterations: int = 200) -> Radiosity:
         """Refine every pair of roots, solve, and re-refine with the solved B (``params.refinements``
         rounds); then, with ``lights_to_leaves``, push the lamps' links down to the leaves."""
         self._link_from_roots(tolerance, max_iterations)
@@ -156,14 +162,15 @@ class Radiosity:
     def _link_from_roots(self, tolerance: float, max_iterations: int) -> None:
         h = self.hierarchy
         t = time.perf_counter()
-        h.radiosity[:] = self._ambient_estimate()      # children inherit it as they are made
+        h.radiosity[:] = self._ambient_estimate()  # children inherit it as they are made
         if self.tree is not None:
             self._refine_nodes([self.tree.top], [self.tree.top])
         else:
             roots = h.roots[h.active[h.roots]]
             recv, src = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
-            refine(h, self.visibility, recv, src, self.threshold, self.min_area, self.params.criterion,
-                   links=self.links)
+            refine(
+                h, self.visibility, recv, src, self.threshold, self.min_area, self.params.criterion, links=self.links
+            )
         self.stats.add_time("refine", time.perf_counter() - t)
         self.solve(tolerance, max_iterations)
         for _ in range(self.params.refinements - 1):
@@ -185,7 +192,7 @@ class Radiosity:
         the current B; refine those that fail. Returns how many were refined."""
         t = time.perf_counter()
         h, L = self.hierarchy, self.links
-        tested = np.arange(len(L)) if links is None else np.flatnonzero(links)   # (a drag tests a few)
+        tested = np.arange(len(L)) if links is None else np.flatnonzero(links)  # (a drag tests a few)
         r, s = L.receiver[tested], L.source[tested]
         transfer = transfer_estimate(h, r, s, L.form_factor[tested])
         fail = needs_refinement(transfer, L.visibility[tested], self.threshold, self.params.criterion)
@@ -204,9 +211,18 @@ class Radiosity:
         return redone
 
     def _refine_nodes(self, receivers, sources) -> None:
-        refine_nodes(self.hierarchy, self.tree, self.visibility, np.asarray(receivers, np.int64),
-                     np.asarray(sources, np.int64), self.threshold, self.min_area, self.params.criterion,
-                     self.links, self.cluster_links)
+        refine_nodes(
+            self.hierarchy,
+            self.tree,
+            self.visibility,
+            np.asarray(receivers, np.int64),
+            np.asarray(sources, np.int64),
+            self.threshold,
+            self.min_area,
+            self.params.criterion,
+            self.links,
+            self.cluster_links,
+        )
         self._matrix = None
 
     def _rerefine_clusters(self) -> int:
@@ -283,16 +299,23 @@ class Radiosity:
         self.stats.add_time("solve", time.perf_counter() - t)
         self._update_stats()
         if self.result.dark:
-            warnings.warn("radiosity: no light reaches any surface (the reflected light is under 1e-9 of the "
-                          "lamps' exitance): do the lamps face the scene? (a lamp shines to its front)")
-        if not self.result.converged:       # an image made from it would be wrong without a word
-            warnings.warn(f"radiosity: the solve stopped at its cap of {max_iterations} iterations, the last change "
-                          f"of B {self.result.change:.2g} of the reflected light (tolerance {tolerance:g}); raise "
-                          "--max-iterations, or check that the lamps face the scene")
+            warnings.warn(
+                "radiosity: no light reaches any surface (the reflected light is under 1e-9 of the "
+                "lamps' exitance): do the lamps face the scene? (a lamp shines to its front)",
+                stacklevel=2,
+            )
+        if not self.result.converged:  # an image made from it would be wrong without a word
+            warnings.warn(
+                f"radiosity: the solve stopped at its cap of {max_iterations} iterations, the last change "
+                f"of B {self.result.change:.2g} of the reflected light (tolerance {tolerance:g}); raise "
+                "--max-iterations, or check that the lamps face the scene",
+                stacklevel=2,
+            )
         return self.result
 
-    def set_lamps(self, scales: dict[str, float] | tuple = (), tolerance: float = 1e-4,
-                  max_iterations: int = 200) -> SolveResult:
+    def set_lamps(
+        self, scales: dict[str, float] | tuple = (), tolerance: float = 1e-4, max_iterations: int = 200
+    ) -> SolveResult:
         """Lamp exitances scaled by name (others back to 1), then re-solved with the links kept."""
         self.lamp_scale = self.lamp_scales(scales)
         return self.solve(tolerance, max_iterations)
@@ -302,8 +325,10 @@ class Radiosity:
         scales = dict(scales)
         unknown = sorted(set(scales) - set(self.lamp_names))
         if unknown:
-            raise InputError(f"no lamp named {unknown[0]!r}{did_you_mean(unknown[0], self.lamp_names)}; "
-                             f"lamps: {', '.join(self.lamp_names) or 'none'}")
+            raise InputError(
+                f"no lamp named {unknown[0]!r}{did_you_mean(unknown[0], self.lamp_names)}; "
+                f"lamps: {', '.join(self.lamp_names) or 'none'}"
+            )
         new = np.ones(len(self.polygons.names))
         for name, value in scales.items():
             if not 0 <= float(value) < float("inf"):

@@ -24,7 +24,7 @@ __all__ = ["push_pull", "solve", "SolveResult"]
 @dataclass(frozen=True)
 class SolveResult:
     iterations: int
-    change: float      # the last largest change of B, relative to the largest reflected B
+    change: float  # the last largest change of B, relative to the largest reflected B
     converged: bool
     #: no light reaches any surface (the reflected radiosity under 1e-9 of the largest exitance):
     #: the lamps face away from everything
@@ -36,20 +36,27 @@ def push_pull(h: Hierarchy, irradiance: np.ndarray, exitance: np.ndarray, levels
     active elements by level, ``h.by_level()``). One numba pass down and one up (radiosity.reference
     .push_pull states it as loops; a NumPy pass per level cost 4× as much)."""
     order = np.concatenate(levels) if levels else np.zeros(0, np.int64)
-    return _push_pull(order, h.parent, h.child, h.area, np.ascontiguousarray(h.reflectance, np.float64),
-                      np.ascontiguousarray(irradiance, np.float64), np.ascontiguousarray(exitance, np.float64))
+    return _push_pull(
+        order,
+        h.parent,
+        h.child,
+        h.area,
+        np.ascontiguousarray(h.reflectance, np.float64),
+        np.ascontiguousarray(irradiance, np.float64),
+        np.ascontiguousarray(exitance, np.float64),
+    )
 
 
 @numba.njit(cache=True)
 def _push_pull(order, parent, child, area, reflectance, irradiance, exitance):
     """``order``: the active elements, parents before children."""
     total = irradiance.copy()
-    for e in order:                                   # push: an element's H plus its ancestors'
+    for e in order:  # push: an element's H plus its ancestors'
         if parent[e] >= 0:
             for c in range(3):
                 total[e, c] += total[parent[e], c]
     b = exitance + reflectance * total
-    for k in range(len(order) - 1, -1, -1):           # pull: the area-weighted mean of the children
+    for k in range(len(order) - 1, -1, -1):  # pull: the area-weighted mean of the children
         e = order[k]
         first = child[e]
         if first >= 0:
@@ -61,19 +68,26 @@ def _push_pull(order, parent, child, area, reflectance, irradiance, exitance):
     return b
 
 
-def solve(h: Hierarchy, matrix, exitance: np.ndarray, tolerance: float = 1e-4,
-          max_iterations: int = 200, start: np.ndarray | None = None) -> SolveResult:
+def solve(
+    h: Hierarchy,
+    matrix,
+    exitance: np.ndarray,
+    tolerance: float = 1e-4,
+    max_iterations: int = 200,
+    start: np.ndarray | None = None,
+) -> SolveResult:
     """Iterate gather + push-pull from ``start`` (default: the hierarchy's B) until the largest change
     of B is below ``tolerance`` × the largest reflected radiosity max(B − E); leaves B and H in the
     hierarchy. ``matrix``: K with H = K @ B (a scipy matrix or :class:`links.LinkGather`)."""
-    if not np.any(exitance):               # nothing emits: B = 0 (the relative change below would never settle)
+    if not np.any(exitance):  # nothing emits: B = 0 (the relative change below would never settle)
         h.radiosity[:] = 0.0
         h.irradiance[:] = 0.0
         return SolveResult(0, 0.0, True)
     levels = h.by_level()
     b = (h.radiosity if start is None else start).copy()
     change, k = np.inf, 0
-    for k in range(1, max_iterations + 1):
+    while k < max_iterations:
+        k += 1
         irradiance = np.asarray(matrix @ b)
         new = push_pull(h, irradiance, exitance, levels)
         # the reflected light, not the lamps; where almost none is (a lamp facing away) the change

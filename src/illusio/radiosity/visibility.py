@@ -122,15 +122,15 @@ def _pair_grids(receivers, sources, samples, seed, out_receiver, out_source):
             out = out_receiver if which == 0 else out_source
             for c in range(cells):
                 perm[c] = c
-            for c in range(cells - 1, 0, -1):           # Fisher–Yates
+            for c in range(cells - 1, 0, -1):  # Fisher–Yates
                 state += _GOLDEN
                 q = int(splitmix(state) % np.uint64(c + 1))
                 perm[c], perm[q] = perm[q], perm[c]
             for t in range(samples):
                 state += _GOLDEN
-                u = float(splitmix(state) >> np.uint64(11)) * 2.0 ** -53
+                u = float(splitmix(state) >> np.uint64(11)) * 2.0**-53
                 state += _GOLDEN
-                v = float(splitmix(state) >> np.uint64(11)) * 2.0 ** -53
+                v = float(splitmix(state) >> np.uint64(11)) * 2.0**-53
                 out[p, t, 0] = (perm[t] % side + u) / side
                 out[p, t, 1] = (perm[t] // side + v) / side
 
@@ -143,8 +143,14 @@ def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: i
     n = len(receivers)
     out_receiver, out_source = np.empty((n, samples, 2)), np.empty((n, samples, 2))
     if n:
-        _pair_grids(np.asarray(receivers, np.int64), np.asarray(sources, np.int64), int(samples), int(seed),
-                    out_receiver, out_source)
+        _pair_grids(
+            np.asarray(receivers, np.int64),
+            np.asarray(sources, np.int64),
+            int(samples),
+            int(seed),
+            out_receiver,
+            out_source,
+        )
     return out_receiver, out_source
 
 
@@ -200,11 +206,21 @@ def _rays_to_cast(rays, samples, epoch, origins, directions, dists, up, box_lo, 
             o0, o1, o2 = float(origins[i, 0]), float(origins[i, 1]), float(origins[i, 2])
             for b in range(box_lo.shape[0]):
                 if not cast_ray[i]:
-                    cast_ray[i] = _slab(o0, o1, o2, float(directions[i, 0]), float(directions[i, 1]),
-                                        float(directions[i, 2]), float(dists[i]), box_lo[b], box_hi[b])
+                    cast_ray[i] = _slab(
+                        o0,
+                        o1,
+                        o2,
+                        float(directions[i, 0]),
+                        float(directions[i, 1]),
+                        float(directions[i, 2]),
+                        float(dists[i]),
+                        box_lo[b],
+                        box_hi[b],
+                    )
                 if not cast_probe[i]:
-                    cast_probe[i] = _slab(o0, o1, o2, float(up[i, 0]), float(up[i, 1]), float(up[i, 2]), 1e300,
-                                          box_lo[b], box_hi[b])
+                    cast_probe[i] = _slab(
+                        o0, o1, o2, float(up[i, 0]), float(up[i, 1]), float(up[i, 2]), 1e300, box_lo[b], box_hi[b]
+                    )
     return cast_ray, cast_probe
 
 
@@ -217,10 +233,16 @@ def _front_to_front(directions, receiver_normal, source_normal, samples):
     out = np.empty(len(directions), np.bool_)
     for i in range(len(directions)):
         p = i // samples
-        up = (directions[i, 0] * receiver_normal[p, 0] + directions[i, 1] * receiver_normal[p, 1]
-              + directions[i, 2] * receiver_normal[p, 2])
-        down = (directions[i, 0] * source_normal[p, 0] + directions[i, 1] * source_normal[p, 1]
-                + directions[i, 2] * source_normal[p, 2])
+        up = (
+            directions[i, 0] * receiver_normal[p, 0]
+            + directions[i, 1] * receiver_normal[p, 1]
+            + directions[i, 2] * receiver_normal[p, 2]
+        )
+        down = (
+            directions[i, 0] * source_normal[p, 0]
+            + directions[i, 1] * source_normal[p, 1]
+            + directions[i, 2] * source_normal[p, 2]
+        )
         out[i] = up > 0 and down < 0
     return out
 
@@ -280,7 +302,7 @@ class Visibility:
         extent = np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max() if len(h.roots) else 1.0
         self.offset = 1e-5 * max(float(extent), 1e-6)
         self.contact = 2e-3 * max(float(extent), 1e-6)
-        if self._lifts != (self.offset, self.contact):     # the rays a link kept were cast otherwise
+        if self._lifts != (self.offset, self.contact):  # the rays a link kept were cast otherwise
             self._lifts, self.epoch = (self.offset, self.contact), self.epoch + 1
         self.scene = rtcore_scene.EmbreeScene()
         if len(tris):
@@ -309,7 +331,9 @@ class Visibility:
         # stands on the wall, the points are inside the door)
         probe = self.scene.run(origins, up, output=1)
         self.rays += 2 * n * k
-        exposed = _exposed(np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact)
+        exposed = _exposed(
+            np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact
+        )
         facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
         visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False, facing)
         return form_factor, visibility
@@ -323,10 +347,13 @@ class Visibility:
         up = np.ascontiguousarray(normals, np.float32)
         probe = self.scene.run(np.ascontiguousarray(origins, np.float32), up, output=1)
         self.rays += len(origins)
-        return _exposed(np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact)
+        return _exposed(
+            np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact
+        )
 
-    def recast(self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray,
-               boxes: list) -> tuple[np.ndarray, np.ndarray]:
+    def recast(
+        self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(V_ij, rays) for pairs whose ends did not move, cast again after something moved inside
         ``boxes`` ([(lo, hi)], world metres, covering where it was and where it is): their points from
         :func:`pair_grids`; ``rays`` (n,) int64, what each pair kept at its last recast (NO_RAYS: none):
@@ -343,8 +370,19 @@ class Visibility:
         clear, exposed = np.ones(n * k, np.bool_), np.ones(n * k, np.bool_)
         box_lo = np.array([lo for lo, _ in boxes], np.float64).reshape(-1, 3) - self.offset
         box_hi = np.array([hi for _, hi in boxes], np.float64).reshape(-1, 3) + self.offset
-        cast_ray, cast_probe = _rays_to_cast(rays if keep else np.full(n, NO_RAYS, np.int64), k, self.epoch,
-                                             origins, directions, dists, up, box_lo, box_hi, clear, exposed)
+        cast_ray, cast_probe = _rays_to_cast(
+            rays if keep else np.full(n, NO_RAYS, np.int64),
+            k,
+            self.epoch,
+            origins,
+            directions,
+            dists,
+            up,
+            box_lo,
+            box_hi,
+            clear,
+            exposed,
+        )
         if not self.empty:
             cast = np.flatnonzero(cast_ray)
             if len(cast):
@@ -353,8 +391,13 @@ class Visibility:
             cast = np.flatnonzero(cast_probe)
             if len(cast):
                 probe = self.scene.run(origins[cast], up[cast], output=1)
-                exposed[cast] = _exposed(np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]),
-                                         up[cast], self.contact)
+                exposed[cast] = _exposed(
+                    np.asarray(probe["primID"]),
+                    np.asarray(probe["tfar"]),
+                    np.asarray(probe["Ng"]),
+                    up[cast],
+                    self.contact,
+                )
             self.rays += int(cast_ray.sum() + cast_probe.sum())
         else:
             clear[:], exposed[:] = True, True

@@ -35,8 +35,15 @@ from ..core.images import atomic_output
 from ..scene.camera import Camera, Pose, View
 from ..scene.intrinsics import Intrinsics
 
-__all__ = ["Calibration", "read_points", "calibrate", "write_camera", "read_camera", "MIN_POINTS",
-           "MAX_REPROJECTION_ERROR"]
+__all__ = [
+    "Calibration",
+    "read_points",
+    "calibrate",
+    "write_camera",
+    "read_camera",
+    "MIN_POINTS",
+    "MAX_REPROJECTION_ERROR",
+]
 
 MIN_POINTS = 6
 #: the reprojection error (RMS, pixels) above which a calibration is refused
@@ -126,25 +133,44 @@ def calibrate(uv: np.ndarray, xyz: np.ndarray, size: tuple[int, int]) -> Calibra
     _, k, dist, rvec, tvec = best
     projected = cv2.projectPoints(xyz, rvec, tvec, k, dist)[0].reshape(-1, 2)
     errors = np.linalg.norm(projected - uv, axis=1)
-    intrinsics = Intrinsics(w, h, float(k[0, 0]), float(k[1, 1]), float(k[0, 2]), float(k[1, 2]), "OPENCV",
-                            (float(dist[0]), float(dist[1]), 0.0, 0.0))
-    rotation = cv2.Rodrigues(rvec)[0]                        # world → camera (OpenCV axes)
+    intrinsics = Intrinsics(
+        w,
+        h,
+        float(k[0, 0]),
+        float(k[1, 1]),
+        float(k[0, 2]),
+        float(k[1, 2]),
+        "OPENCV",
+        (float(dist[0]), float(dist[1]), 0.0, 0.0),
+    )
+    rotation = cv2.Rodrigues(rvec)[0]  # world → camera (OpenCV axes)
     eye = -rotation.T @ tvec.reshape(3)
     forward, down = rotation.T @ (0.0, 0.0, 1.0), rotation.T @ (0.0, 1.0, 0.0)
     if (((xyz - eye) @ forward) <= 0).any():
-        raise InputError("calibration put some points behind the camera: check that each u, v is paired with its x, y, z")
+        raise InputError(
+            "calibration put some points behind the camera: check that each u, v is paired with its x, y, z"
+        )
     depth = float(((xyz - eye) @ forward).max())
     view = View(Pose(tuple(eye), tuple(eye + forward), tuple(-down)), intrinsics.camera(0.05, max(100.0, 4 * depth)))
-    return Calibration(intrinsics, view, errors, float(np.sqrt(np.mean(errors ** 2))))
+    return Calibration(intrinsics, view, errors, float(np.sqrt(np.mean(errors**2))))
 
 
 def write_camera(path, calibration: Calibration) -> Path:
     """camera.json for ``calibration`` (the module docstring), written atomically."""
     i, pose = calibration.intrinsics, calibration.view.pose
-    doc = {"position": list(pose.position), "target": list(pose.target), "up": list(pose.up),
-           "width": i.width, "height": i.height, "fx": i.fx, "fy": i.fy, "cx": i.cx, "cy": i.cy,
-           "distortion": list(i.distortion) or [0.0, 0.0, 0.0, 0.0],
-           "reprojection_error_px": calibration.rms}
+    doc = {
+        "position": list(pose.position),
+        "target": list(pose.target),
+        "up": list(pose.up),
+        "width": i.width,
+        "height": i.height,
+        "fx": i.fx,
+        "fy": i.fy,
+        "cx": i.cx,
+        "cy": i.cy,
+        "distortion": list(i.distortion) or [0.0, 0.0, 0.0, 0.0],
+        "reprojection_error_px": calibration.rms,
+    }
     path = Path(path)
     with atomic_output(path) as tmp:
         Path(tmp).write_text(json.dumps(doc, indent=2) + "\n")
@@ -157,8 +183,11 @@ def read_camera(path) -> tuple[View, Intrinsics | None, tuple[int, int] | None]:
     path = Path(path)
     try:
         c = json.loads(read_text(path, "a camera (camera.json)"))
-        pose = Pose(tuple(map(float, c["position"])), tuple(map(float, c["target"])),
-                    tuple(map(float, c.get("up", (0.0, 1.0, 0.0)))))
+        pose = Pose(
+            tuple(map(float, c["position"])),
+            tuple(map(float, c["target"])),
+            tuple(map(float, c.get("up", (0.0, 1.0, 0.0)))),
+        )
         size = (int(c["width"]), int(c["height"])) if "width" in c or "height" in c else None
         if "fx" in c:
             if size is None:
@@ -166,12 +195,21 @@ def read_camera(path) -> tuple[View, Intrinsics | None, tuple[int, int] | None]:
             distortion = tuple(float(x) for x in c.get("distortion", ()))
             if distortion and len(distortion) != 4:
                 raise ValueError(f"distortion is [k1, k2, p1, p2], got {len(distortion)} values")
-            intrinsics = Intrinsics(size[0], size[1], float(c["fx"]), float(c["fy"]), float(c["cx"]), float(c["cy"]),
-                                    "OPENCV" if any(distortion) else "PINHOLE", distortion if any(distortion) else ())
+            intrinsics = Intrinsics(
+                size[0],
+                size[1],
+                float(c["fx"]),
+                float(c["fy"]),
+                float(c["cx"]),
+                float(c["cy"]),
+                "OPENCV" if any(distortion) else "PINHOLE",
+                distortion if any(distortion) else (),
+            )
             return View(pose, intrinsics.camera(0.05, 100.0)), intrinsics, size
         return View(pose, Camera(fov_y=float(c["fov"]))), None, size
     except InputError as exc:
         raise InputError(f"{path}: {exc}") from None
     except (ValueError, KeyError, TypeError, AttributeError) as exc:
-        raise InputError(f"{path}: a camera needs position, target and fov, or width, height, fx, fy, cx, cy "
-                         f"(and distortion): {exc}") from None
+        raise InputError(
+            f"{path}: a camera needs position, target and fov, or width, height, fx, fy, cx, cy (and distortion): {exc}"
+        ) from None

@@ -8,8 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["reflectance_from_photograph", "reestimated_reflectance", "lamp_exitance", "displayed",
-           "reflectance_from_irradiance", "lamp_exitance_from_pixels"]
+__all__ = [
+    "reflectance_from_photograph",
+    "reestimated_reflectance",
+    "lamp_exitance",
+    "displayed",
+    "reflectance_from_irradiance",
+    "lamp_exitance_from_pixels",
+]
 
 #: the largest reflectance the estimate gives (a texture brighter than the mean by 1/ρ̂ would reach 1)
 MAX_REFLECTANCE = 0.95
@@ -32,8 +38,9 @@ def reestimated_reflectance(mean_pixels, mean_scene, mean_reflectance, areas) ->
     return reflectance_from_photograph(mean_pixels, mean_scene, rho_hat), rho_hat
 
 
-def lamp_exitance(mean_reflectance, mean_scene_radiance, total_area: float, lamp_area: float,
-                  other_power=0.0) -> np.ndarray:
+def lamp_exitance(
+    mean_reflectance, mean_scene_radiance, total_area: float, lamp_area: float, other_power=0.0
+) -> np.ndarray:
     """Eq. (4.2) with every lamp of the same exitance: Σ_emitters E·A = (1 − ρ̂)·B̂_A·Σ_i A_i, so
     E = ((1 − ρ̂)·π·L̂_A·ΣA − P_other) / ΣA_lamps (W/m², RGB), L̂_A the photograph's mean radiance and
     P_other the power (W, RGB) of emitters whose exitance is already known (self-luminous surfaces),

@@ -55,8 +55,9 @@ def true_camera(size: tuple[int, int] = (320, 240)) -> tuple[View, Intrinsics]:
     w, h = size
     f = 0.62 * w
     s = w / 320
-    intrinsics = Intrinsics(w, h, f, f, (w - 1) / 2 + round(12 * s), (h - 1) / 2 - round(8 * s), "OPENCV",
-                            (-0.08, 0.01, 0.0, 0.0))
+    intrinsics = Intrinsics(
+        w, h, f, f, (w - 1) / 2 + round(12 * s), (h - 1) / 2 - round(8 * s), "OPENCV", (-0.08, 0.01, 0.0, 0.0)
+    )
     return View(_POSE, intrinsics.camera(0.05, 50.0)), intrinsics
 
 
@@ -71,10 +72,11 @@ def pinhole_photograph(polygons, intrinsics: Intrinsics, samples: int, seed: int
     dx, dy = round(intrinsics.cx - (w - 1) / 2), round(intrinsics.cy - (h - 1) / 2)
     big_w, big_h = w + 2 * abs(dx), h + 2 * abs(dy)
     fov = math.degrees(2 * math.atan(big_h / (2 * intrinsics.fy)))
-    big = render_mitsuba(polygons, View(_POSE, Camera(fov, 0.05, 50.0)), (big_w, big_h), samples, seed,
-                         denoise=denoiser_available())
-    x0, y0 = abs(dx) - dx, abs(dy) - dy           # the big image's centre lands on (c_x, c_y) of the crop
-    return big[y0:y0 + h, x0:x0 + w]
+    big = render_mitsuba(
+        polygons, View(_POSE, Camera(fov, 0.05, 50.0)), (big_w, big_h), samples, seed, denoise=denoiser_available()
+    )
+    x0, y0 = abs(dx) - dx, abs(dy) - dy  # the big image's centre lands on (c_x, c_y) of the crop
+    return big[y0 : y0 + h, x0 : x0 + w]
 
 
 def _visible_corners(polygons, eye: np.ndarray) -> np.ndarray:
@@ -88,8 +90,9 @@ def _visible_corners(polygons, eye: np.ndarray) -> np.ndarray:
     TriangleMesh(scene, vertices[faces])
     d = corners - eye
     length = np.linalg.norm(d, axis=1)
-    hit = scene.run(np.repeat(eye[None], len(d), 0).astype(np.float32), (d / length[:, None]).astype(np.float32),
-                    output=1)
+    hit = scene.run(
+        np.repeat(eye[None], len(d), 0).astype(np.float32), (d / length[:, None]).astype(np.float32), output=1
+    )
     return corners[np.asarray(hit["tfar"]) >= length * (1 - 2e-3)]
 
 
@@ -106,8 +109,9 @@ def project(points: np.ndarray, view: View, intrinsics: Intrinsics) -> np.ndarra
     return np.c_[intrinsics.fx * xd + intrinsics.cx, intrinsics.fy * yd + intrinsics.cy]
 
 
-def make_example(folder, size: tuple[int, int] = (320, 240), samples: int = 64, seed: int = 0,
-                 points: int = 16) -> dict[str, Path]:
+def make_example(
+    folder, size: tuple[int, int] = (320, 240), samples: int = 64, seed: int = 0, points: int = 16
+) -> dict[str, Path]:
     """Write the example folder (scene.yaml, photograph.png, points.txt, true-camera.json); returns
     the paths by name. ``points``: how many corners to pick (spread over the photograph)."""
     import json
@@ -117,8 +121,15 @@ def make_example(folder, size: tuple[int, int] = (320, 240), samples: int = 64, 
 
     root = Path(folder)
     root.mkdir(parents=True, exist_ok=True)
-    paths = {name: root / file for name, file in (("scene", "scene.yaml"), ("photograph", "photograph.png"),
-                                                  ("points", "points.txt"), ("true camera", "true-camera.json"))}
+    paths = {
+        name: root / file
+        for name, file in (
+            ("scene", "scene.yaml"),
+            ("photograph", "photograph.png"),
+            ("points", "points.txt"),
+            ("true camera", "true-camera.json"),
+        )
+    }
     with atomic_output(paths["scene"]) as tmp:
         Path(tmp).write_text(EXAMPLE_SCENE)
     polygons = scene_polygons(load_scene(paths["scene"]))
@@ -137,14 +148,25 @@ def make_example(folder, size: tuple[int, int] = (320, 240), samples: int = 64, 
         chosen.append(int(np.argmax(distance)))
     rng = np.random.default_rng(seed)
     clicked = uv[chosen] + rng.normal(0, 0.3, (len(chosen), 2))
-    lines = ["# u v x y z: a pixel of photograph.png (column, row; the top-left pixel is 0 0) and the model point",
-             "# it shows (metres, scene.yaml's frame); picked as a user would, to a third of a pixel"]
+    lines = [
+        "# u v x y z: a pixel of photograph.png (column, row; the top-left pixel is 0 0) and the model point",
+        "# it shows (metres, scene.yaml's frame); picked as a user would, to a third of a pixel",
+    ]
     lines += [f"{u:.2f} {v:.2f} {x:.4f} {y:.4f} {z:.4f}" for (u, v), (x, y, z) in zip(clicked, corners[chosen])]
     with atomic_output(paths["points"]) as tmp:
         Path(tmp).write_text("\n".join(lines) + "\n")
-    doc = {"position": list(view.pose.position), "target": list(view.pose.target), "up": list(view.pose.up),
-           "width": size[0], "height": size[1], "fx": intrinsics.fx, "fy": intrinsics.fy, "cx": intrinsics.cx,
-           "cy": intrinsics.cy, "distortion": list(intrinsics.distortion)}
+    doc = {
+        "position": list(view.pose.position),
+        "target": list(view.pose.target),
+        "up": list(view.pose.up),
+        "width": size[0],
+        "height": size[1],
+        "fx": intrinsics.fx,
+        "fy": intrinsics.fy,
+        "cx": intrinsics.cx,
+        "cy": intrinsics.cy,
+        "distortion": list(intrinsics.distortion),
+    }
     with atomic_output(paths["true camera"]) as tmp:
         Path(tmp).write_text(json.dumps(doc, indent=2) + "\n")
     return paths

@@ -52,7 +52,7 @@ class LampRims:
         return ndimage.binary_dilation(total > 0) & ~whole
 
     @classmethod
-    def prepare(cls, polygons, view, photograph: np.ndarray, groups) -> "LampRims":
+    def prepare(cls, polygons, view, photograph: np.ndarray, groups) -> LampRims:
         from .photograph import polygon_ids
 
         h, w = photograph.shape[:2]
@@ -60,8 +60,11 @@ class LampRims:
         ids = polygon_ids(polygons, view, (w * k, h * k))
         group = np.where(ids >= 0, polygons.group[np.maximum(ids, 0)], -1)
         groups = np.asarray(sorted(groups), np.int64)
-        coverage = np.stack([(group == g).reshape(h, k, w, k).mean(axis=(1, 3)) for g in groups], axis=-1) \
-            if len(groups) else np.zeros((h, w, 0))
+        coverage = (
+            np.stack([(group == g).reshape(h, k, w, k).mean(axis=(1, 3)) for g in groups], axis=-1)
+            if len(groups)
+            else np.zeros((h, w, 0))
+        )
         radiance = np.zeros((len(groups), 3))
         for s in range(len(groups)):
             whole = coverage[..., s] >= 1.0
@@ -90,7 +93,9 @@ class LampRims:
             self._nearest_key, self._nearest_indices = key, (tuple(free), tuple(surface))
         return self._nearest_indices
 
-    def apply(self, relit: np.ndarray, photograph: np.ndarray, scales: np.ndarray, centre_on_lamp: np.ndarray) -> np.ndarray:
+    def apply(
+        self, relit: np.ndarray, photograph: np.ndarray, scales: np.ndarray, centre_on_lamp: np.ndarray
+    ) -> np.ndarray:
         """The relit image with its rim pixels recomposed (the module docstring). ``relit`` and
         ``photograph`` (H, W, 3) at the same exposure; ``scales`` (L,) the lamps' k_s;
         ``centre_on_lamp`` (H, W): the pixels whose centre sees a lamp."""
@@ -98,10 +103,10 @@ class LampRims:
         if not rim.any():
             return relit
         (sy, sx), (iy, ix) = self._nearest(centre_on_lamp)
-        ry, rx = np.nonzero(rim)                     # only the rim pixels are worked on
+        ry, rx = np.nonzero(rim)  # only the rim pixels are worked on
         photograph = photograph[..., :3]
         photo = photograph[ry, rx].astype(np.float64)
-        surface = photograph[sy[ry, rx], sx[ry, rx]].astype(np.float64)   # S: the nearest pixel no lamp covers
+        surface = photograph[sy[ry, rx], sx[ry, rx]].astype(np.float64)  # S: the nearest pixel no lamp covers
         # the surface's own ratio where the centre saw it, else the nearest such pixel's
         at = (iy[ry, rx], ix[ry, rx])
         seen, now = photograph[at].astype(np.float64), relit[..., :3][at].astype(np.float64)
@@ -112,7 +117,7 @@ class LampRims:
         # rims are, but the photograph's filter spreads a lamp's glow differently
         lamp = np.argmax(self.coverage[ry, rx], axis=-1)
         glow = self.radiance[lamp]
-        lum = lambda a: a.mean(axis=-1)                                              # noqa: E731
+        lum = lambda a: a.mean(axis=-1)  # noqa: E731
         with np.errstate(divide="ignore", invalid="ignore"):
             share = np.clip((lum(photo) - lum(surface)) / (lum(glow) - lum(surface)), 0, 1)
         share = np.where(np.isfinite(share), share, 0.0)

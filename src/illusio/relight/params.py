@@ -8,7 +8,16 @@ from ..core.errors import InputError
 from ..core.params import check_ranges, param
 from ..radiosity.params import HierarchyParams
 
-__all__ = ["RelightParams", "METHODS", "ESTIMATES", "REFERENCE_WEIGHTS", "SHOW", "INITIAL_HIERARCHY", "DEFAULT_SIZE", "DEFAULT_PATHS"]
+__all__ = [
+    "RelightParams",
+    "METHODS",
+    "ESTIMATES",
+    "REFERENCE_WEIGHTS",
+    "SHOW",
+    "INITIAL_HIERARCHY",
+    "DEFAULT_SIZE",
+    "DEFAULT_PATHS",
+]
 
 #: the built-in photograph's size (pixels) and paths a pixel unless asked otherwise: the CLI's
 #: defaults, and what the relight benchmark's table is made at
@@ -76,24 +85,35 @@ class RelightParams:
     (4.3.3): the mesh and links made again with ``final_hierarchy`` (default: BFV, as the
     chapter has it) over the final textures, D computed with the lamps' links at the leaves, then B with
     the links where the criterion puts them. Both keep the model's own polygons (their sliver_piece is
-    taken as 0: the photograph's textures and pixels are keyed to the input polygons). lamp_scales: (lamp name, factor on its estimated
+    taken as 0: the photograph's textures and pixels are keyed to the input polygons). lamp_scales: (lamp name,
+    factor on its estimated
     exitance) pairs. exposure: factor on the displayed radiance."""
 
     method: str = param("loscos", choices=METHODS)
-    estimate: str = param("inverse", choices=ESTIMATES, help="brightness: Loscos eqs. 4.1/4.2 as the chapter; inverse: "
-                                                             "ρ = πB̂/H, lamps from their own pixels")
+    estimate: str = param(
+        "inverse",
+        choices=ESTIMATES,
+        help="brightness: Loscos eqs. 4.1/4.2 as the chapter; inverse: ρ = πB̂/H, lamps from their own pixels",
+    )
     mean_reflectance: float = param(0.5, range=(0.01, 0.95), label="mean reflectance ρ̂ (first guess)")
     colour_threshold: float = param(20.0, range=(0.0, 200.0), label="colour similarity ε (CIE L*a*b*, Fig. 4.7, 4.11)")
     visibility_threshold: float = param(0.3, range=(0.0, 1.0), label="visibility similarity (Fig. 4.7)")
     texture_refinement: bool = param(True, help="loscos: split leaves along the photographed shadows (4.3.1)")
-    reference_correction: bool = param(True, help="loscos: correct each shadowed leaf's texture by its reference "
-                                                  "leaf's (eqs. 4.8, 4.9); off: the blocked light added alone (4.6)")
-    reference_weight: str = param("blocked-share", choices=REFERENCE_WEIGHTS,
-                                  help="loscos: how much of Loscos eq. 4.9's correction a shadowed leaf takes — "
-                                       "in proportion to the share of its direct light blocked, or in full (the chapter)")
+    reference_correction: bool = param(
+        True,
+        help="loscos: correct each shadowed leaf's texture by its reference "
+        "leaf's (eqs. 4.8, 4.9); off: the blocked light added alone (4.6)",
+    )
+    reference_weight: str = param(
+        "blocked-share",
+        choices=REFERENCE_WEIGHTS,
+        help="loscos: how much of Loscos eq. 4.9's correction a shadowed leaf takes — "
+        "in proportion to the share of its direct light blocked, or in full (the chapter)",
+    )
     min_pixels: int = param(4, range=(1, 10000), step=1, help="4.3.1 splits only leaves covering this many pixels")
-    hierarchy: HierarchyParams = param(default_factory=lambda: INITIAL_HIERARCHY,
-                                       help="the initial radiosity solution (BF at a coarse ε)")
+    hierarchy: HierarchyParams = param(
+        default_factory=lambda: INITIAL_HIERARCHY, help="the initial radiosity solution (BF at a coarse ε)"
+    )
     fresh_solution: bool = param(False, help="loscos: end with a fresh BFV solution over the final textures (4.3.3)")
     final_hierarchy: HierarchyParams = param(default_factory=lambda: FINAL_HIERARCHY, panel=False)
     lamp_scales: tuple = param((), panel=False)
@@ -102,8 +122,10 @@ class RelightParams:
     def __post_init__(self):
         check_ranges(self)
         if self.hierarchy.clusters or self.final_hierarchy.clusters:
-            raise InputError("relighting reads element links (shadow masks, frontier): its solutions take "
-                             "clusters=False (--no-clusters)")
+            raise InputError(
+                "relighting reads element links (shadow masks, frontier): its solutions take "
+                "clusters=False (--no-clusters)"
+            )
         for pair in self.lamp_scales:
             if len(pair) != 2 or not isinstance(pair[0], str) or not 0 <= float(pair[1]) < float("inf"):
                 raise InputError(f"lamp_scales takes (name, finite factor ≥ 0) pairs, got {pair!r}")

@@ -39,7 +39,9 @@ def surface_points(polygons, view, size):
     w, h = size
     directions = view.ray_directions((w, h)).reshape(-1, 3)
     origin = np.asarray(view.pose.position, np.float64)
-    hit = scene.run(np.repeat(origin[None], len(directions), axis=0).astype(np.float32), directions.astype(np.float32), output=1)
+    hit = scene.run(
+        np.repeat(origin[None], len(directions), axis=0).astype(np.float32), directions.astype(np.float32), output=1
+    )
     prim = np.asarray(hit["primID"])
     polygon = np.where(prim >= 0, face_polygon[np.maximum(prim, 0)], -1)
     points = origin + directions * np.where(prim >= 0, np.asarray(hit["tfar"], np.float64), 0)[:, None]
@@ -48,8 +50,17 @@ def surface_points(polygons, view, size):
     return points.reshape(h, w, 3), normals.reshape(h, w, 3), polygon.reshape(h, w)
 
 
-def lamp_irradiance(polygons, lamp_rows: np.ndarray, exitance: np.ndarray, points, normals, seen,
-                    samples: int = 16, seed: int = 0, unoccluded: bool = False):
+def lamp_irradiance(
+    polygons,
+    lamp_rows: np.ndarray,
+    exitance: np.ndarray,
+    points,
+    normals,
+    seen,
+    samples: int = 16,
+    seed: int = 0,
+    unoccluded: bool = False,
+):
     """H_s(x) for every seen pixel and every lamp polygon in ``lamp_rows``: (n_seen, n_lamps, 3) W/m².
     ``exitance``: B_s of each lamp polygon (n_lamps, 3). With ``unoccluded``, also F_x→s·B_s, the
     same without the visibility (what a shadow took away is the difference)."""
@@ -77,9 +88,12 @@ def lamp_irradiance(polygons, lamp_rows: np.ndarray, exitance: np.ndarray, point
         target = (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3]
         d = target - start[:, None]
         length = np.linalg.norm(d, axis=2)
-        hit = scene.run(np.repeat(start, samples, axis=0).astype(np.float32),
-                        (d / length[..., None]).reshape(-1, 3).astype(np.float32),
-                        dists=(length.reshape(-1) * (1 - 1e-4)).astype(np.float32), query="OCCLUDED")
+        hit = scene.run(
+            np.repeat(start, samples, axis=0).astype(np.float32),
+            (d / length[..., None]).reshape(-1, 3).astype(np.float32),
+            dists=(length.reshape(-1) * (1 - 1e-4)).astype(np.float32),
+            query="OCCLUDED",
+        )
         above = (d * n[:, None]).sum(axis=2) > 0
         visible = ((np.asarray(hit).reshape(len(x), samples) < 0) & above).mean(axis=1)
         out[:, k] = (f * visible)[:, None] * exitance[k]

@@ -17,12 +17,27 @@ from ..scene.builtin import builtin_scene
 from ..scene.camera import View
 from .params import DEFAULT_PATHS, DEFAULT_SIZE
 
-__all__ = ["RealScene", "builtin_real_scene", "load_real_scene", "read_photograph", "polygon_ids", "PHOTOGRAPH_NAMES",
-           "RESPONSES"]
+__all__ = [
+    "RealScene",
+    "builtin_real_scene",
+    "load_real_scene",
+    "read_photograph",
+    "polygon_ids",
+    "PHOTOGRAPH_NAMES",
+    "RESPONSES",
+]
 
 #: the photograph of a real-scene folder, by the first of these names found
-PHOTOGRAPH_NAMES = ("photograph.exr", "photograph.hdr", "photograph.png", "photograph.npy", "photograph.tif",
-                    "photograph.tiff", "photograph.jpg", "photograph.jpeg")
+PHOTOGRAPH_NAMES = (
+    "photograph.exr",
+    "photograph.hdr",
+    "photograph.png",
+    "photograph.npy",
+    "photograph.tif",
+    "photograph.tiff",
+    "photograph.jpg",
+    "photograph.jpeg",
+)
 #: how a photograph's stored values map to linear radiance: auto (8- and 16-bit PNG, JPEG, TIFF
 #: decoded from sRGB, as cameras and editors write them; EXR, Radiance HDR and .npy linear as
 #: stored), srgb, linear, or gamma:G (value^G, a camera's plain power-law response)
@@ -97,8 +112,9 @@ class RealScene:
             raise InputError("the photograph has non-finite pixels")
         if (photo[..., :3] < 0).any():
             y, x = np.argwhere((photo[..., :3] < 0).any(axis=2))[0]
-            raise InputError(f"the photograph has negative values (first at pixel x={x}, y={y}): it must be "
-                             "radiance ≥ 0, linear")
+            raise InputError(
+                f"the photograph has negative values (first at pixel x={x}, y={y}): it must be radiance ≥ 0, linear"
+            )
         self.photograph = photo[..., :3]
         if not self.polygons.lamps:
             raise InputError("the real scene has no lamp: relighting estimates the lamps' exitance")
@@ -108,8 +124,13 @@ class RealScene:
         return self.photograph.shape[1], self.photograph.shape[0]
 
 
-def builtin_real_scene(name: str = "office", size: tuple[int, int] = DEFAULT_SIZE, samples: int = DEFAULT_PATHS, seed: int = 0,
-                       denoise: bool | None = None) -> RealScene:
+def builtin_real_scene(
+    name: str = "office",
+    size: tuple[int, int] = DEFAULT_SIZE,
+    samples: int = DEFAULT_PATHS,
+    seed: int = 0,
+    denoise: bool | None = None,
+) -> RealScene:
     """The built-in case: ``name``'s polygons photographed by Mitsuba from its main camera, at
     ``samples`` paths a pixel and, with ``denoise`` (default: when pyoidn is installed), through Open
     Image Denoise guided by the first hit's albedo and normal — a camera's clean photograph, where
@@ -148,14 +169,16 @@ def load_real_scene(folder, response: str = "auto") -> RealScene:
     if photo_file is None:
         raise InputError(f"{root}: no photograph ({', '.join(PHOTOGRAPH_NAMES)})")
     scene = load_scene(scene_file)
-    _response(response) if response != "auto" else None          # a bad response named before any reading
+    _response(response) if response != "auto" else None  # a bad response named before any reading
     photograph = read_photograph(photo_file, response)
     camera_file = root / "camera.json"
     if camera_file.is_file():
         view, intrinsics, size = read_camera(camera_file)
         if size is not None and size != (photograph.shape[1], photograph.shape[0]):
-            raise InputError(f"{photo_file} is {photograph.shape[1]}x{photograph.shape[0]} pixels but {camera_file.name} "
-                             f"says {size[0]}x{size[1]}")
+            raise InputError(
+                f"{photo_file} is {photograph.shape[1]}x{photograph.shape[0]} pixels but {camera_file.name} "
+                f"says {size[0]}x{size[1]}"
+            )
         if intrinsics is not None and intrinsics.distorted:
             photograph = undistort_image(photograph, intrinsics)
     else:

@@ -35,8 +35,9 @@ class Registration:
         return self.score < POOR
 
     def line(self) -> str:
-        return (f"registration: {self.score:.0%} of the model's edges lie within {self.tolerance:g} px of the "
-                f"photograph's")
+        return (
+            f"registration: {self.score:.0%} of the model's edges lie within {self.tolerance:g} px of the photograph's"
+        )
 
 
 def model_edges(surface_ids: np.ndarray) -> np.ndarray:

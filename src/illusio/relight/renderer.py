@@ -67,7 +67,9 @@ class RelightRenderer(Renderer):
         params = self._params(params)
         self.session_for(params)
         if frame.view is not None and frame.view != self.real.view:
-            raise InputError("relighting shows the photograph's own camera only: give the frame no view (or that camera)")
+            raise InputError(
+                "relighting shows the photograph's own camera only: give the frame no view (or that camera)"
+            )
         image = self._session.image(dict(params.lamp_scales)) * params.exposure
         rgba = np.dstack([np.clip(image, 0, None), np.ones(image.shape[:2], np.float32)]).astype(np.float32)
         h, w = rgba.shape[:2]

@@ -32,10 +32,10 @@ from ..radiosity import DisplayPass, Polygons, RadiosityParams, RadiosityRendere
 from ..radiosity.corner_cache import CornerGather
 from ..radiosity.display import corner_average
 from . import estimate, textures
-from .shadow_refine import refine_by_texture
 from .params import INVERSE_MAX_ITERATIONS, INVERSE_TOLERANCE, SHOW, VIRTUAL_LAMP_SIZE, RelightParams
 from .photograph import RealScene, polygon_ids
 from .registration import overlay, registration
+from .shadow_refine import refine_by_texture
 from .state import load_session, save_session
 
 __all__ = ["RelightSession"]
@@ -56,11 +56,13 @@ class RelightSession:
             self.hierarchy_params = dataclasses.replace(self.hierarchy_params, lights_to_leaves=True)
         self.solution = self.renderer.solve(RadiosityParams(self.hierarchy_params))
         self.display = DisplayPass(self.ctx)
-        self._gather = CornerGather()           # the corners' form factors, kept between edits
+        self._gather = CornerGather()  # the corners' form factors, kept between edits
         if params.method == "loscos" and params.texture_refinement:
             self._refine_by_texture()
         self._textures_to_leaves()
-        self.display_factor = leaf_mesh(self.solution.hierarchy, self.solution.links, self.solution.exitance(), gather=self._gather)
+        self.display_factor = leaf_mesh(
+            self.solution.hierarchy, self.solution.links, self.solution.exitance(), gather=self._gather
+        )
         self.texture_factor = np.ones((len(self.solution.hierarchy), 3))
         if params.method == "loscos":
             self._visibility_independent_textures()
@@ -74,7 +76,7 @@ class RelightSession:
         self.scales: dict[str, float] = {}
         if params.method != "per-pixel":
             self._geometry_key = (len(self.solution.hierarchy), len(self.solution.links), tuple(self.lamp_names))
-            self._corner_radiosity()        # the lamps' basis: part of the preparation
+            self._corner_radiosity()  # the lamps' basis: part of the preparation
         self._prepare_rims()
         self.times["prepare"] = time.perf_counter() - start
 
@@ -91,15 +93,19 @@ class RelightSession:
         surface = seen & ~lamp[np.maximum(ids, 0)]
         if not surface.any():
             raise InputError("the camera sees none of the scene's (non-lamp) geometry")
-        mean_scene = photo[surface].mean(axis=0)                                   # B̂_A (radiance)
+        mean_scene = photo[surface].mean(axis=0)  # B̂_A (radiance)
         count = np.bincount(ids[surface], minlength=len(p))
-        total = np.stack([np.bincount(ids[surface], weights=photo[surface][:, c], minlength=len(p)) for c in range(3)], axis=1)
+        total = np.stack(
+            [np.bincount(ids[surface], weights=photo[surface][:, c], minlength=len(p)) for c in range(3)], axis=1
+        )
         visible = (count > 0) & ~lamp & ~glowing
         from ..radiosity.polygons import polygon_areas
+
         areas = polygon_areas(p.corners, p.triangle)
         rho = np.zeros((len(p), 3))
-        rho_visible, rho_hat = estimate.reestimated_reflectance(total[visible] / count[visible, None], mean_scene,
-                                                               self.params.mean_reflectance, areas[visible])
+        rho_visible, rho_hat = estimate.reestimated_reflectance(
+            total[visible] / count[visible, None], mean_scene, self.params.mean_reflectance, areas[visible]
+        )
         rho[visible] = rho_visible
         rho[~visible & ~lamp & ~glowing] = rho_hat
         exitance = np.zeros((len(p), 3))
@@ -107,8 +113,9 @@ class RelightSession:
         exitance[seen_glow] = np.pi * total[seen_glow] / count[seen_glow, None]
         exitance[glowing & ~seen_glow] = np.pi * mean_scene
         glow_power = (exitance[glowing] * areas[glowing, None]).sum(axis=0)
-        exitance[lamp] = estimate.lamp_exitance(rho_hat, mean_scene, float(areas[~lamp].sum()), float(areas[lamp].sum()),
-                                                other_power=glow_power)
+        exitance[lamp] = estimate.lamp_exitance(
+            rho_hat, mean_scene, float(areas[~lamp].sum()), float(areas[lamp].sum()), other_power=glow_power
+        )
         if self.params.estimate == "inverse":
             self._lamps_from_pixels(exitance)
         self.mean_scene = mean_scene
@@ -128,7 +135,7 @@ class RelightSession:
         for g in p.lamps:
             rows = p.group == g
             if ((eye - centres[rows]) * normals[rows]).sum(axis=1).min() <= 0:
-                continue                    # seen from behind (or edge-on): its pixels are not its light
+                continue  # seen from behind (or edge-on): its pixels are not its light
             own = ndimage.binary_erosion((ids >= 0) & (p.group[np.maximum(ids, 0)] == g))
             read = estimate.lamp_exitance_from_pixels(photo[own], saturation)
             if read is not None and read.max() > 0:
@@ -144,7 +151,9 @@ class RelightSession:
         values = self.real.photograph.astype(np.float64) if values is None else values
         seen = (element >= 0) & (h.exitance[np.maximum(element, 0)].max(axis=-1) == 0)
         count = np.bincount(element[seen], minlength=len(h))
-        total = np.stack([np.bincount(element[seen], weights=values[seen][:, c], minlength=len(h)) for c in range(3)], axis=1)
+        total = np.stack(
+            [np.bincount(element[seen], weights=values[seen][:, c], minlength=len(h)) for c in range(3)], axis=1
+        )
         return count, total / np.maximum(count, 1)[:, None]
 
     def _textures_to_leaves(self) -> None:
@@ -156,14 +165,18 @@ class RelightSession:
         count, mean_pixels = self._leaf_pixels()
         leaves = h.leaves()
         lit = leaves[count[leaves] > 0]
-        h.reflectance[lit] = estimate.reflectance_from_photograph(mean_pixels[lit], self.mean_scene, self.mean_reflectance)
+        h.reflectance[lit] = estimate.reflectance_from_photograph(
+            mean_pixels[lit], self.mean_scene, self.mean_reflectance
+        )
         self._pull_reflectance()
         sol.solve()
         if self.params.estimate == "inverse":
             self.inverse_iterations = 0
             while self.inverse_iterations < INVERSE_MAX_ITERATIONS:
                 before = h.reflectance[lit].mean(axis=1)
-                h.reflectance[lit] = estimate.reflectance_from_irradiance(mean_pixels[lit], self._leaf_irradiance()[lit])
+                h.reflectance[lit] = estimate.reflectance_from_irradiance(
+                    mean_pixels[lit], self._leaf_irradiance()[lit]
+                )
                 self._pull_reflectance()
                 sol.solve()
                 self.inverse_iterations += 1
@@ -197,8 +210,9 @@ class RelightSession:
         luminance = photo[surface] @ np.array([0.2126, 0.7152, 0.0722]) if surface.any() else np.ones(1)
         white = float(np.percentile(luminance, 99))
         p = self.params
-        self.refine_stats = refine_by_texture(self.solution, self._pixel_leaf, photo, white, p.colour_threshold,
-                                              p.visibility_threshold, p.min_pixels)
+        self.refine_stats = refine_by_texture(
+            self.solution, self._pixel_leaf, photo, white, p.colour_threshold, p.visibility_threshold, p.min_pixels
+        )
         self.solution.solve()
         self.times["texture refinement"] = time.perf_counter() - t
 
@@ -226,8 +240,8 @@ class RelightSession:
         significant = blocked.sum(axis=1) > textures.BLOCKED_SHARE * (free + indirect).sum(axis=1)
         lit = lit | (~significant & (free.sum(axis=1) > 0))
         shadowed &= significant
-        shadowed &= h.exitance[leaves].max(axis=1) == 0          # a self-luminous leaf keeps its texture
-        inter = np.where(b_orig > 0, (b_orig + rho * blocked) / np.where(b_orig > 0, b_orig, 1), 1.0)   # eq. 4.6
+        shadowed &= h.exitance[leaves].max(axis=1) == 0  # a self-luminous leaf keeps its texture
+        inter = np.where(b_orig > 0, (b_orig + rho * blocked) / np.where(b_orig > 0, b_orig, 1), 1.0)  # eq. 4.6
         count, mean_pixels = self._leaf_pixels()
         seen = count[leaves] > 0
         # ρ_inter: T_inter read as eq. 4.1 reads a texture (its brightness; the scale cancels in 4.9)
@@ -245,10 +259,14 @@ class RelightSession:
         # with the lamps' form factors alone a leaf nearer a lamp than its reference came out too bright
         unoccluded = free + indirect
         ratio = unoccluded[fix].sum(axis=1) / np.maximum(unoccluded[r].sum(axis=1), 1e-300)
-        rho_corr = rho_inter[r] * ratio[:, None]                                                         # eq. 4.8
+        rho_corr = rho_inter[r] * ratio[:, None]  # eq. 4.8
         correction = rho_corr / np.maximum(rho_inter[fix], 1e-6)
-        weight = textures.correction_weight(blocked[fix], free[fix]) if self.params.reference_weight == "blocked-share" else 1.0
-        factor[fix] = inter[fix] * correction ** np.reshape(weight, (-1, 1))                            # eq. 4.9
+        weight = (
+            textures.correction_weight(blocked[fix], free[fix])
+            if self.params.reference_weight == "blocked-share"
+            else 1.0
+        )
+        factor[fix] = inter[fix] * correction ** np.reshape(weight, (-1, 1))  # eq. 4.9
         self.references = (leaves, ref)
         self.shadowed = shadowed
         # ρ_final: the brightness of T_final (4.1), or the inverse estimate's ρ times what 4.9 changed
@@ -258,7 +276,9 @@ class RelightSession:
         sol.solve()
         final = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
         _, blocked, _, _, _ = textures.lamp_transfer(h, sol.links, leaves)
-        final.radiance = final.radiance + np.repeat(h.reflectance[leaves] * blocked / np.pi, 4, axis=0).astype(np.float32)
+        final.radiance = final.radiance + np.repeat(h.reflectance[leaves] * blocked / np.pi, 4, axis=0).astype(
+            np.float32
+        )
         self.display_factor = final
         self.texture_factor[leaves] = factor
 
@@ -271,10 +291,12 @@ class RelightSession:
         t = time.perf_counter()
         old = self.solution.hierarchy
         rho_map = old.reflectance[np.maximum(self.pixel_element, 0)]
-        model = dataclasses.replace(self.model, reflectance=old.reflectance[old.roots[:len(self.model)]].copy())
+        model = dataclasses.replace(self.model, reflectance=old.reflectance[old.roots[: len(self.model)]].copy())
         from ..radiosity import Radiosity
 
-        sol = Radiosity(model, dataclasses.replace(self.params.final_hierarchy, lights_to_leaves=True, sliver_piece=0.0)).build()
+        sol = Radiosity(
+            model, dataclasses.replace(self.params.final_hierarchy, lights_to_leaves=True, sliver_piece=0.0)
+        ).build()
         self.solution, self._gather = sol, CornerGather()
         h = sol.hierarchy
         element = self._pixel_leaf()
@@ -286,7 +308,9 @@ class RelightSession:
         sol.solve()
         final = leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather)
         _, blocked, _, _, _ = textures.lamp_transfer(h, sol.links, leaves)
-        final.radiance = final.radiance + np.repeat(h.reflectance[leaves] * blocked / np.pi, 4, axis=0).astype(np.float32)
+        final.radiance = final.radiance + np.repeat(h.reflectance[leaves] * blocked / np.pi, 4, axis=0).astype(
+            np.float32
+        )
         self.display_factor, self.pixel_element = final, element
         self._store_display_factor()
         sol.relink()
@@ -314,11 +338,12 @@ class RelightSession:
         m = self.model
         points, normals, polygon = surface_points(m, self.real.view, self.real.size)
         lamp_rows = np.flatnonzero(np.isin(m.group, m.lamps))
-        emitting = m.exitance.max(axis=1) > 0           # lamps (scaled below) and self-luminous (kept)
+        emitting = m.exitance.max(axis=1) > 0  # lamps (scaled below) and self-luminous (kept)
         self.pixel_seen = (polygon >= 0) & ~emitting[np.maximum(polygon, 0)] & (self.pixel_element >= 0)
         self.lamp_rows = lamp_rows
-        self.pixel_lamp = lamp_irradiance(m, lamp_rows, m.exitance[lamp_rows], points, normals, self.pixel_seen,
-                                          seed=self.params.hierarchy.seed)
+        self.pixel_lamp = lamp_irradiance(
+            m, lamp_rows, m.exitance[lamp_rows], points, normals, self.pixel_seen, seed=self.params.hierarchy.seed
+        )
         self.pixel_indirect = self._pixel_indirect()
 
     def _corner_image(self, values: np.ndarray) -> np.ndarray:
@@ -374,10 +399,22 @@ class RelightSession:
         self.has_d = np.zeros(len(h), bool)
         self.has_d[leaves] = True
 
-    _CHILD_UV = np.array([[(0, 0), (.5, 0), (.5, .5), (0, .5)], [(.5, 0), (1, 0), (1, .5), (.5, .5)],
-                          [(.5, .5), (1, .5), (1, 1), (.5, 1)], [(0, .5), (.5, .5), (.5, 1), (0, 1)]])
-    _CHILD_BARY = np.array([[(0, 0), (.5, 0), (0, .5), (0, .5)], [(.5, 0), (1, 0), (.5, .5), (.5, .5)],
-                            [(0, .5), (.5, .5), (0, 1), (0, 1)], [(.5, 0), (.5, .5), (0, .5), (0, .5)]])
+    _CHILD_UV = np.array(
+        [
+            [(0, 0), (0.5, 0), (0.5, 0.5), (0, 0.5)],
+            [(0.5, 0), (1, 0), (1, 0.5), (0.5, 0.5)],
+            [(0.5, 0.5), (1, 0.5), (1, 1), (0.5, 1)],
+            [(0, 0.5), (0.5, 0.5), (0.5, 1), (0, 1)],
+        ]
+    )
+    _CHILD_BARY = np.array(
+        [
+            [(0, 0), (0.5, 0), (0, 0.5), (0, 0.5)],
+            [(0.5, 0), (1, 0), (0.5, 0.5), (0.5, 0.5)],
+            [(0, 0.5), (0.5, 0.5), (0, 1), (0, 1)],
+            [(0.5, 0), (0.5, 0.5), (0, 0.5), (0, 0.5)],
+        ]
+    )
 
     def inherit_display_factor(self) -> None:
         """Elements made since preparation take D interpolated from their parent's corners (bilinear on
@@ -395,12 +432,17 @@ class RelightSession:
             if not len(todo):
                 continue
             parent = h.parent[todo]
-            k = todo - h.child[parent]                      # which child
-            d = self.corner_d[parent]                       # (m, 4, 3)
+            k = todo - h.child[parent]  # which child
+            d = self.corner_d[parent]  # (m, 4, 3)
             tri = h.triangle[todo]
-            uv = np.where(tri[:, None, None], self._CHILD_BARY[k], self._CHILD_UV[k])     # (m, 4, 2)
+            uv = np.where(tri[:, None, None], self._CHILD_BARY[k], self._CHILD_UV[k])  # (m, 4, 2)
             u, v = uv[..., :1], uv[..., 1:]
-            quad = (1 - u) * (1 - v) * d[:, None, 0] + u * (1 - v) * d[:, None, 1] + u * v * d[:, None, 2] + (1 - u) * v * d[:, None, 3]
+            quad = (
+                (1 - u) * (1 - v) * d[:, None, 0]
+                + u * (1 - v) * d[:, None, 1]
+                + u * v * d[:, None, 2]
+                + (1 - u) * v * d[:, None, 3]
+            )
             bary = (1 - u - v) * d[:, None, 0] + u * d[:, None, 1] + v * d[:, None, 2]
             self.corner_d[todo] = np.where(tri[:, None, None], bary, quad)
             self.has_d[todo] = True
@@ -409,7 +451,9 @@ class RelightSession:
         if self.params.method == "per-pixel":
             raise InputError(f"{what} is not available with the per-pixel method yet; use baseline or loscos")
 
-    def add_lamp(self, centre, size: float = VIRTUAL_LAMP_SIZE, exitance=(30.0, 30.0, 30.0), name: str = "virtual-lamp") -> np.ndarray:
+    def add_lamp(
+        self, centre, size: float = VIRTUAL_LAMP_SIZE, exitance=(30.0, 30.0, 30.0), name: str = "virtual-lamp"
+    ) -> np.ndarray:
         """A virtual rectangular lamp (size × size m, facing down, exitance W/m² RGB) linked at the
         leaves (Loscos 4.4.1); returns the new image."""
         self._element_method("a virtual lamp")
@@ -426,10 +470,18 @@ class RelightSession:
 
         self._element_method("a virtual object")
         start = time.perf_counter()
-        corners, triangle = quads_from_triangles(np.asarray(mesh.vertices, np.float64) + np.asarray(at, np.float64), mesh.faces)
+        corners, triangle = quads_from_triangles(
+            np.asarray(mesh.vertices, np.float64) + np.asarray(at, np.float64), mesh.faces
+        )
         n = len(corners)
-        polygons = Polygons(corners, triangle, np.repeat(np.asarray(reflectance, np.float64)[None], n, axis=0),
-                            np.zeros((n, 3)), np.zeros(n, int), [name])
+        polygons = Polygons(
+            corners,
+            triangle,
+            np.repeat(np.asarray(reflectance, np.float64)[None], n, axis=0),
+            np.zeros((n, 3)),
+            np.zeros(n, int),
+            [name],
+        )
         self.solution.add_object(polygons, name)
         self.virtual_groups.add(self.solution.polygons.names.index(name))
         self.times["add object"] = time.perf_counter() - start
@@ -438,7 +490,10 @@ class RelightSession:
     def move_object(self, name: str, offset) -> np.ndarray:
         """Move a virtual object by ``offset`` (metres); returns the new image."""
         self._element_method("moving an object")
-        if name not in self.solution.polygons.names or self.solution.polygons.names.index(name) not in self.virtual_groups:
+        if (
+            name not in self.solution.polygons.names
+            or self.solution.polygons.names.index(name) not in self.virtual_groups
+        ):
             raise InputError(f"no virtual object named {name!r}")
         start = time.perf_counter()
         move = np.eye(4)
@@ -566,13 +621,13 @@ class RelightSession:
         seen[self.pixel_element[(self.pixel_element >= 0) & (self.pixel_element < len(h))]] = True
         shown = seen.copy()
         frontier = np.flatnonzero(seen)
-        while len(frontier):                          # up: a seen leaf merged into its parent
+        while len(frontier):  # up: a seen leaf merged into its parent
             frontier = h.parent[frontier]
             frontier = frontier[frontier >= 0]
             frontier = frontier[~shown[frontier]]
             shown[frontier] = True
         down = seen.copy()
-        for lv in h.by_level()[1:]:                   # down: a seen leaf split since
+        for lv in h.by_level()[1:]:  # down: a seen leaf split since
             down[lv] |= down[h.parent[lv]]
         shown = (shown & h.leaf) | down
         if self.virtual_groups:
@@ -592,9 +647,10 @@ class RelightSession:
             # a second edit of the same geometry, so dragging an object does not pay for it each step
             self._geometry_key = key
             if not np.array_equal(sol.lamp_scales(self.scales), sol.lamp_scale):
-                sol.set_lamps(self.scales)     # (the edit solved under the session's lamps already)
-            return leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather,
-                             shown=self._shown() if shown is None else shown)
+                sol.set_lamps(self.scales)  # (the edit solved under the session's lamps already)
+            return leaf_mesh(
+                h, sol.links, sol.exitance(), gather=self._gather, shown=self._shown() if shown is None else shown
+            )
         if getattr(self, "_basis_key", None) != key:
             t = time.perf_counter()
             off = {n: 0.0 for n in self.lamp_names}
@@ -604,11 +660,12 @@ class RelightSession:
             basis = []
             for name in self.lamp_names:
                 sol.set_lamps({**off, name: 1.0})
-                basis.append(leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather, shown=shown).radiance
-                             - base.radiance)
+                basis.append(
+                    leaf_mesh(h, sol.links, sol.exitance(), gather=self._gather, shown=shown).radiance - base.radiance
+                )
             self._basis, self._basis_mesh, self._basis_key = basis, base, key
             self.times["lamp basis"] = time.perf_counter() - t
-        sol.set_lamps(self.scales)     # the solution's state follows the edit (cheap: links kept)
+        sol.set_lamps(self.scales)  # the solution's state follows the edit (cheap: links kept)
         radiance = self._basis_mesh.radiance.copy()
         for name, response in zip(self.lamp_names, self._basis):
             radiance += float(self.scales.get(name, 1.0)) * response
@@ -619,7 +676,7 @@ class RelightSession:
         save_session(self, path)
 
     @classmethod
-    def load(cls, path, ctx: Context | None = None) -> "RelightSession":
+    def load(cls, path, ctx: Context | None = None) -> RelightSession:
         """A session saved by :meth:`save`, ready for edits."""
         fields = load_session(path)
         basis = fields.pop("basis")
@@ -632,7 +689,7 @@ class RelightSession:
         s._geometry_key = (len(sol.hierarchy), len(sol.links), tuple(sol.lamp_names))
         if basis is not None:
             s._basis_key, s._basis, s._basis_mesh = basis
-        s._prepare_rims()                    # not saved: made again from the photograph and the model
+        s._prepare_rims()  # not saved: made again from the photograph and the model
         return s
 
     def lamp_basis(self):

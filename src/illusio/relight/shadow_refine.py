@@ -35,6 +35,7 @@ __all__ = ["lamp_visibility", "split_decision", "refine_by_texture", "RefineStat
 @dataclass
 class RefineStats:
     """rounds: passes over the candidates; split: leaves split and kept; undone: splits undone."""
+
     rounds: int = 0
     split: int = 0
     undone: int = 0
@@ -70,9 +71,16 @@ def similar_visibility(v_a, t_a, v_b, t_b, threshold: float) -> np.ndarray:
     return np.all((t_a == t_b) & (np.abs(v_a - v_b) < threshold), axis=-1)
 
 
-def split_decision(colour: np.ndarray, has_colour: np.ndarray, visibility: np.ndarray, kind: np.ndarray,
-                   near: list[np.ndarray], colour_threshold: float, visibility_threshold: float,
-                   rows: np.ndarray | None = None) -> np.ndarray:
+def split_decision(
+    colour: np.ndarray,
+    has_colour: np.ndarray,
+    visibility: np.ndarray,
+    kind: np.ndarray,
+    near: list[np.ndarray],
+    colour_threshold: float,
+    visibility_threshold: float,
+    rows: np.ndarray | None = None,
+) -> np.ndarray:
     """Figure 4.7's test for each of ``rows`` (default: all): split where a touching leaf with a
     colour of its own breaks case 1 or case 2, or where some lamp is seen PARTIALly. ``colour``:
     linear RGB scaled to white = 1 (n, 3); ``has_colour``: the row covers photograph pixels. Returns
@@ -91,8 +99,16 @@ def split_decision(colour: np.ndarray, has_colour: np.ndarray, visibility: np.nd
     return split & has_colour
 
 
-def refine_by_texture(sol, pixel_leaf, photograph: np.ndarray, white: float, colour_threshold: float,
-                      visibility_threshold: float, min_pixels: int = 4, max_rounds: int = 12) -> RefineStats:
+def refine_by_texture(
+    sol,
+    pixel_leaf,
+    photograph: np.ndarray,
+    white: float,
+    colour_threshold: float,
+    visibility_threshold: float,
+    min_pixels: int = 4,
+    max_rounds: int = 12,
+) -> RefineStats:
     """Refine ``sol`` (a built Radiosity with the lamps' links at the leaves) in place.
     ``pixel_leaf()``: the leaf seen through each photograph pixel (H, W), −1 where none, for the
     current hierarchy; ``photograph``: radiance (H, W, 3); ``white``: the radiance shown as white
@@ -118,8 +134,9 @@ def refine_by_texture(sol, pixel_leaf, photograph: np.ndarray, white: float, col
         vis, kind = lamp_visibility(h, L, leaves, lamp_groups, group_of_element)
         rows = np.searchsorted(leaves, candidates)
         near = neighbours(h, leaves)
-        split = split_decision(colour[leaves], count[leaves] > 0, vis, kind, near, colour_threshold,
-                               visibility_threshold, rows)
+        split = split_decision(
+            colour[leaves], count[leaves] > 0, vis, kind, near, colour_threshold, visibility_threshold, rows
+        )
         split &= (count[leaves] >= min_pixels) & (h.area[leaves] / 4 >= sol.min_area)
         split &= h.exitance[leaves].max(axis=1) == 0
         parents = leaves[split]
@@ -138,8 +155,17 @@ def refine_by_texture(sol, pixel_leaf, photograph: np.ndarray, white: float, col
         group_of_element = group[h.polygon]
         child_vis, child_kind = lamp_visibility(h, L, children, lamp_groups, group_of_element)
         parent_row = np.searchsorted(leaves, parents)
-        same = similar_visibility(np.repeat(vis[parent_row], 4, axis=0), np.repeat(kind[parent_row], 4, axis=0),
-                                  child_vis, child_kind, visibility_threshold).reshape(-1, 4).all(axis=1)
+        same = (
+            similar_visibility(
+                np.repeat(vis[parent_row], 4, axis=0),
+                np.repeat(kind[parent_row], 4, axis=0),
+                child_vis,
+                child_kind,
+                visibility_threshold,
+            )
+            .reshape(-1, 4)
+            .all(axis=1)
+        )
         undo = parents[same]
         if len(undo):
             L.remove(np.isin(L.receiver, (h.child[undo][:, None] + np.arange(4)).reshape(-1)))

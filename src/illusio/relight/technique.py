@@ -21,10 +21,18 @@ def real_scene_subject(source: str, size: tuple[int, int], ctx=None):
 
 
 TECHNIQUES = (
-    Technique(name="relight", title="Relighting a real scene from one photograph (Loscos 1999, ch. 4)",
-              renderer="illusio.relight.renderer:RelightRenderer", params="illusio.relight.params:RelightParams",
-              subject="illusio.relight.technique:real_scene_subject", source_kind="real scene folder or built-in scene",
-              default_source="office", presets=("per-pixel", "loscos", "baseline"),
-              viewer_mode="illusio.viewer.modes.relight:RelightMode", showcase="illusio.gallery.relight:relight_showcase",
-              benchmarks=("relight",), needs="mitsuba"),
+    Technique(
+        name="relight",
+        title="Relighting a real scene from one photograph (Loscos 1999, ch. 4)",
+        renderer="illusio.relight.renderer:RelightRenderer",
+        params="illusio.relight.params:RelightParams",
+        subject="illusio.relight.technique:real_scene_subject",
+        source_kind="real scene folder or built-in scene",
+        default_source="office",
+        presets=("per-pixel", "loscos", "baseline"),
+        viewer_mode="illusio.viewer.modes.relight:RelightMode",
+        showcase="illusio.gallery.relight:relight_showcase",
+        benchmarks=("relight",),
+        needs="mitsuba",
+    ),
 )

@@ -35,7 +35,15 @@ import numpy as np
 #: light Ē must be for the leaf to count as shadowed (below it the leaf counts as lit)
 BLOCKED_SHARE = 0.05
 
-__all__ = ["BLOCKED_SHARE", "correction_weight", "srgb_to_lab", "colour_distance", "lamp_transfer", "neighbours", "references"]
+__all__ = [
+    "BLOCKED_SHARE",
+    "correction_weight",
+    "srgb_to_lab",
+    "colour_distance",
+    "lamp_transfer",
+    "neighbours",
+    "references",
+]
 
 
 def srgb_to_lab(rgb: np.ndarray) -> np.ndarray:
@@ -112,7 +120,9 @@ def references(h, leaves, shadow, frontier, group, reflectance, colour_threshold
         if not len(same):
             continue
         distance = np.linalg.norm(centre[same] - centre[i], axis=1)
-        similar = colour_distance(reflectance[same], np.repeat(reflectance[i][None], len(same), axis=0)) < colour_threshold
+        similar = (
+            colour_distance(reflectance[same], np.repeat(reflectance[i][None], len(same), axis=0)) < colour_threshold
+        )
         pool = np.flatnonzero(similar) if similar.any() else np.arange(len(same))
         out[i] = same[pool[np.argmin(distance[pool])]]
     return out

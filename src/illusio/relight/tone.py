@@ -2,7 +2,8 @@
 simple gamma suffit pour rendre l'image photographiée et l'image simulée similaires").
 
 The relit image I and the photograph P are related by P ≈ a·I^γ per pixel and channel; a and γ
-are fitted by least squares on log P = log a + γ·log I over the channels of the pixels of a mask. Fitting only a (γ = 1) is the exposure match."""
+are fitted by least squares on log P = log a + γ·log I over the channels of the pixels of a mask. Fitting only a (γ =
+1) is the exposure match."""
 
 from __future__ import annotations
 
@@ -14,9 +15,11 @@ from ..core.errors import InputError
 
 __all__ = ["Tone", "fit_tone"]
 
+
 @dataclass(frozen=True)
 class Tone:
     """gain: a; gamma: γ, in P ≈ a·I^γ (I, P in the same linear units)."""
+
     gain: float = 1.0
     gamma: float = 1.0
 
@@ -25,8 +28,7 @@ class Tone:
         return (self.gain * np.power(np.maximum(np.asarray(image, np.float64), 0.0), self.gamma)).astype(np.float32)
 
 
-def fit_tone(image: np.ndarray, photograph: np.ndarray, mask: np.ndarray | None = None,
-             fit_gamma: bool = True) -> Tone:
+def fit_tone(image: np.ndarray, photograph: np.ndarray, mask: np.ndarray | None = None, fit_gamma: bool = True) -> Tone:
     """The Tone that maps ``image`` onto ``photograph`` (both (H, W, 3) linear) over ``mask`` (H, W)
     (default: every pixel), values ≤ 0 in either image left out."""
     image, photograph = np.asarray(image, np.float64), np.asarray(photograph, np.float64)

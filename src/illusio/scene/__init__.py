@@ -6,6 +6,26 @@ from .loader import load_scene
 from .mesh import Mesh, MeshWarning, load_mesh
 from .scene import Action, AreaLight, Curve, Material, Node, PointLight, Scene
 
-__all__ = ["Mesh", "MeshWarning", "load_mesh", "Camera", "Pose", "View", "Screen", "StereoRig", "Scene", "Action", "Node",
-           "Material", "PointLight", "AreaLight", "Curve", "load_scene", "builtin_scene", "shape", "turntable",
-           "SCENES", "SHAPES"]
+__all__ = [
+    "Mesh",
+    "MeshWarning",
+    "load_mesh",
+    "Camera",
+    "Pose",
+    "View",
+    "Screen",
+    "StereoRig",
+    "Scene",
+    "Action",
+    "Node",
+    "Material",
+    "PointLight",
+    "AreaLight",
+    "Curve",
+    "load_scene",
+    "builtin_scene",
+    "shape",
+    "turntable",
+    "SCENES",
+    "SHAPES",
+]

@@ -37,14 +37,17 @@ class Camera:
     pixel_aspect: float = 1.0
 
     @classmethod
-    def from_intrinsics(cls, width: int, height: int, fx: float, fy: float, cx: float, cy: float,
-                        near: float = 0.05, far: float = 100.0) -> "Camera":
+    def from_intrinsics(
+        cls, width: int, height: int, fx: float, fy: float, cx: float, cy: float, near: float = 0.05, far: float = 100.0
+    ) -> Camera:
         """A pinhole's camera from its intrinsics in pixels (OpenCV's convention: the centre of the
         top-left pixel at (0, 0), x right, y down): fov_y from f_y, the principal point as a shift,
         f_x ≠ f_y as pixel_aspect. Its projection puts the point (x, y, z) of the camera's frame at
         pixel (f_x·x/z + c_x, f_y·y/z + c_y), as the intrinsics do."""
         if not (fx > 0 and fy > 0 and width > 0 and height > 0):
-            raise InputError(f"intrinsics need positive fx, fy, width and height, got fx={fx}, fy={fy}, {width}×{height}")
+            raise InputError(
+                f"intrinsics need positive fx, fy, width and height, got fx={fx}, fy={fy}, {width}×{height}"
+            )
         fov_y = math.degrees(2 * math.atan(height / (2 * fy)))
         shift = (((width - 1) / 2 - cx) / fx, (cy - (height - 1) / 2) / fy)
         return cls(fov_y, near, far, shift, fy / fx)
@@ -84,7 +87,7 @@ class Pose:
             raise InputError("pose position and target coincide")
 
     @classmethod
-    def orbit(cls, target=(0.0, 0.0, 0.0), distance: float = 3.0, azimuth: float = 0.0, elevation: float = 0.0) -> "Pose":
+    def orbit(cls, target=(0.0, 0.0, 0.0), distance: float = 3.0, azimuth: float = 0.0, elevation: float = 0.0) -> Pose:
         """Eye on a sphere around ``target``: azimuth about +y from +z towards +x, elevation up from
         the horizontal plane, both in degrees."""
         az, el = math.radians(azimuth), math.radians(elevation)
@@ -100,7 +103,7 @@ class Pose:
         m = self.matrix().astype(np.float64)
         return m[0, :3], m[1, :3], -m[2, :3]
 
-    def translated(self, offset) -> "Pose":
+    def translated(self, offset) -> Pose:
         o = np.asarray(offset, dtype=float)
         return Pose(tuple(np.asarray(self.position) + o), tuple(np.asarray(self.target) + o), self.up)
 
@@ -158,17 +161,21 @@ class Screen:
     eye_separation_cm: e, between the pupils.
     """
 
-    diagonal_cm: float = param(53.0, range=(1.0, 10000.0), unit="cm", label="d", flag="screen-diagonal",
-                               help="the screen's diagonal")
+    diagonal_cm: float = param(
+        53.0, range=(1.0, 10000.0), unit="cm", label="d", flag="screen-diagonal", help="the screen's diagonal"
+    )
     aspect: float = param(16 / 9, range=(0.05, 20.0), label="a", help="width / height of the screen")
-    width_px: int = param(1920, range=(16, 65536), unit="px", step=1, flag="screen-width-px", label="w_p",
-                          help="pixels across the screen")
+    width_px: int = param(
+        1920, range=(16, 65536), unit="px", step=1, flag="screen-width-px", label="w_p", help="pixels across the screen"
+    )
     # None: width_px / aspect (a command that changes either clears it: see Screen.derived)
     height_px: int | None = param(None, panel=False)
-    viewing_distance_cm: float = param(100.0, range=(1.0, 100000.0), unit="cm", label="f", flag="distance",
-                                       help="viewer to screen")
-    eye_separation_cm: float = param(6.5, range=(0.5, 20.0), unit="cm", label="e", flag="eye-separation",
-                                     help="between the pupils")
+    viewing_distance_cm: float = param(
+        100.0, range=(1.0, 100000.0), unit="cm", label="f", flag="distance", help="viewer to screen"
+    )
+    eye_separation_cm: float = param(
+        6.5, range=(0.5, 20.0), unit="cm", label="e", flag="eye-separation", help="between the pupils"
+    )
 
     def __post_init__(self):
         for name in ("diagonal_cm", "aspect", "width_px", "viewing_distance_cm", "eye_separation_cm"):
@@ -178,7 +185,7 @@ class Screen:
         if self.height_px is None:
             object.__setattr__(self, "height_px", int(round(self.width_px / self.aspect)))
 
-    def derived(self) -> "Screen":
+    def derived(self) -> Screen:
         """This screen with its height in pixels taken again from width_px / aspect."""
         return replace(self, height_px=None)
 
@@ -237,8 +244,12 @@ class StereoRig:
         return self.eye(+1)
 
     @classmethod
-    def from_screen(cls, screen: Screen, pose: Pose, metres_per_cm: float = 0.01, near: float = 0.05, far: float = 100.0) -> "StereoRig":
+    def from_screen(
+        cls, screen: Screen, pose: Pose, metres_per_cm: float = 0.01, near: float = 0.05, far: float = 100.0
+    ) -> StereoRig:
         """A rig that reproduces the viewer's geometry: the field of view the screen subtends, the
         eye separation and the viewing distance, scaled to the world by ``metres_per_cm``."""
         camera = Camera(fov_y=screen.fov_y, near=near, far=far)
-        return cls(View(pose, camera), screen.eye_separation_cm * metres_per_cm, screen.viewing_distance_cm * metres_per_cm)
+        return cls(
+            View(pose, camera), screen.eye_separation_cm * metres_per_cm, screen.viewing_distance_cm * metres_per_cm
+        )

@@ -34,8 +34,10 @@ class Intrinsics:
         if not all(math.isfinite(v) for v in values) or min(self.width, self.height, self.fx, self.fy) <= 0:
             raise InputError(f"intrinsics must be finite with positive size and focal lengths, got {self}")
         if self.model not in ("PINHOLE", "OPENCV") or (self.model == "OPENCV") != (len(self.distortion) == 4):
-            raise InputError(f"intrinsics: model PINHOLE without distortion or OPENCV with (k1, k2, p1, p2), got "
-                             f"{self.model} with {len(self.distortion)} coefficients")
+            raise InputError(
+                f"intrinsics: model PINHOLE without distortion or OPENCV with (k1, k2, p1, p2), got "
+                f"{self.model} with {len(self.distortion)} coefficients"
+            )
 
     def camera(self, near: float = 0.05, far: float = 100.0) -> Camera:
         return Camera.from_intrinsics(self.width, self.height, self.fx, self.fy, self.cx, self.cy, near, far)
@@ -45,14 +47,14 @@ class Intrinsics:
         return self.model == "OPENCV" and any(self.distortion)
 
     @property
-    def pinhole(self) -> "Intrinsics":
+    def pinhole(self) -> Intrinsics:
         """The same camera without its distortion (what :func:`undistort_image` gives)."""
         return Intrinsics(self.width, self.height, self.fx, self.fy, self.cx, self.cy)
 
 
 def _pixel_rays(i: Intrinsics) -> tuple[np.ndarray, np.ndarray]:
     """(x, y) (H, W): each pixel's normalised image coordinates, (u − c_x)/f_x and (v − c_y)/f_y."""
-    v, u = np.mgrid[0:i.height, 0:i.width].astype(np.float64)
+    v, u = np.mgrid[0 : i.height, 0 : i.width].astype(np.float64)
     return (u - i.cx) / i.fx, (v - i.cy) / i.fy
 
 
@@ -73,8 +75,9 @@ def _sample(image, i: Intrinsics, x, y, order: int, cval: float | None) -> np.nd
     mode = dict(mode="nearest") if cval is None else dict(mode="constant", cval=cval)
     if a.ndim == 2:
         return ndimage.map_coordinates(a, coords, order=order, **mode).astype(a.dtype)
-    return np.stack([ndimage.map_coordinates(a[..., c], coords, order=order, **mode) for c in range(a.shape[2])],
-                    axis=-1).astype(a.dtype)
+    return np.stack(
+        [ndimage.map_coordinates(a[..., c], coords, order=order, **mode) for c in range(a.shape[2])], axis=-1
+    ).astype(a.dtype)
 
 
 def undistort_image(image: np.ndarray, intrinsics: Intrinsics, order: int = 1, cval: float | None = None) -> np.ndarray:

@@ -52,13 +52,24 @@ from .transforms import compose, rotate_euler, scale, translate
 __all__ = ["load_scene", "scene_from_dict", "SHAPE_BUILDERS"]
 
 SHAPE_BUILDERS = {
-    "plane": builtin_shapes.plane, "box": builtin_shapes.box, "sphere": builtin_shapes.sphere,
-    "torus": builtin_shapes.torus, "torus-knot": builtin_shapes.torus_knot,
-    "superquadric": builtin_shapes.superquadric, "gear": builtin_shapes.gear, "blob": builtin_shapes.blob,
-    "cylinder": builtin_shapes.cylinder, "cone": builtin_shapes.cone,
+    "plane": builtin_shapes.plane,
+    "box": builtin_shapes.box,
+    "sphere": builtin_shapes.sphere,
+    "torus": builtin_shapes.torus,
+    "torus-knot": builtin_shapes.torus_knot,
+    "superquadric": builtin_shapes.superquadric,
+    "gear": builtin_shapes.gear,
+    "blob": builtin_shapes.blob,
+    "cylinder": builtin_shapes.cylinder,
+    "cone": builtin_shapes.cone,
 }
-TEXTURES = {"checker": builtin_textures.checker, "planks": builtin_textures.planks, "tiles": builtin_textures.tiles,
-            "fabric": builtin_textures.fabric, "wallpaper": builtin_textures.wallpaper}
+TEXTURES = {
+    "checker": builtin_textures.checker,
+    "planks": builtin_textures.planks,
+    "tiles": builtin_textures.tiles,
+    "fabric": builtin_textures.fabric,
+    "wallpaper": builtin_textures.wallpaper,
+}
 
 
 def load_scene(source: str | os.PathLike) -> Scene:
@@ -74,7 +85,9 @@ def load_scene(source: str | os.PathLike) -> Scene:
         return load_mgf(p)
     if p.suffix.lower() not in (".yaml", ".yml"):
         if not p.exists():
-            raise InputError(f"{text}: not a built-in scene ({', '.join(SCENES)}) nor a YAML file{did_you_mean(text, SCENES)}")
+            raise InputError(
+                f"{text}: not a built-in scene ({', '.join(SCENES)}) nor a YAML file{did_you_mean(text, SCENES)}"
+            )
         raise InputError(f"{p}: scene files must be .yaml, .yml or .mgf")
     if not p.is_file():
         raise InputError(f"{p}: no such file")
@@ -90,7 +103,9 @@ def _section(data: dict, key: str, kind: type, origin: str):
     if value is None:
         return kind()
     if not isinstance(value, kind):
-        raise InputError(f"{origin}: {key} must be a {'list' if kind is list else 'mapping'}, got {type(value).__name__}")
+        raise InputError(
+            f"{origin}: {key} must be a {'list' if kind is list else 'mapping'}, got {type(value).__name__}"
+        )
     return value
 
 
@@ -99,7 +114,9 @@ def _check_keys(d: dict, allowed: set[str], where: str) -> None:
         raise InputError(f"{where}: expected a mapping, got {type(d).__name__}")
     unknown = set(d) - allowed
     if unknown:
-        raise InputError(f"{where}: unknown key(s) {', '.join(sorted(map(str, unknown)))}; allowed: {', '.join(sorted(allowed))}")
+        raise InputError(
+            f"{where}: unknown key(s) {', '.join(sorted(map(str, unknown)))}; allowed: {', '.join(sorted(allowed))}"
+        )
 
 
 def scene_from_dict(data: dict[str, Any], base: Path = Path("."), origin: str = "scene") -> Scene:
@@ -139,12 +156,30 @@ def scene_from_dict(data: dict[str, Any], base: Path = Path("."), origin: str = 
     if not scene.cameras:
         lo, hi = scene.bounds()
         centre = (lo + hi) / 2
-        scene.cameras["main"] = View(Pose.orbit(tuple(centre), float(np.linalg.norm(hi - lo)) * 1.2, 30, 25), Camera(45.0, 0.05, 1000.0))
+        scene.cameras["main"] = View(
+            Pose.orbit(tuple(centre), float(np.linalg.norm(hi - lo)) * 1.2, 30, 25), Camera(45.0, 0.05, 1000.0)
+        )
     return scene
 
 
 def _node(nd: dict, base: Path, where: str) -> Node:
-    _check_keys(nd, {"name", "shape", "params", "mesh", "normalise", "position", "rotation", "scale", "material", "tags", "visible"}, where)
+    _check_keys(
+        nd,
+        {
+            "name",
+            "shape",
+            "params",
+            "mesh",
+            "normalise",
+            "position",
+            "rotation",
+            "scale",
+            "material",
+            "tags",
+            "visible",
+        },
+        where,
+    )
     if "name" not in nd:
         raise InputError(f"{where}: a node needs a name")
     where = f"{where} ({nd['name']})"
@@ -161,8 +196,19 @@ def _node(nd: dict, base: Path, where: str) -> Node:
         mesh = load_mesh(base / str(nd["mesh"]))
     if "normalise" in nd:
         mesh = mesh.normalised(float(nd["normalise"]))
-    transform = compose(translate(nd.get("position", (0, 0, 0))), rotate_euler(nd.get("rotation", (0, 0, 0))), scale(nd.get("scale", 1.0)))
-    return Node(str(nd["name"]), mesh, transform, _material(nd.get("material") or {}, base, where), tuple(nd.get("tags") or ()), bool(nd.get("visible", True)))
+    transform = compose(
+        translate(nd.get("position", (0, 0, 0))),
+        rotate_euler(nd.get("rotation", (0, 0, 0))),
+        scale(nd.get("scale", 1.0)),
+    )
+    return Node(
+        str(nd["name"]),
+        mesh,
+        transform,
+        _material(nd.get("material") or {}, base, where),
+        tuple(nd.get("tags") or ()),
+        bool(nd.get("visible", True)),
+    )
 
 
 def _material(md: dict, base: Path, where: str) -> Material:
@@ -177,24 +223,56 @@ def _material(md: dict, base: Path, where: str) -> Material:
 
             texture = read_image(base / t)[..., :3]
     colour = md.get("colour", md.get("color", (1, 1, 1) if texture is not None else (0.7, 0.7, 0.7)))
-    return Material(colour, texture, float(md.get("specular", 0.0)), float(md.get("shininess", 32.0)), md.get("emission", (0, 0, 0)))
+    return Material(
+        colour, texture, float(md.get("specular", 0.0)), float(md.get("shininess", 32.0)), md.get("emission", (0, 0, 0))
+    )
 
 
 def _light(ld: dict, where: str):
     kind = ld.get("type", "point") if isinstance(ld, dict) else None
     if kind == "point":
         _check_keys(ld, {"type", "position", "colour", "color", "intensity", "shadows", "name"}, where)
-        return PointLight(ld["position"], ld.get("colour", ld.get("color", (1, 1, 1))), float(ld.get("intensity", 1.0)),
-                          bool(ld.get("shadows", True)), str(ld.get("name", "light")))
+        return PointLight(
+            ld["position"],
+            ld.get("colour", ld.get("color", (1, 1, 1))),
+            float(ld.get("intensity", 1.0)),
+            bool(ld.get("shadows", True)),
+            str(ld.get("name", "light")),
+        )
     if kind == "area":
-        _check_keys(ld, {"type", "centre", "center", "edge_u", "edge_v", "colour", "color", "radiance", "samples", "shadows", "name"}, where)
-        return AreaLight(ld.get("centre", ld.get("center")), ld.get("edge_u", (0.5, 0, 0)), ld.get("edge_v", (0, 0, 0.5)),
-                         ld.get("colour", ld.get("color", (1, 1, 1))), float(ld.get("radiance", 1.0)), int(ld.get("samples", 2)),
-                         bool(ld.get("shadows", True)), str(ld.get("name", "lamp")))
+        _check_keys(
+            ld,
+            {
+                "type",
+                "centre",
+                "center",
+                "edge_u",
+                "edge_v",
+                "colour",
+                "color",
+                "radiance",
+                "samples",
+                "shadows",
+                "name",
+            },
+            where,
+        )
+        return AreaLight(
+            ld.get("centre", ld.get("center")),
+            ld.get("edge_u", (0.5, 0, 0)),
+            ld.get("edge_v", (0, 0, 0.5)),
+            ld.get("colour", ld.get("color", (1, 1, 1))),
+            float(ld.get("radiance", 1.0)),
+            int(ld.get("samples", 2)),
+            bool(ld.get("shadows", True)),
+            str(ld.get("name", "lamp")),
+        )
     raise InputError(f"{where}: light type must be point or area, got {kind!r}")
 
 
 def _camera(cd: dict, where: str) -> View:
     _check_keys(cd, {"position", "target", "up", "fov", "near", "far"}, where)
-    pose = Pose(tuple(cd.get("position", (0, 1, 3))), tuple(cd.get("target", (0, 0, 0))), tuple(cd.get("up", (0, 1, 0))))
+    pose = Pose(
+        tuple(cd.get("position", (0, 1, 3))), tuple(cd.get("target", (0, 0, 0))), tuple(cd.get("up", (0, 1, 0)))
+    )
     return View(pose, Camera(float(cd.get("fov", 45.0)), float(cd.get("near", 0.05)), float(cd.get("far", 100.0))))

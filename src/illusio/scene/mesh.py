@@ -60,20 +60,24 @@ class Mesh:
         """(min corner, max corner) of the referenced vertices."""
         return self.vertices.min(axis=0), self.vertices.max(axis=0)
 
-    def transformed(self, matrix: np.ndarray) -> "Mesh":
+    def transformed(self, matrix: np.ndarray) -> Mesh:
         from .transforms import transform_normals, transform_points
 
-        return replace(self, vertices=transform_points(matrix, self.vertices),
-                       normals=transform_normals(matrix, self.normals), notes=list(self.notes))
+        return replace(
+            self,
+            vertices=transform_points(matrix, self.vertices),
+            normals=transform_normals(matrix, self.normals),
+            notes=list(self.notes),
+        )
 
-    def normalised(self, size: float = 1.0) -> "Mesh":
+    def normalised(self, size: float = 1.0) -> Mesh:
         """Centred on the origin in x and z, resting on y = 0, largest extent ``size``."""
         lo, hi = self.bounds
         s = size / float(np.max(hi - lo))
         centre = np.array([(lo[0] + hi[0]) / 2, lo[1], (lo[2] + hi[2]) / 2], dtype=np.float32)
         return replace(self, vertices=(self.vertices - centre) * s, notes=list(self.notes))
 
-    def with_crease_normals(self, angle: float = 30.0) -> "Mesh":
+    def with_crease_normals(self, angle: float = 30.0) -> Mesh:
         """Split vertices along edges sharper than ``angle`` degrees so that creases shade sharp."""
         v, f, n, uv, origin = crease_split(self.vertices, self.faces, angle, self.uvs, return_origin=True)
         source = None if self.source_index is None else self.source_index[origin]
@@ -90,7 +94,7 @@ def weld(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     extent = float(np.ptp(v[finite], axis=0).max()) if finite.any() else 0.0
     key = np.zeros(v.shape, np.int64)
     key[finite] = np.round(v[finite] / max(extent * 1e-9, 1e-300)).astype(np.int64)
-    key[~finite] = np.iinfo(np.int64).max - np.arange((~finite).sum())[:, None]   # never welded: refused later
+    key[~finite] = np.iinfo(np.int64).max - np.arange((~finite).sum())[:, None]  # never welded: refused later
     _, first, inverse = np.unique(key, axis=0, return_index=True, return_inverse=True)
     return v[first], inverse.reshape(-1)
 
@@ -103,10 +107,14 @@ def validate_arrays(vertices: np.ndarray, faces: np.ndarray, name: str) -> None:
         raise InputError(f"{name}: vertices must have x, y and z, got an array of shape {vertices.shape}")
     bad = ~np.isfinite(vertices).all(axis=1)
     if bad.any():
-        raise InputError(f"{name}: {int(bad.sum())} vertices are not finite (NaN or inf), first at index {int(np.argmax(bad))}")
+        raise InputError(
+            f"{name}: {int(bad.sum())} vertices are not finite (NaN or inf), first at index {int(np.argmax(bad))}"
+        )
     if faces.min() < 0 or faces.max() >= len(vertices):
-        raise InputError(f"{name}: face indices out of range (vertex count {len(vertices)}, indices "
-                         f"{int(faces.min())}..{int(faces.max())})")
+        raise InputError(
+            f"{name}: face indices out of range (vertex count {len(vertices)}, indices "
+            f"{int(faces.min())}..{int(faces.max())})"
+        )
 
 
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:

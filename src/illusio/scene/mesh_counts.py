@@ -15,8 +15,24 @@ from ..core.errors import InputError
 
 __all__ = ["check_declared_counts", "length_error"]
 
-_PLY_SIZES = {"char": 1, "int8": 1, "uchar": 1, "uint8": 1, "short": 2, "int16": 2, "ushort": 2, "uint16": 2,
-              "int": 4, "int32": 4, "uint": 4, "uint32": 4, "float": 4, "float32": 4, "double": 8, "float64": 8}
+_PLY_SIZES = {
+    "char": 1,
+    "int8": 1,
+    "uchar": 1,
+    "uint8": 1,
+    "short": 2,
+    "int16": 2,
+    "ushort": 2,
+    "uint16": 2,
+    "int": 4,
+    "int32": 4,
+    "uint": 4,
+    "uint32": 4,
+    "float": 4,
+    "float32": 4,
+    "double": 8,
+    "float64": 8,
+}
 
 
 def check_declared_counts(path: Path, data: bytes) -> None:
@@ -46,7 +62,9 @@ def length_error(path: Path, reason: str) -> InputError:
             header = None
         if header:
             declared = "declares " + ", ".join(f"element {name} {count}" for name, count, _ in header[1])
-    return InputError(f"{path}: the header {declared} but the file's length does not match ({reason}) — is it cut short?")
+    return InputError(
+        f"{path}: the header {declared} but the file's length does not match ({reason}) — is it cut short?"
+    )
 
 
 def _cut_short(path: Path, declared: str, found: str) -> InputError:
@@ -111,7 +129,10 @@ def _check_off(path: Path, data: bytes) -> None:
         head = head[1:] or (lines[1].split() if len(lines) > 1 else [])
         at = 1 if len(lines[0].split()) > 1 else 2
     if len(head) < 2 or not all(t.isdigit() for t in head[:2]):
-        raise InputError(f"{path}: OFF header must give the vertex and face counts, got {b' '.join(head[:3]).decode(errors='replace')!r}")
+        raise InputError(
+            f"{path}: OFF header must give the vertex and face counts, "
+            f"got {b' '.join(head[:3]).decode(errors='replace')!r}"
+        )
     vertices, faces = int(head[0]), int(head[1])
     found = len(lines) - at
     if found < vertices + faces:

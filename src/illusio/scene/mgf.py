@@ -17,7 +17,8 @@ gives the exitance ed/683 W/m² in that colour (emitted radiance: that over π).
 scenes differ (office2 and the cube have z up, office3 y up): by default up is the axis the lamps
 face away from (ceiling lamps shine down), else the one along which the scene is thinnest, else
 ``up`` says; the scene is
-turned to illusio's y up. A main camera is placed inside the scene's bounds. Unsupported entities are named in one warning; a malformed one
+turned to illusio's y up. A main camera is placed inside the scene's bounds. Unsupported entities are named in one
+warning; a malformed one
 is an InputError naming the file and the line."""
 
 from __future__ import annotations
@@ -43,9 +44,11 @@ LUMENS_PER_WATT = 683.0
 #: sides around a tessellated sphere, cylinder, cone, ring or torus (a sphere has half as many rings)
 SEGMENTS = 12
 #: a file's up axis to illusio's y up: z up turned by (x, y, z) → (x, z, −y); x up by (x, y, z) → (−y, x, z)
-TO_Y_UP = {"x": np.array([[0, -1.0, 0, 0], [1.0, 0, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1.0]]),
-           "y": np.eye(4),
-           "z": np.array([[1.0, 0, 0, 0], [0, 0, 1.0, 0], [0, -1.0, 0, 0], [0, 0, 0, 1.0]])}
+TO_Y_UP = {
+    "x": np.array([[0, -1.0, 0, 0], [1.0, 0, 0, 0], [0, 0, 1.0, 0], [0, 0, 0, 1.0]]),
+    "y": np.eye(4),
+    "z": np.array([[1.0, 0, 0, 0], [0, 0, 1.0, 0], [0, -1.0, 0, 0], [0, 0, 0, 1.0]]),
+}
 _XYZ_TO_SRGB = np.array([[3.2406, -1.5372, -0.4986], [-0.9689, 1.8758, 0.0415], [0.0557, -0.2040, 1.0570]])
 
 
@@ -66,6 +69,7 @@ def chromaticity_rgb(x: float, y: float) -> np.ndarray:
 def _cmf(wavelength: np.ndarray) -> np.ndarray:
     """CIE 1931 2° colour matching functions, (n, 3), by the multi-lobe fit of Wyman, Sloan &
     Shirley (2013): a few piecewise Gaussians, within a few per cent of the tables."""
+
     def g(mu, s1, s2):
         s = np.where(wavelength < mu, s1, s2)
         return np.exp(-0.5 * ((wavelength - mu) / s) ** 2)
@@ -99,11 +103,11 @@ class _Material:
     rd_colour: _Colour = field(default_factory=_Colour)
     ed: float = 0.0
     ed_colour: _Colour = field(default_factory=_Colour)
-    colour: _Colour = field(default_factory=_Colour)      # the material's current colour context
+    colour: _Colour = field(default_factory=_Colour)  # the material's current colour context
 
     def material(self) -> Material:
-        rho = np.clip(self.rd * self.rd_colour.rgb(), 0.0, 0.98)   # radiosity needs ρ < 1
-        emission = self.ed / LUMENS_PER_WATT * self.ed_colour.rgb() / math.pi    # exitance → radiance
+        rho = np.clip(self.rd * self.rd_colour.rgb(), 0.0, 0.98)  # radiosity needs ρ < 1
+        emission = self.ed / LUMENS_PER_WATT * self.ed_colour.rgb() / math.pi  # exitance → radiance
         return Material(colour=tuple(rho), emission=tuple(emission))
 
 
@@ -196,9 +200,9 @@ def _triangulate(points: np.ndarray, normal: np.ndarray | None, where: str) -> n
         raise InputError(f"{where}: a face needs at least 3 vertices")
     area = np.zeros(3)
     for a, b in zip(points, np.roll(points, -1, axis=0)):
-        area += np.cross(a, b)                                       # Newell's normal: 2 × area
+        area += np.cross(a, b)  # Newell's normal: 2 × area
     if not np.linalg.norm(area) > 1e-12:
-        return np.zeros((0, 3, 3))                                   # degenerate: nothing to draw
+        return np.zeros((0, 3, 3))  # degenerate: nothing to draw
     axis = area / np.linalg.norm(area)
     u = np.cross(axis, [1.0, 0, 0] if abs(axis[0]) < 0.9 else [0, 1.0, 0])
     u /= np.linalg.norm(u)
@@ -210,9 +214,9 @@ def _triangulate(points: np.ndarray, normal: np.ndarray | None, where: str) -> n
         index = np.asarray(mapbox_earcut.triangulate_float64(flat, np.array([len(points)], np.uint32)), np.int64)
     tris = points[index.reshape(-1, 3)]
     e = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
-    tris = np.where((e @ axis < 0)[:, None, None], tris[:, ::-1], tris)   # every triangle as the polygon winds
+    tris = np.where((e @ axis < 0)[:, None, None], tris[:, ::-1], tris)  # every triangle as the polygon winds
     if normal is not None and float(axis @ normal) < 0:
-        tris = tris[:, ::-1]                                          # the file's normals say which side
+        tris = tris[:, ::-1]  # the file's normals say which side
     return tris
 
 
@@ -259,7 +263,7 @@ def _primitive(state: _State, kind: str, args: list[str], where: str) -> np.ndar
         tris.append(np.stack([np.repeat(top[None], s, 0), rings[0], np.roll(rings[0], -1, 0)], axis=1))
         tris.append(np.stack([np.repeat(bottom[None], s, 0), np.roll(rings[-1], -1, 0), rings[-1]], axis=1))
         out = np.concatenate(tris)
-        return out if num(1) > 0 else out[:, ::-1]                   # a negative radius faces inwards
+        return out if num(1) > 0 else out[:, ::-1]  # a negative radius faces inwards
     if kind in ("cyl", "cone"):
         a = state.point(args[0] if args else "", where)
         if kind == "cyl":
@@ -293,8 +297,15 @@ def _primitive(state: _State, kind: str, args: list[str], where: str) -> np.ndar
         for k in range(s + 1):
             t = 2 * math.pi * k / s
             radial = math.cos(t) * u + math.sin(t) * v
-            rings.append(c + major * radial + minor * (np.cos(np.linspace(0, 2 * math.pi, s, endpoint=False))[:, None] * radial
-                                                      + np.sin(np.linspace(0, 2 * math.pi, s, endpoint=False))[:, None] * axis))
+            rings.append(
+                c
+                + major * radial
+                + minor
+                * (
+                    np.cos(np.linspace(0, 2 * math.pi, s, endpoint=False))[:, None] * radial
+                    + np.sin(np.linspace(0, 2 * math.pi, s, endpoint=False))[:, None] * axis
+                )
+            )
         return _grid(rings)
     if kind == "prism":
         if len(args) < 4:
@@ -309,12 +320,25 @@ def _primitive(state: _State, kind: str, args: list[str], where: str) -> np.ndar
     raise AssertionError(kind)
 
 
-_SHAPES = {"sph": "a centre vertex and a radius", "cyl": "a vertex, a radius and a vertex",
-           "cone": "a vertex, a radius, a vertex and a radius", "ring": "a centre vertex and two radii",
-           "torus": "a centre vertex and two radii", "prism": "three or more vertices and a length"}
+_SHAPES = {
+    "sph": "a centre vertex and a radius",
+    "cyl": "a vertex, a radius and a vertex",
+    "cone": "a vertex, a radius, a vertex and a radius",
+    "ring": "a centre vertex and two radii",
+    "torus": "a centre vertex and two radii",
+    "prism": "three or more vertices and a length",
+}
 #: read and not used: specular, transmission, index of refraction, and what RenderPark ignores too
-_IGNORED = {"rs": "specular", "td": "transmission", "ts": "transmission", "ir": "index of refraction",
-            "cmix": "colour mixtures", "ies": "IES luminaires", "fh": "faces with holes", "es": "specular emission"}
+_IGNORED = {
+    "rs": "specular",
+    "td": "transmission",
+    "ts": "transmission",
+    "ir": "index of refraction",
+    "cmix": "colour mixtures",
+    "ies": "IES luminaires",
+    "fh": "faces with holes",
+    "es": "specular emission",
+}
 
 
 def _parse(path: Path, state: _State, depth: int = 0) -> None:
@@ -362,7 +386,7 @@ def _entity(path: Path, state: _State, kind: str, args: list[str], where: str, d
     elif kind == "i":
         if not args:
             raise InputError(f"{where}: i needs a file name")
-        target = (path.parent / args[0])
+        target = path.parent / args[0]
         if not target.is_file():
             raise InputError(f"{where}: included file {args[0]} not found")
         if len(args) > 1:
@@ -408,7 +432,7 @@ def _entity(path: Path, state: _State, kind: str, args: list[str], where: str, d
             raise InputError(f"{where}: cct needs a positive temperature")
         wavelength = np.linspace(380.0, 780.0, 81)
         lam = wavelength * 1e-9
-        planck = 1.0 / (lam ** 5 * (np.exp(1.4388e-2 / (lam * temperature)) - 1.0))
+        planck = 1.0 / (lam**5 * (np.exp(1.4388e-2 / (lam * temperature)) - 1.0))
         state.material.colour.x, state.material.colour.y = _spectrum_xy(wavelength, planck)
     elif kind == "rd":
         (value,) = _numbers(args, 1, kind, where)
@@ -456,7 +480,7 @@ def _guess_up(state: _State, geometry: dict, points: np.ndarray) -> str:
     for key, (_, mat) in state.geometry.items():
         if max(mat.emission) > 0 and len(geometry[key]):
             t = geometry[key]
-            facing += np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]).sum(axis=0)      # area-weighted
+            facing += np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]).sum(axis=0)  # area-weighted
     if np.linalg.norm(facing) > 0:
         d = facing / np.linalg.norm(facing)
         k = int(np.argmax(np.abs(d)))
@@ -480,8 +504,11 @@ def load_mgf(path, segments: int = SEGMENTS, up: str = "auto") -> Scene:
     state = _State(segments)
     _parse(p, state)
     if state.ignored:
-        warnings.warn(f"{p.name}: MGF entities read and not used: "
-                      + ", ".join(f"{name} × {count}" for name, count in sorted(state.ignored.items())))
+        warnings.warn(
+            f"{p.name}: MGF entities read and not used: "
+            + ", ".join(f"{name} × {count}" for name, count in sorted(state.ignored.items())),
+            stacklevel=2,
+        )
     scene = Scene(p.stem, ambient=(0.0, 0.0, 0.0), background=(0.0, 0.0, 0.0))
     names = Counter()
     geometry = {key: np.concatenate(parts) for key, (parts, _) in state.geometry.items()}
@@ -504,7 +531,7 @@ def load_mgf(path, segments: int = SEGMENTS, up: str = "auto") -> Scene:
         raise InputError(f"{p}: no geometry (f, sph, cyl, cone, ring, prism or torus)")
     lo, hi = scene.bounds()
     centre, extent = (lo + hi) / 2, hi - lo
-    eye = centre + np.array([0.35, 0.1, 0.35]) * extent       # inside, near a corner, a little high
+    eye = centre + np.array([0.35, 0.1, 0.35]) * extent  # inside, near a corner, a little high
     target = centre - np.array([0.2, 0.1, 0.2]) * extent
     diagonal = float(np.linalg.norm(extent))
     scene.cameras["main"] = View(Pose(tuple(eye), tuple(target)), Camera(60.0, diagonal * 1e-3, diagonal * 4))

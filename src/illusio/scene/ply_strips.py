@@ -12,9 +12,24 @@ import numpy as np
 
 from ..core.errors import InputError
 
-_PLY_TYPES = {"char": "i1", "int8": "i1", "uchar": "u1", "uint8": "u1", "short": "i2", "int16": "i2",
-              "ushort": "u2", "uint16": "u2", "int": "i4", "int32": "i4", "uint": "u4", "uint32": "u4",
-              "float": "f4", "float32": "f4", "double": "f8", "float64": "f8"}
+_PLY_TYPES = {
+    "char": "i1",
+    "int8": "i1",
+    "uchar": "u1",
+    "uint8": "u1",
+    "short": "i2",
+    "int16": "i2",
+    "ushort": "u2",
+    "uint16": "u2",
+    "int": "i4",
+    "int32": "i4",
+    "uint": "u4",
+    "uint32": "u4",
+    "float": "f4",
+    "float32": "f4",
+    "double": "f8",
+    "float64": "f8",
+}
 
 
 def has_tristrips(p: Path) -> bool:
@@ -54,9 +69,11 @@ def read_ply_tristrips(p: Path) -> tuple[np.ndarray, np.ndarray]:
         strip_tokens = np.asarray(tokens[nv:], dtype=np.int64)
         if not len(strip_tokens) or len(strip_tokens) < 1 + strip_tokens[0] or strip_tokens[0] < 0:
             declared = int(strip_tokens[0]) if len(strip_tokens) else "a list of"
-            raise InputError(f"{p}: the strip declares {declared} indices but "
-                             f"{max(len(strip_tokens) - 1, 0)} follow — is the file cut short?")
-        strips = strip_tokens[1:1 + strip_tokens[0]]
+            raise InputError(
+                f"{p}: the strip declares {declared} indices but "
+                f"{max(len(strip_tokens) - 1, 0)} follow — is the file cut short?"
+            )
+        strips = strip_tokens[1 : 1 + strip_tokens[0]]
         xyz = vert[:, [names.index(c) for c in "xyz"]]
     else:
         endian = "<" if "little" in fmt else ">"
@@ -69,11 +86,17 @@ def read_ply_tristrips(p: Path) -> tuple[np.ndarray, np.ndarray]:
         count_t, index_t = endian + _PLY_TYPES[strip_props[1]], endian + _PLY_TYPES[strip_props[2]]
         at = body_start + dtype.itemsize * count
         if len(data) < at + np.dtype(count_t).itemsize:
-            raise InputError(f"{p}: the header declares {count} vertices and a strip, but the file ends at byte {len(data)} — is it cut short?")
+            raise InputError(
+                f"{p}: the header declares {count} vertices and a strip, but the file ends at byte "
+                f"{len(data)} — is it cut short?"
+            )
         n = int(np.frombuffer(data, dtype=count_t, count=1, offset=at)[0])
         end = at + np.dtype(count_t).itemsize + n * np.dtype(index_t).itemsize
         if n < 0 or len(data) < end:
-            raise InputError(f"{p}: the strip declares {n} indices ({end} bytes) but the file holds {len(data)} bytes — is it cut short?")
+            raise InputError(
+                f"{p}: the strip declares {n} indices ({end} bytes) but the file holds {len(data)} bytes — is "
+                "it cut short?"
+            )
         strips = np.frombuffer(data, dtype=index_t, count=n, offset=at + np.dtype(count_t).itemsize).astype(np.int64)
     breaks = np.flatnonzero(strips < 0)
     pieces = [s for s in np.split(strips, breaks) if len(s)]

@@ -13,8 +13,11 @@ __all__ = ["world_triangles", "first_hit"]
 
 def world_triangles(scene: Scene) -> np.ndarray:
     """(n, 3, 3) float64: every visible node's triangles in world space (metres)."""
-    parts = [transform_points(n.transform, np.asarray(n.mesh.vertices, np.float64))[np.asarray(n.mesh.faces)]
-             for n in scene.nodes if n.visible and len(n.mesh.faces)]
+    parts = [
+        transform_points(n.transform, np.asarray(n.mesh.vertices, np.float64))[np.asarray(n.mesh.faces)]
+        for n in scene.nodes
+        if n.visible and len(n.mesh.faces)
+    ]
     return np.concatenate(parts) if parts else np.zeros((0, 3, 3))
 
 

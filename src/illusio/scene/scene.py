@@ -8,8 +8,8 @@ colours linear RGB in [0, 1]. Light intensities:
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
-from typing import Iterable
 
 import numpy as np
 
@@ -49,7 +49,9 @@ class Material:
         self.colour = _vec(self.colour, 3, "material colour")
         self.emission = _vec(self.emission, 3, "material emission")
         if not 0 <= self.specular <= 1 or not self.shininess >= 1:
-            raise InputError(f"material needs specular in [0, 1] and shininess ≥ 1, got {self.specular}, {self.shininess}")
+            raise InputError(
+                f"material needs specular in [0, 1] and shininess ≥ 1, got {self.specular}, {self.shininess}"
+            )
         if self.texture is not None:
             t = np.asarray(self.texture, dtype=np.float32)
             if t.ndim == 2:
@@ -92,8 +94,11 @@ class PointLight:
 
     def sample_points(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(positions (K, 3), emitter normals (K, 3) or zeros for isotropic, weights (K, 3) RGB)."""
-        return (np.array([self.position], np.float32), np.zeros((1, 3), np.float32),
-                np.array([self.colour], np.float32) * self.intensity)
+        return (
+            np.array([self.position], np.float32),
+            np.zeros((1, 3), np.float32),
+            np.array([self.colour], np.float32) * self.intensity,
+        )
 
 
 @dataclass
@@ -138,10 +143,17 @@ class AreaLight:
         k = int(self.samples)
         t = (np.arange(k) + 0.5) / k - 0.5
         su, sv = np.meshgrid(t, t)
-        pos = np.asarray(self.centre) + su.reshape(-1, 1) * np.asarray(self.edge_u) + sv.reshape(-1, 1) * np.asarray(self.edge_v)
+        pos = (
+            np.asarray(self.centre)
+            + su.reshape(-1, 1) * np.asarray(self.edge_u)
+            + sv.reshape(-1, 1) * np.asarray(self.edge_v)
+        )
         weight = np.asarray(self.colour) * self.radiance * self.area / (k * k)
-        return (pos.astype(np.float32), np.repeat(self.normal[None], k * k, axis=0),
-                np.repeat(weight[None], k * k, axis=0).astype(np.float32))
+        return (
+            pos.astype(np.float32),
+            np.repeat(self.normal[None], k * k, axis=0),
+            np.repeat(weight[None], k * k, axis=0).astype(np.float32),
+        )
 
 
 @dataclass
@@ -227,12 +239,15 @@ class Scene:
         """World-space bounding box of the visible nodes."""
         from .transforms import transform_points
 
-        pts = [transform_points(n.transform, np.array(_corners(*n.mesh.bounds))) for n in (nodes or self.nodes) if n.visible]
+        pts = [
+            transform_points(n.transform, np.array(_corners(*n.mesh.bounds)))
+            for n in (nodes or self.nodes)
+            if n.visible
+        ]
         if not pts:
             raise InputError(f"scene {self.name!r} has nothing to draw")
         allp = np.concatenate(pts)
         return allp.min(axis=0), allp.max(axis=0)
-
 
     def check_in_view(self, view, size: tuple[int, int]) -> None:
         """InputError when ``view`` sees none of the visible nodes: every node's bounding box lies
@@ -253,8 +268,10 @@ class Scene:
         eye = ", ".join(f"{c:g}" for c in view.pose.position)
         target = ", ".join(f"{c:g}" for c in view.pose.target)
         lo, hi = (", ".join(f"{c:.3g}" for c in corner) for corner in self.bounds())
-        raise InputError(f"the camera at ({eye}) looking at ({target}) sees nothing of scene {self.name!r}: "
-                         f"point it at the scene (its bounds run from ({lo}) to ({hi}))")
+        raise InputError(
+            f"the camera at ({eye}) looking at ({target}) sees nothing of scene {self.name!r}: "
+            f"point it at the scene (its bounds run from ({lo}) to ({hi}))"
+        )
 
 
 def _corners(lo, hi):

@@ -25,7 +25,9 @@ def resolve_mesh(source: str) -> Mesh:
     if Path(source).suffix.lower() in MESH_FORMATS:
         return load_mesh(source)
     if not Path(source).exists():
-        raise InputError(f"{source}: no such file, and not a built-in shape ({', '.join(SHAPES)}){did_you_mean(source, SHAPES)}")
+        raise InputError(
+            f"{source}: no such file, and not a built-in shape ({', '.join(SHAPES)}){did_you_mean(source, SHAPES)}"
+        )
     raise InputError(f"{source}: not a mesh ({', '.join(MESH_FORMATS)})")
 
 
@@ -36,8 +38,10 @@ def resolve_scene(source: str) -> Scene:
     if is_mesh_source(source):
         return turntable(resolve_mesh(source))
     if not Path(source).exists():
-        raise InputError(f"{source}: no such file, and not a built-in scene ({', '.join(SCENES)}) or shape "
-                         f"({', '.join(SHAPES)}){did_you_mean(source, list(SCENES) + list(SHAPES))}")
+        raise InputError(
+            f"{source}: no such file, and not a built-in scene ({', '.join(SCENES)}) or shape "
+            f"({', '.join(SHAPES)}){did_you_mean(source, list(SCENES) + list(SHAPES))}"
+        )
     raise InputError(f"{source}: not a scene (.yaml, .mgf) or mesh ({', '.join(MESH_FORMATS)})")
 
 

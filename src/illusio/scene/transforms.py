@@ -4,8 +4,18 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["identity", "translate", "scale", "rotate", "rotate_euler", "compose", "transform_points",
-           "transform_normals", "look_at", "frustum"]
+__all__ = [
+    "identity",
+    "translate",
+    "scale",
+    "rotate",
+    "rotate_euler",
+    "compose",
+    "transform_points",
+    "transform_normals",
+    "look_at",
+    "frustum",
+]
 
 
 def identity() -> np.ndarray:

@@ -22,11 +22,22 @@ from ..core.lazy import lazy_exports
 # a stereogram is made, not for `illusio --help` or for reading the Params' defaults)
 _EXPORTS = {
     "TECHNIQUES": "technique",
-    **dict.fromkeys(("DecodeReport", "check", "decode_separation", "expected_separation", "separation_to_depth"), "decode"),
+    **dict.fromkeys(
+        ("DecodeReport", "check", "decode_separation", "expected_separation", "separation_to_depth"), "decode"
+    ),
     **dict.fromkeys(("check_depth", "read_depth"), "depth"),
     **dict.fromkeys(("ALGORITHMS", "PATTERNS", "StereogramParams", "MultiSceneParams"), "params"),
-    **dict.fromkeys(("depth_from_separation", "depth_range", "max_separation_px", "screen_width_cm", "separation_cm",
-                     "separation_px"), "physics"),
+    **dict.fromkeys(
+        (
+            "depth_from_separation",
+            "depth_range",
+            "max_separation_px",
+            "screen_width_cm",
+            "separation_cm",
+            "separation_px",
+        ),
+        "physics",
+    ),
     **dict.fromkeys(("MultiSceneRenderer", "MultiSceneSubject", "hidden_view_from_viewer", "multiscene"), "multiscene"),
     **dict.fromkeys(("StereogramRenderer", "draw_guides", "stereogram", "stereogram_cpu"), "stereogram"),
 }

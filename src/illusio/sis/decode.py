@@ -29,7 +29,7 @@ def _box_sum(a: np.ndarray, radius_x: int, radius_y: int) -> np.ndarray:
     c = np.pad(a, ((radius_y + 1, radius_y), (radius_x + 1, radius_x))).cumsum(0).cumsum(1)
     h, w = a.shape
     ky, kx = 2 * radius_y + 1, 2 * radius_x + 1
-    return c[ky:ky + h, kx:kx + w] - c[:h, kx:kx + w] - c[ky:ky + h, :w] + c[:h, :w]
+    return c[ky : ky + h, kx : kx + w] - c[:h, kx : kx + w] - c[ky : ky + h, :w] + c[:h, :w]
 
 
 def _costs(img, lo, hi, rx, ry):
@@ -44,14 +44,20 @@ def _costs(img, lo, hi, rx, ry):
         yield s, cost
 
 
-def decode_separation(image: np.ndarray, min_separation: int, max_separation: int,
-                      window: tuple[int, int] = (7, 3), ambiguity: bool = False):
+def decode_separation(
+    image: np.ndarray,
+    min_separation: int,
+    max_separation: int,
+    window: tuple[int, int] = (7, 3),
+    ambiguity: bool = False,
+):
     """Per-pixel separation (int32, 0 where no partner fits in the image) and its matching cost
     (mean squared difference per pixel and channel; lower is surer).
 
     image: float32 (H, W, C). window: (width, height) of the matching window, odd numbers.
     ambiguity: also return a bool map of pixels where a separation more than 1 px away from the best
-    matches (almost, :data:`AMBIGUITY_MARGIN`) as well (the doubled images at occlusion edges of left-anchored stereograms: where a chain
+    matches (almost, :data:`AMBIGUITY_MARGIN`) as well (the doubled images at occlusion edges of left-anchored
+    stereograms: where a chain
     forks, two separations repeat the same dots).
     """
     img = np.asarray(image, np.float32)
@@ -114,13 +120,22 @@ class DecodeReport:
     ambiguous: int = 0
 
     def __str__(self) -> str:
-        return (f"{self.matched:.2%} of {self.checked:,} checked pixels within {self.tolerance} px "
-                f"(mean error {self.mean_error:.3f} px; {self.ambiguous:,} ambiguous pixels left out)")
+        return (
+            f"{self.matched:.2%} of {self.checked:,} checked pixels within {self.tolerance} px "
+            f"(mean error {self.mean_error:.3f} px; {self.ambiguous:,} ambiguous pixels left out)"
+        )
 
 
-def check(image: np.ndarray, sep: np.ndarray, first_strip: int, anchor: str = "left", tolerance: int = 1,
-          window: tuple[int, int] = (7, 3), row_start: np.ndarray | None = None,
-          columns: tuple[int, int] | None = None) -> DecodeReport:
+def check(
+    image: np.ndarray,
+    sep: np.ndarray,
+    first_strip: int,
+    anchor: str = "left",
+    tolerance: int = 1,
+    window: tuple[int, int] = (7, 3),
+    row_start: np.ndarray | None = None,
+    columns: tuple[int, int] | None = None,
+) -> DecodeReport:
     """Decode ``image`` and compare with the separation ``sep`` it was made from.
 
     Checked pixels: past each row's first strip, with one expected separation (±1) over the matching
@@ -143,7 +158,7 @@ def check(image: np.ndarray, sep: np.ndarray, first_strip: int, anchor: str = "l
     hi_win = np.full((h, w), -np.inf, np.float32)
     for dy in range(2 * ry + 1):
         for dx in range(2 * rx + 1):
-            v = big[dy:dy + h, dx:dx + w]
+            v = big[dy : dy + h, dx : dx + w]
             lo_win = np.minimum(lo_win, v)
             hi_win = np.maximum(hi_win, v)
     flat = (hi_win - lo_win) <= 1

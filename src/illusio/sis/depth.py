@@ -15,8 +15,8 @@ import numpy as np
 from ..core.context import Context
 from ..core.errors import InputError
 from ..core.files import load_npy
-from ..core.images import read_image
 from ..core.gl import set_uniform
+from ..core.images import read_image
 from ..passes.gpu_scene import GpuScene
 from ..scene.camera import Camera, Pose, View
 from ..scene.mesh import Mesh
@@ -43,7 +43,9 @@ def check_depth(depth, name: str = "depth map") -> np.ndarray:
     if d.min() < 0 or d.max() > 1:
         raise InputError(f"{name} values must lie in [0, 1], got [{d.min():g}, {d.max():g}]")
     if d.max() == d.min():
-        warnings.warn(f"{name} is all one value ({float(d.min()):g}): the stereogram will show a flat plane")
+        warnings.warn(
+            f"{name} is all one value ({float(d.min()):g}): the stereogram will show a flat plane", stacklevel=2
+        )
     return d
 
 
@@ -67,8 +69,10 @@ def read_depth(path: str | Path) -> np.ndarray:
         img = read_image(p, srgb=False)  # depth is data, not colour: no sRGB decoding
         if img.shape[2] >= 3 and np.ptp(img[..., :3], axis=2).max() > 1e-6:
             import warnings
-            warnings.warn(f"{p.name} is a colour image: its luminance is taken as the depth (white = near)",
-                          stacklevel=2)
+
+            warnings.warn(
+                f"{p.name} is a colour image: its luminance is taken as the depth (white = near)", stacklevel=2
+            )
             height = img[..., :3] @ np.array([0.2126, 0.7152, 0.0722], np.float32)
         else:
             height = img[..., 0]
@@ -97,8 +101,13 @@ class HiddenDepthPass:
         gl.enable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.CULL_FACE)
         prog = self.program
-        for name, value in (("view_matrix", view.view_matrix()), ("projection_matrix", view.projection_matrix(size[0] / size[1])),
-                            ("front", max(distance - radius, 1e-4)), ("back", distance + radius), ("object_range", OBJECT_RANGE)):
+        for name, value in (
+            ("view_matrix", view.view_matrix()),
+            ("projection_matrix", view.projection_matrix(size[0] / size[1])),
+            ("front", max(distance - radius, 1e-4)),
+            ("back", distance + radius),
+            ("object_range", OBJECT_RANGE),
+        ):
             set_uniform(prog, name, value)
         gpu_scene.draw(prog, lambda index, node: set_uniform(prog, "model_matrix", node.transform))
         gl.disable(moderngl.DEPTH_TEST)
@@ -113,8 +122,11 @@ def hidden_scene(mesh: Mesh, azimuth: float = 0.0, elevation: float = 10.0, dist
     m = mesh.normalised(1.0)
     lo, hi = m.bounds
     centre = tuple((np.asarray(lo) + np.asarray(hi)) / 2)
-    return Scene(name=f"hidden-{mesh.name or 'mesh'}", nodes=[Node("subject", m, tags=("subject",))],
-                 cameras={"main": View(Pose.orbit(centre, distance, azimuth, elevation), Camera(30.0, 0.05, 30.0))})
+    return Scene(
+        name=f"hidden-{mesh.name or 'mesh'}",
+        nodes=[Node("subject", m, tags=("subject",))],
+        cameras={"main": View(Pose.orbit(centre, distance, azimuth, elevation), Camera(30.0, 0.05, 30.0))},
+    )
 
 
 def depth_from_scene(ctx: Context, scene: Scene, size: tuple[int, int], view: View | None = None) -> np.ndarray:

@@ -29,9 +29,14 @@ class FastPass:
         self.rows_per_group = rows_per_group
         self.program = ctx.program("sis/shaders/sequential.glsl", FROM_DEPTH=1, ROWS_PER_GROUP=rows_per_group)
 
-
-    def __call__(self, depth: moderngl.Texture, pattern: moderngl.Texture, params: StereogramParams,
-                 row_starts: moderngl.Texture | None = None, end_column: int | None = None) -> moderngl.Texture:
+    def __call__(
+        self,
+        depth: moderngl.Texture,
+        pattern: moderngl.Texture,
+        params: StereogramParams,
+        row_starts: moderngl.Texture | None = None,
+        end_column: int | None = None,
+    ) -> moderngl.Texture:
         """depth: D (R32F, logical width); returns RGBA8 at ``oversample`` times the width (pooled).
         With ``row_starts``, only the columns from each row's start on are computed, and with
         ``end_column`` (output pixels) only those before it (the others keep what the pooled texture

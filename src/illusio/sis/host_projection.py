@@ -28,9 +28,17 @@ class HostProjectionPass:
         self.ctx = ctx
         self.program = ctx.program("sis/shaders/host_projection.glsl")
 
-    def __call__(self, gpu_scene: GpuScene, hosts, view: View, size: tuple[int, int], hidden_depth: moderngl.Texture,
-                 pattern: moderngl.Texture, pattern_repeat=(1.0, 1.0),
-                 depth_box: tuple[float, float, float, float] | None = None) -> tuple[moderngl.Texture, moderngl.Texture]:
+    def __call__(
+        self,
+        gpu_scene: GpuScene,
+        hosts,
+        view: View,
+        size: tuple[int, int],
+        hidden_depth: moderngl.Texture,
+        pattern: moderngl.Texture,
+        pattern_repeat=(1.0, 1.0),
+        depth_box: tuple[float, float, float, float] | None = None,
+    ) -> tuple[moderngl.Texture, moderngl.Texture]:
         ctx = self.ctx
         w, h = size
         hidden_depth.filter = (moderngl.LINEAR, moderngl.LINEAR)
@@ -49,10 +57,14 @@ class HostProjectionPass:
         set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
         hidden_depth.use(0)
         pattern.use(1)
-        for name, value in (("hidden_depth", 0), ("pattern", 1), ("pattern_repeat", tuple(float(v) for v in pattern_repeat))):
+        for name, value in (
+            ("hidden_depth", 0),
+            ("pattern", 1),
+            ("pattern_repeat", tuple(float(v) for v in pattern_repeat)),
+        ):
             set_uniform(prog, name, value)
         set_uniform(prog, "viewer_layout", 0 if depth_box is None else 1)
-        if depth_box is not None:               # to GL window rows (origin at the bottom)
+        if depth_box is not None:  # to GL window rows (origin at the bottom)
             x0, y0, x1, y1 = (float(v) for v in depth_box)
             set_uniform(prog, "depth_box", (x0, h - y1, x1, h - y0))
         for _, node in hosts:

@@ -40,8 +40,10 @@ def host_nodes(scene: Scene, host: str) -> list[tuple[int, Node]]:
     if not found:
         hosts = sorted({n.name for n in scene.nodes if n.visible and "host" in n.tags})
         named = sorted({n.name for n in scene.nodes if n.visible} | {t for n in scene.nodes for t in n.tags})
-        raise InputError(f"scene {scene.name!r} has no visible node named or tagged {host!r} to show the stereogram on"
-                         f"{did_you_mean(host, named)}; its hosts: {', '.join(hosts) or 'none tagged'}")
+        raise InputError(
+            f"scene {scene.name!r} has no visible node named or tagged {host!r} to show the stereogram on"
+            f"{did_you_mean(host, named)}; its hosts: {', '.join(hosts) or 'none tagged'}"
+        )
     return found
 
 
@@ -100,7 +102,9 @@ class MultiSceneRenderer(Renderer):
         if isinstance(subject, tuple) and len(subject) == 2:
             subject = MultiSceneSubject(*subject)
         if not isinstance(subject, MultiSceneSubject):
-            raise InputError(f"MultiSceneRenderer draws a MultiSceneSubject(main, hidden), got {type(subject).__name__}")
+            raise InputError(
+                f"MultiSceneRenderer draws a MultiSceneSubject(main, hidden), got {type(subject).__name__}"
+            )
         return super().prepare(subject)
 
     def _load(self, subject: MultiSceneSubject) -> None:
@@ -130,8 +134,13 @@ class MultiSceneRenderer(Renderer):
             centre = (np.asarray(lo) + np.asarray(hi)) / 2
             offset = np.asarray(base.pose.position) - centre
             a = math.radians(params.spin * frame)
-            rotated = np.array([offset[0] * math.cos(a) + offset[2] * math.sin(a), offset[1],
-                                -offset[0] * math.sin(a) + offset[2] * math.cos(a)])
+            rotated = np.array(
+                [
+                    offset[0] * math.cos(a) + offset[2] * math.sin(a),
+                    offset[1],
+                    -offset[0] * math.sin(a) + offset[2] * math.cos(a),
+                ]
+            )
             base = View(Pose(tuple(centre + rotated), tuple(centre), base.pose.up), base.camera)
         return base
 
@@ -155,27 +164,41 @@ class MultiSceneRenderer(Renderer):
         pattern, owned = self.stereograms.pattern_texture(sis, hidden_size, frame.index)
         # (2) + (4) both projected to screen space through the host
         box = self.viewer_box(hosts, view, (w, h), hidden_size) if params.host_layout == "viewer" else None
-        depth_screen, pattern_screen = self.host_projection(self.scene_renderer.gpu_scene, hosts, view, (w, h),
-                                                            hidden_depth, pattern, params.pattern_repeat, box)
+        depth_screen, pattern_screen = self.host_projection(
+            self.scene_renderer.gpu_scene, hosts, view, (w, h), hidden_depth, pattern, params.pattern_repeat, box
+        )
         ctx.release(hidden_depth)
         if owned:
             ctx.release(pattern)
         # (5) the stereogram in screen space, each row from the host's left edge
         span = self._host_columns(hosts, view, (w, h))
         row_starts = self.row_start(depth_screen, sis.oversample, span)
-        stereo = self.stereograms.stereogram_texture(depth_screen, sis, frame.index, row_starts,
-                                                     max_row_start=span[1] * sis.oversample,
-                                                     min_row_start=span[0] * sis.oversample, pattern=pattern_screen,
-                                                     end_column=span[1] * sis.oversample)
+        stereo = self.stereograms.stereogram_texture(
+            depth_screen,
+            sis,
+            frame.index,
+            row_starts,
+            max_row_start=span[1] * sis.oversample,
+            min_row_start=span[0] * sis.oversample,
+            pattern=pattern_screen,
+            end_column=span[1] * sis.oversample,
+        )
         stereo.filter = (moderngl.LINEAR, moderngl.LINEAR)
         ctx.release(pattern_screen, row_starts)
         # (6) the main scene, lit in one forward pass, the host coloured (and, for a TV, lit) by the
         # stereogram as a screen-space texture
         tint = tuple(float(c) for c in hosts[0][1].material.colour) if params.emission == 0 else (1.0, 1.0, 1.0)
-        material = ScreenMaterial(stereo, frozenset(i for i, _ in hosts), tint, float(params.emission), params.host_shadows)
+        material = ScreenMaterial(
+            stereo, frozenset(i for i, _ in hosts), tint, float(params.emission), params.host_shadows
+        )
         settings = replace(params.settings, forward=True)
-        out, ids = self.scene_renderer.render_forward(Frame(view, (w, h), frame.time, frame.index), settings, material,
-                                                      object_ids=self.object_ids, reuse_static=params.reuse_static)
+        out, ids = self.scene_renderer.render_forward(
+            Frame(view, (w, h), frame.time, frame.index),
+            settings,
+            material,
+            object_ids=self.object_ids,
+            reuse_static=params.reuse_static,
+        )
         self._keep_maps({"depth": depth_screen, "stereogram": stereo, "object_id": ids})
         return out
 
@@ -203,8 +226,13 @@ class MultiSceneRenderer(Renderer):
         sep = separation(np.where(on_host, depth, 1.0), sis.strip_width, sis.depth_factor)
         rows = np.where(on_host.any(axis=1), on_host.argmax(axis=1), image.shape[1]).astype(np.int32)
         gain = 1.0 / max(float(np.percentile(image[seen], 99)), 1e-6) if seen.any() else 1.0
-        report = check(np.where(seen[..., None], np.clip(image * gain, 0, 1), 0), sep, int(sis.far_separation + 0.5),
-                       "left", row_start=rows)
+        report = check(
+            np.where(seen[..., None], np.clip(image * gain, 0, 1), 0),
+            sep,
+            int(sis.far_separation + 0.5),
+            "left",
+            row_start=rows,
+        )
         return report, np.where(on_host, depth, -1.0)
 
     @staticmethod
@@ -215,7 +243,7 @@ class MultiSceneRenderer(Renderer):
         w, h = size
         px = _host_screen_corners(hosts, view, size)
         if px is None:
-            x0, y0, x1, y1 = 0.0, 0.0, float(w), float(h)        # partly behind the eye: the screen
+            x0, y0, x1, y1 = 0.0, 0.0, float(w), float(h)  # partly behind the eye: the screen
         else:
             x0, y0 = np.clip(px.min(axis=0), 0, (w, h))
             x1, y1 = np.clip(px.max(axis=0), 0, (w, h))
@@ -247,8 +275,13 @@ def _host_screen_corners(hosts, view: View, size) -> np.ndarray | None:
     return None if (depth <= 0).any() else px
 
 
-def multiscene(main: Scene, hidden: Scene, frame: Frame = Frame(), params: MultiSceneParams = MultiSceneParams(),
-               ctx: Context | None = None) -> np.ndarray:
+def multiscene(
+    main: Scene,
+    hidden: Scene,
+    frame: Frame = Frame(),
+    params: MultiSceneParams = MultiSceneParams(),
+    ctx: Context | None = None,
+) -> np.ndarray:
     """One multi-scene image: float32 (H, W, 3) linear, row 0 on top. Without ``ctx`` the process's
     default headless context is used; the context keeps one renderer for these calls."""
     renderer = (ctx or default_context()).kept(MultiSceneRenderer)

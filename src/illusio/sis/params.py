@@ -46,10 +46,12 @@ class StereogramParams:
     """
 
     algorithm: str = param("fast", choices=ALGORITHMS, help="how the links are followed")
-    strip_width: float = param(100.0, range=(2.0, 1000.0), unit="px", label="strip width W_s",
-                               help="separation of the nearest depth")
-    depth_factor: float = param(50.0, range=(0.0, 1000.0), unit="px", label="depth factor β",
-                                help="separations span [W_s, W_s + β]")
+    strip_width: float = param(
+        100.0, range=(2.0, 1000.0), unit="px", label="strip width W_s", help="separation of the nearest depth"
+    )
+    depth_factor: float = param(
+        50.0, range=(0.0, 1000.0), unit="px", label="depth factor β", help="separations span [W_s, W_s + β]"
+    )
     exact: bool = param(False, help="equation (3) of the physical screen (Dehos et al. 2014) instead of W_s + β·D")
     screen: Screen = param(default_factory=Screen, panel=False, cli=True)
     pattern: str = param("random-dot", panel=False, cli=True, help=f"{', '.join(PATTERNS)}, or an image file")
@@ -76,11 +78,15 @@ class StereogramParams:
         """InputError unless a stereogram ``width`` pixels wide holds one strip of the farthest
         separation (W_s + β) and its oversampled width fits a texture (refused before drawing)."""
         if width <= self.far_separation:
-            raise InputError(f"a stereogram {width} px wide cannot hold one strip of W_s + β = {self.far_separation:g} px: "
-                             f"give a depth map at least {math.floor(self.far_separation) + 1} px wide, or narrower strips")
+            raise InputError(
+                f"a stereogram {width} px wide cannot hold one strip of W_s + β = {self.far_separation:g} px: "
+                f"give a depth map at least {math.floor(self.far_separation) + 1} px wide, or narrower strips"
+            )
         if width * self.oversample > MAX_SIZE:
-            raise InputError(f"oversampling {self.oversample}× makes a {width} px wide stereogram {width * self.oversample} px "
-                             f"wide, past the {MAX_SIZE} px texture limit: lower the oversampling or the width")
+            raise InputError(
+                f"oversampling {self.oversample}× makes a {width} px wide stereogram {width * self.oversample} px "
+                f"wide, past the {MAX_SIZE} px texture limit: lower the oversampling or the width"
+            )
 
     @property
     def far_separation(self) -> float:
@@ -121,17 +127,24 @@ class MultiSceneParams:
     the paper's Figure 27)."""
 
     host: str = param("tv-screen", panel=False, cli=True, help="name or tag of the surface showing the stereogram")
-    stereogram: StereogramParams = param(default_factory=lambda: StereogramParams(pattern="snow", strip_width=100, depth_factor=40))
+    stereogram: StereogramParams = param(
+        default_factory=lambda: StereogramParams(pattern="snow", strip_width=100, depth_factor=40)
+    )
     reference_width: int = param(1920, range=(16, 8192), unit="px", panel=False)
     hidden_size: int = param(512, range=(16, 4096), unit="px", step=16, label="hidden depth size")
     emission: float = param(0.9, range=(0.0, 4.0), help="host glow (a TV); 0 for a lit wall")
     pattern_repeat: tuple[float, float] = param((1.0, 1.0), panel=False)
-    interactive: bool = param(False, help="orient the hidden scene by where the viewer stands (Dehos et al. 2014, Figure 25)")
+    interactive: bool = param(
+        False, help="orient the hidden scene by where the viewer stands (Dehos et al. 2014, Figure 25)"
+    )
     spin: float = param(0.0, range=(-30.0, 30.0), unit="°/frame", help="the hidden scene turns")
     settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
     host_shadows: bool = param(False, help="shadows fall on the host too (they break the stereogram's fusion)")
-    host_layout: str = param("uv", choices=HOST_LAYOUTS,
-                             help="the hidden scene through the host's uvs, or laid out upright in the viewer's image of it")
+    host_layout: str = param(
+        "uv",
+        choices=HOST_LAYOUTS,
+        help="the hidden scene through the host's uvs, or laid out upright in the viewer's image of it",
+    )
     reuse_static: bool = param(True, help="a still camera shades only the host again")
 
     __post_init__ = check_ranges
@@ -139,6 +152,11 @@ class MultiSceneParams:
     def scaled_stereogram(self, width: int) -> StereogramParams:
         """The stereogram parameters for a frame ``width`` pixels wide."""
         k = width / self.reference_width
-        return replace(self.stereogram, strip_width=self.stereogram.strip_width * k,
-                       depth_factor=self.stereogram.depth_factor * k,
-                       screen=replace(self.stereogram.screen, width_px=int(round(self.stereogram.screen.width_px * k)), height_px=None))
+        return replace(
+            self.stereogram,
+            strip_width=self.stereogram.strip_width * k,
+            depth_factor=self.stereogram.depth_factor * k,
+            screen=replace(
+                self.stereogram.screen, width_px=int(round(self.stereogram.screen.width_px * k)), height_px=None
+            ),
+        )

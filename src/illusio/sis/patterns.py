@@ -70,7 +70,7 @@ def snow(width: int, height: int, seed: int = 0, frame: int = 0, dot_size: int =
     key = hash32(key ^ np.uint32(ys // dot_size))
     key = hash32(key ^ np.uint32(frame & 0xFFFFFFFF))
     key = hash32(key ^ np.uint32(seed & 0xFFFFFFFF))
-    v = ((key >> np.uint32(8)).astype(np.float32) / np.float32(16777216.0))
+    v = (key >> np.uint32(8)).astype(np.float32) / np.float32(16777216.0)
     return np.ascontiguousarray(v[..., None].repeat(3, axis=2))
 
 
@@ -87,13 +87,23 @@ def texture_tile(image: np.ndarray, period: int) -> np.ndarray:
     img = img[..., :3]
     h, w = img.shape[:2]
     new_h = max(1, int(round(h * period / w)))
-    channels = [np.asarray(Image.fromarray(img[..., c]).resize((int(period), new_h), Image.Resampling.LANCZOS))
-                for c in range(3)]
+    channels = [
+        np.asarray(Image.fromarray(img[..., c]).resize((int(period), new_h), Image.Resampling.LANCZOS))
+        for c in range(3)
+    ]
     return np.clip(np.stack(channels, axis=2), 0, 1).astype(np.float32)
 
 
-def make_pattern(name: str, width: int, height: int, period: int, seed: int = 0, dot_size: int = 1,
-                 frame: int = 0, oversample: int = 1) -> np.ndarray:
+def make_pattern(
+    name: str,
+    width: int,
+    height: int,
+    period: int,
+    seed: int = 0,
+    dot_size: int = 1,
+    frame: int = 0,
+    oversample: int = 1,
+) -> np.ndarray:
     """The pattern a stereogram of ``width`` × ``height`` needs, by name (random-dot, grey-dots,
     colour-dots, pink-noise, snow) or image path; at ``oversample`` times the width."""
     if name == "random-dot":
@@ -109,7 +119,9 @@ def make_pattern(name: str, width: int, height: int, period: int, seed: int = 0,
     else:
         path = Path(name)
         if not path.exists():
-            raise InputError(f"pattern {name!r} is neither a built-in pattern (random-dot, grey-dots, colour-dots, "
-                             f"pink-noise, snow) nor an existing image file")
+            raise InputError(
+                f"pattern {name!r} is neither a built-in pattern (random-dot, grey-dots, colour-dots, "
+                f"pink-noise, snow) nor an existing image file"
+            )
         return texture_tile(read_image(path), period * oversample)
     return np.repeat(p, oversample, axis=1) if oversample > 1 else p

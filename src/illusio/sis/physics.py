@@ -17,8 +17,16 @@ import numpy as np
 from ..core.errors import InputError
 from ..scene.camera import Screen
 
-__all__ = ["separation_cm", "screen_width_cm", "separation_px", "depth_from_separation", "max_separation_px",
-           "depth_range", "linear_depth_error", "Screen"]
+__all__ = [
+    "separation_cm",
+    "screen_width_cm",
+    "separation_px",
+    "depth_from_separation",
+    "max_separation_px",
+    "depth_range",
+    "linear_depth_error",
+    "Screen",
+]
 
 
 def separation_cm(depth_cm, viewing_distance_cm: float = 100.0, eye_separation_cm: float = 6.5):
@@ -45,7 +53,9 @@ def depth_from_separation(separation, screen: Screen = Screen(), width_cm: float
     s = np.asarray(separation, dtype=np.float64)
     denominator = screen.width_px * screen.eye_separation_cm - s * w
     with np.errstate(divide="ignore"):
-        return np.where(denominator > 0, s * w * screen.viewing_distance_cm / np.where(denominator > 0, denominator, 1.0), np.inf)
+        return np.where(
+            denominator > 0, s * w * screen.viewing_distance_cm / np.where(denominator > 0, denominator, 1.0), np.inf
+        )
 
 
 def max_separation_px(screen: Screen = Screen(), width_cm: float | None = None) -> float:
@@ -54,14 +64,18 @@ def max_separation_px(screen: Screen = Screen(), width_cm: float | None = None) 
     return screen.width_px * screen.eye_separation_cm / w
 
 
-def depth_range(strip_width: float, depth_factor: float, screen: Screen = Screen(),
-                width_cm: float | None = None) -> tuple[float, float]:
+def depth_range(
+    strip_width: float, depth_factor: float, screen: Screen = Screen(), width_cm: float | None = None
+) -> tuple[float, float]:
     """[f'_min, f'_max] in cm simulated by separations in [W_s, W_s + β] (equation 4 at both ends)."""
     e_p = max_separation_px(screen, width_cm)
     if not 0 < strip_width < e_p:
         raise InputError(f"strip width W_s = {strip_width:g} px must lie in ]0, e_p[ = ]0, {e_p:.1f}[ for this screen")
     if not 0 < depth_factor < e_p - strip_width:
-        raise InputError(f"depth factor β = {depth_factor:g} px must lie in ]0, e_p − W_s[ = ]0, {e_p - strip_width:.1f}[ for this screen")
+        raise InputError(
+            f"depth factor β = {depth_factor:g} px must lie in ]0, e_p − W_s[ = ]0, {e_p - strip_width:.1f}[ "
+            "for this screen"
+        )
     near, far = depth_from_separation([strip_width, strip_width + depth_factor], screen, width_cm)
     return float(near), float(far)
 

@@ -12,7 +12,8 @@ Conventions shared by every function here and by the shaders:
   from there: W_s + β in Algorithm 1. ``row_end``: int32 (H,), one past the host's last column in
   each row (the image width if not given): the first strip's pattern columns wrap inside
   [row_start, row_end), so a row shorter than a strip shows only the pattern on the host.
-* Left-anchored algorithms (sequential, strip, chain; the fast GPU pass is the sequential one) make S[x] = S[x − s(x)]: a pixel repeats the one
+* Left-anchored algorithms (sequential, strip, chain; the fast GPU pass is the sequential one) make S[x] = S[x −
+s(x)]: a pixel repeats the one
   s to its left. The symmetric algorithm links x − s/2 and x − s/2 + s for the point at x.
 """
 
@@ -24,8 +25,19 @@ from numba import njit
 from ..scene.camera import Screen
 from .physics import depth_range, separation_px
 
-__all__ = ["separation", "rounded", "sequential", "strip", "chain", "symmetric", "occlusion_separation",
-           "upsample_depth", "downsample", "strip_passes", "host_projection"]
+__all__ = [
+    "separation",
+    "rounded",
+    "sequential",
+    "strip",
+    "chain",
+    "symmetric",
+    "occlusion_separation",
+    "upsample_depth",
+    "downsample",
+    "strip_passes",
+    "host_projection",
+]
 
 
 def upsample_depth(depth: np.ndarray, factor: int) -> np.ndarray:
@@ -43,8 +55,15 @@ def upsample_depth(depth: np.ndarray, factor: int) -> np.ndarray:
     return (d[:, i0] * (np.float32(1) - t) + d[:, i1] * t).astype(np.float32)
 
 
-def separation(depth: np.ndarray, strip_width: float, depth_factor: float, exact: bool = False,
-               screen: Screen | None = None, invert: bool = False, oversample: int = 1) -> np.ndarray:
+def separation(
+    depth: np.ndarray,
+    strip_width: float,
+    depth_factor: float,
+    exact: bool = False,
+    screen: Screen | None = None,
+    invert: bool = False,
+    oversample: int = 1,
+) -> np.ndarray:
     """Depth → separation, pixels (at ``oversample`` times the width, separations scaled alike).
 
     Linear (the paper's approximation): s = W_s + β·D. Exact: D is linear in the simulated depth,
@@ -102,14 +121,22 @@ def _sequential(sep_px, pattern, strip_width, first_strip, row_start, row_end, w
         for x in range(w):
             s = sep_px[y, x]
             if x - row_start[y] < first_strip:
-                out[y, x] = _texel(pattern, x, y, s - strip_width, row_start[y] if wrap else -1, first_strip, row_end[y])
+                out[y, x] = _texel(
+                    pattern, x, y, s - strip_width, row_start[y] if wrap else -1, first_strip, row_end[y]
+                )
             else:
                 out[y, x] = out[y, x - s]
     return out
 
 
-def sequential(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
-               row_start: np.ndarray | None = None, row_end: np.ndarray | None = None) -> np.ndarray:
+def sequential(
+    sep: np.ndarray,
+    pattern: np.ndarray,
+    strip_width: int,
+    first_strip: int,
+    row_start: np.ndarray | None = None,
+    row_end: np.ndarray | None = None,
+) -> np.ndarray:
     """Section 3.3, left to right along each row: the first strip (x − row_start < ``first_strip``)
     samples the pattern shifted by s − W_s (Algorithm 1's x − βD), every later pixel copies
     S[x − s(x)]. Returns float32 (H, W, C).
@@ -123,8 +150,16 @@ def sequential(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_str
     h, w = sep_px.shape
     pattern = np.ascontiguousarray(pattern, np.float32)
     out = np.zeros((h, w, pattern.shape[2]), np.float32)
-    return _sequential(sep_px, pattern, int(strip_width), int(first_strip), _rows(row_start, h), _ends(row_end, h, w),
-                       row_start is not None, out)
+    return _sequential(
+        sep_px,
+        pattern,
+        int(strip_width),
+        int(first_strip),
+        _rows(row_start, h),
+        _ends(row_end, h, w),
+        row_start is not None,
+        out,
+    )
 
 
 def strip_passes(width: int, strip_width: int, first_strip: int) -> int:
@@ -146,16 +181,23 @@ def _pattern_at(pattern, ys, xs, shift, row_start, first_strip, row_end):
     return pattern[ys % ht, v % wt]
 
 
-def strip(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
-          row_start: np.ndarray | None = None, row_end: np.ndarray | None = None) -> np.ndarray:
+def strip(
+    sep: np.ndarray,
+    pattern: np.ndarray,
+    strip_width: int,
+    first_strip: int,
+    row_start: np.ndarray | None = None,
+    row_end: np.ndarray | None = None,
+) -> np.ndarray:
     """Algorithm 1: the first strip from the pattern, then strips of W_s columns, each computed all at
     once from the strips before it (every pixel of a strip reads at least W_s to its left)."""
     sep_px = rounded(sep)
     h, w = sep_px.shape
     rows = _rows(row_start, h)
     ys, xs = np.mgrid[0:h, 0:w]
-    out = _pattern_at(np.asarray(pattern, np.float32), ys, xs, sep_px - strip_width, row_start, first_strip,
-                      _ends(row_end, h, w)).astype(np.float32)
+    out = _pattern_at(
+        np.asarray(pattern, np.float32), ys, xs, sep_px - strip_width, row_start, first_strip, _ends(row_end, h, w)
+    ).astype(np.float32)
     rel = xs - rows[:, None]
     for k in range(1, strip_passes(w + int(rows.max(initial=0)), strip_width, first_strip)):
         lo = first_strip + (k - 1) * strip_width
@@ -164,8 +206,14 @@ def strip(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: i
     return out
 
 
-def chain(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: int,
-         row_start: np.ndarray | None = None, row_end: np.ndarray | None = None) -> np.ndarray:
+def chain(
+    sep: np.ndarray,
+    pattern: np.ndarray,
+    strip_width: int,
+    first_strip: int,
+    row_start: np.ndarray | None = None,
+    row_end: np.ndarray | None = None,
+) -> np.ndarray:
     """Every pixel independently follows its chain x → x − s(x) → … until it lands in the first strip,
     and takes the pattern value there: the same image as :func:`sequential`, with no order between
     pixels."""
@@ -179,8 +227,15 @@ def chain(sep: np.ndarray, pattern: np.ndarray, strip_width: int, first_strip: i
         if not moving.any():
             break
         at[moving] -= sep_px[ys[moving], at[moving]]
-    return _pattern_at(np.asarray(pattern, np.float32), ys, at, sep_px[ys, at] - strip_width, row_start, first_strip,
-                       _ends(row_end, h, w))
+    return _pattern_at(
+        np.asarray(pattern, np.float32),
+        ys,
+        at,
+        sep_px[ys, at] - strip_width,
+        row_start,
+        first_strip,
+        _ends(row_end, h, w),
+    )
 
 
 def occlusion_separation(sep: float, offset: float, eye_separation: float) -> float:
@@ -237,8 +292,15 @@ def _symmetric(sep, pattern, near_separation, eye_separation, row_start, row_end
     return out
 
 
-def symmetric(sep: np.ndarray, pattern: np.ndarray, near_separation: float, eye_separation: float,
-              row_start: np.ndarray | None = None, first_strip: int = 0, row_end: np.ndarray | None = None) -> np.ndarray:
+def symmetric(
+    sep: np.ndarray,
+    pattern: np.ndarray,
+    near_separation: float,
+    eye_separation: float,
+    row_start: np.ndarray | None = None,
+    first_strip: int = 0,
+    row_end: np.ndarray | None = None,
+) -> np.ndarray:
     """Thimbleby, Inglis & Witten (1994): for each point x, the pixels x − ⌊s/2⌋ and x − ⌊s/2⌋ + s must
     match, unless the point is hidden from one eye (hidden-surface removal with
     :func:`occlusion_separation`; ``near_separation`` is W_s, nothing is nearer). Constraints are
@@ -250,8 +312,18 @@ def symmetric(sep: np.ndarray, pattern: np.ndarray, near_separation: float, eye_
     pattern = np.ascontiguousarray(pattern, np.float32)
     out = np.zeros((h, w, pattern.shape[2]), np.float32)
     same = np.zeros(w, np.int32)
-    return _symmetric(sep, pattern, np.float32(near_separation), np.float32(eye_separation),
-                      _rows(row_start, h), _ends(row_end, h, w), row_start is not None, int(first_strip), out, same)
+    return _symmetric(
+        sep,
+        pattern,
+        np.float32(near_separation),
+        np.float32(eye_separation),
+        _rows(row_start, h),
+        _ends(row_end, h, w),
+        row_start is not None,
+        int(first_strip),
+        out,
+        same,
+    )
 
 
 def downsample(image: np.ndarray, factor: int) -> np.ndarray:
@@ -262,9 +334,16 @@ def downsample(image: np.ndarray, factor: int) -> np.ndarray:
     return image[:, : w - w % factor].reshape(h, w // factor, factor, c).mean(axis=2, dtype=np.float32)
 
 
-def host_projection(corners: np.ndarray, uvs: np.ndarray, view_projection: np.ndarray, size: tuple[int, int],
-                    hidden_depth: np.ndarray, pattern: np.ndarray, pattern_repeat=(1.0, 1.0),
-                    depth_box=None) -> tuple[np.ndarray, np.ndarray]:
+def host_projection(
+    corners: np.ndarray,
+    uvs: np.ndarray,
+    view_projection: np.ndarray,
+    size: tuple[int, int],
+    hidden_depth: np.ndarray,
+    pattern: np.ndarray,
+    pattern_repeat=(1.0, 1.0),
+    depth_box=None,
+) -> tuple[np.ndarray, np.ndarray]:
     """Steps (2) and (4) of Figure 22 for a planar parallelogram host, by casting each pixel centre's
     ray onto its plane: (D in screen space, −1 off the host; the pattern in screen space, RGB, 0 off
     the host). ``corners``: (3, 3) world points p0, p1, p2 with the fourth at p1 + p2 − p0; ``uvs``:
@@ -301,7 +380,7 @@ def host_projection(corners: np.ndarray, uvs: np.ndarray, view_projection: np.nd
     lo, hi = corners_uv.min(axis=0), corners_uv.max(axis=0)
     st = (uv - lo) / np.maximum(hi - lo, 1e-6)
     at = st
-    if depth_box is not None:                # pixel centres across the box, in GL rows (bottom up)
+    if depth_box is not None:  # pixel centres across the box, in GL rows (bottom up)
         x0, y0, x1, y1 = (float(v) for v in depth_box)
         gl_x, gl_y = np.meshgrid(np.arange(w) + 0.5, h - 0.5 - np.arange(h))
         at = np.stack([(gl_x - x0) / max(x1 - x0, 1e-6), (gl_y - (h - y1)) / max(y1 - y0, 1e-6)], -1)
@@ -313,8 +392,9 @@ def host_projection(corners: np.ndarray, uvs: np.ndarray, view_projection: np.nd
     x1, y1 = np.minimum(x0 + 1, dw - 1), np.minimum(y0 + 1, dh - 1)
     tx, ty = fx - x0, fy - y0
     gl_rows = np.asarray(hidden_depth, np.float64)[::-1]
-    depth = ((gl_rows[y0, x0] * (1 - tx) + gl_rows[y0, x1] * tx) * (1 - ty)
-             + (gl_rows[y1, x0] * (1 - tx) + gl_rows[y1, x1] * tx) * ty)
+    depth = (gl_rows[y0, x0] * (1 - tx) + gl_rows[y0, x1] * tx) * (1 - ty) + (
+        gl_rows[y1, x0] * (1 - tx) + gl_rows[y1, x1] * tx
+    ) * ty
     if depth_box is not None:
         depth = np.where(((at >= 0) & (at <= 1)).all(axis=-1), depth, 1.0)
     ph, pw = pattern.shape[:2]
@@ -322,5 +402,4 @@ def host_projection(corners: np.ndarray, uvs: np.ndarray, view_projection: np.nd
     px = np.floor(rep[..., 0] * pw).astype(int) % pw
     py = np.floor(rep[..., 1] * ph).astype(int) % ph
     colour = np.asarray(pattern, np.float32)[::-1][py, px][..., :3]
-    return (np.where(on, depth, -1.0).astype(np.float32),
-            np.where(on[..., None], colour, 0.0).astype(np.float32))
+    return (np.where(on, depth, -1.0).astype(np.float32), np.where(on[..., None], colour, 0.0).astype(np.float32))

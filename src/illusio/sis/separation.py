@@ -14,12 +14,18 @@ __all__ = ["SeparationPass", "RowStartPass", "bind_depth_mapping"]
 def bind_depth_mapping(program, unit: int, params: StereogramParams) -> None:
     """Set the uniforms of ``shaders/depth_to_separation.glsl`` (the depth texture is on ``unit``)."""
     near, far = params.depth_range_cm
-    for name, value in (("depth_map", unit), ("strip_width_px", float(params.strip_width)),
-                        ("depth_factor", float(params.depth_factor)), ("invert", params.invert != params.cross_eyed),
-                        ("exact", bool(params.exact)), ("near_cm", near), ("far_cm", far),
-                        ("eye_separation_px", float(params.eye_separation_px)),
-                        ("viewing_distance_cm", float(params.screen.viewing_distance_cm)),
-                        ("oversample", int(params.oversample))):
+    for name, value in (
+        ("depth_map", unit),
+        ("strip_width_px", float(params.strip_width)),
+        ("depth_factor", float(params.depth_factor)),
+        ("invert", params.invert != params.cross_eyed),
+        ("exact", bool(params.exact)),
+        ("near_cm", near),
+        ("far_cm", far),
+        ("eye_separation_px", float(params.eye_separation_px)),
+        ("viewing_distance_cm", float(params.screen.viewing_distance_cm)),
+        ("oversample", int(params.oversample)),
+    ):
         set_uniform(program, name, value)
 
 
@@ -52,7 +58,9 @@ class RowStartPass:
         self.ctx = ctx
         self.program = ctx.program("sis/shaders/row_start.glsl")
 
-    def __call__(self, depth: moderngl.Texture, oversample: int = 1, columns: tuple[int, int] | None = None) -> moderngl.Texture:
+    def __call__(
+        self, depth: moderngl.Texture, oversample: int = 1, columns: tuple[int, int] | None = None
+    ) -> moderngl.Texture:
         """``columns``: (first, end) — the host lies within these columns of ``depth`` (fewer to search)."""
         w, h = depth.size
         first, end = columns if columns is not None else (0, w)

@@ -15,16 +15,22 @@ class SnowPass:
         self.ctx = ctx
         self.program = ctx.program("sis/shaders/snow.glsl")
 
-    def __call__(self, size: tuple[int, int], seed: int = 0, frame: int = 0, dot_size: int = 1,
-                 oversample: int = 1) -> moderngl.Texture:
+    def __call__(
+        self, size: tuple[int, int], seed: int = 0, frame: int = 0, dot_size: int = 1, oversample: int = 1
+    ) -> moderngl.Texture:
         """size: (width, height) of the texture, already ``oversample`` times the image width."""
         w, h = size
         out = self.ctx.acquire((w, h), 4, "f1")
         fbo = self.ctx.framebuffer([out])
         fbo.use()
         fbo.viewport = (0, 0, w, h)
-        for name, value in (("seed", int(seed) & 0xFFFFFFFF), ("frame", int(frame) & 0xFFFFFFFF),
-                            ("dot_size", int(dot_size)), ("image_height", h), ("oversample", int(oversample))):
+        for name, value in (
+            ("seed", int(seed) & 0xFFFFFFFF),
+            ("frame", int(frame) & 0xFFFFFFFF),
+            ("dot_size", int(dot_size)),
+            ("image_height", h),
+            ("oversample", int(oversample)),
+        ):
             set_uniform(self.program, name, value)
         self.ctx.fullscreen.draw(self.program)
         return out

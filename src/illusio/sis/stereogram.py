@@ -6,8 +6,8 @@ import moderngl
 import numpy as np
 
 from ..core.context import Context, default_context
-from ..core.renderer import Frame, Renderer
 from ..core.errors import InputError
+from ..core.renderer import Frame, Renderer
 from . import reference
 from .depth import check_depth
 from .fast import ChainPass, FastPass
@@ -128,12 +128,19 @@ class StereogramRenderer(Renderer):
     # -- steps ---------------------------------------------------------------------------------
     def algorithm_pass(self, name: str):
         if name not in self._algorithms:
-            cls = {"sequential": SequentialPass, "strip": StripPass, "fast": FastPass, "chain": ChainPass,
-                   "symmetric": SymmetricPass}[name]
+            cls = {
+                "sequential": SequentialPass,
+                "strip": StripPass,
+                "fast": FastPass,
+                "chain": ChainPass,
+                "symmetric": SymmetricPass,
+            }[name]
             self._algorithms[name] = cls(self.ctx)
         return self._algorithms[name]
 
-    def pattern_texture(self, params: StereogramParams, size: tuple[int, int], frame: int = 0) -> tuple[moderngl.Texture, bool]:
+    def pattern_texture(
+        self, params: StereogramParams, size: tuple[int, int], frame: int = 0
+    ) -> tuple[moderngl.Texture, bool]:
         """The pattern for a stereogram of ``size`` (logical pixels) and whether the caller must release
         it (GPU snow is made per frame; the others are uploaded once and kept while their parameters
         are the same)."""
@@ -146,14 +153,23 @@ class StereogramRenderer(Renderer):
         key = (params.pattern, w, h, params.seed, params.dot_size, n, params.far_separation)
         if key != self._pattern_key:
             self._unload_pattern()
-            array = make_pattern(params.pattern, w, h, int(round(params.far_separation)), params.seed, params.dot_size, 0, n)
+            array = make_pattern(
+                params.pattern, w, h, int(round(params.far_separation)), params.seed, params.dot_size, 0, n
+            )
             self._pattern_texture = self.ctx.upload((quantise(array) * 255).round().astype(np.uint8), filter="nearest")
             self._pattern_key = key
         return self._pattern_texture, False
 
-    def compute(self, separation: moderngl.Texture, pattern: moderngl.Texture, params: StereogramParams,
-                row_starts: moderngl.Texture | None = None, max_row_start: int = 0, min_row_start: int = 0,
-                algorithm: str | None = None) -> moderngl.Texture:
+    def compute(
+        self,
+        separation: moderngl.Texture,
+        pattern: moderngl.Texture,
+        params: StereogramParams,
+        row_starts: moderngl.Texture | None = None,
+        max_row_start: int = 0,
+        min_row_start: int = 0,
+        algorithm: str | None = None,
+    ) -> moderngl.Texture:
         """Separation map + pattern → the stereogram, RGBA8 texture (pooled: release it). ``algorithm``
         overrides ``params.algorithm``: any but "fast", which starts from depth (see
         stereogram_texture), plus "chain"."""
@@ -170,10 +186,18 @@ class StereogramRenderer(Renderer):
             return p(inputs, max_row_start, min_row_start)
         return p(inputs)
 
-    def stereogram_texture(self, depth: moderngl.Texture, params: StereogramParams, frame: int = 0,
-                           row_starts: moderngl.Texture | None = None, max_row_start: int = 0,
-                           min_row_start: int = 0, pattern: moderngl.Texture | None = None,
-                           end_column: int | None = None, maps: dict | None = None) -> moderngl.Texture:
+    def stereogram_texture(
+        self,
+        depth: moderngl.Texture,
+        params: StereogramParams,
+        frame: int = 0,
+        row_starts: moderngl.Texture | None = None,
+        max_row_start: int = 0,
+        min_row_start: int = 0,
+        pattern: moderngl.Texture | None = None,
+        end_column: int | None = None,
+        maps: dict | None = None,
+    ) -> moderngl.Texture:
         """D (R32F texture) → stereogram texture at ``oversample`` times the width (pooled).
         ``max_row_start``, ``min_row_start``: range of ``row_starts`` (strip algorithm only).
         ``end_column``: output columns from there on are not needed (fast algorithm only).
@@ -201,7 +225,9 @@ def resize_depth(depth: np.ndarray, size: tuple[int, int]) -> np.ndarray:
     """D resampled to ``size`` (width, height), bilinear."""
     from PIL import Image
 
-    return np.asarray(Image.fromarray(np.asarray(depth, np.float32)).resize(tuple(size), Image.Resampling.BILINEAR), np.float32)
+    return np.asarray(
+        Image.fromarray(np.asarray(depth, np.float32)).resize(tuple(size), Image.Resampling.BILINEAR), np.float32
+    )
 
 
 def finish(image: np.ndarray, params: StereogramParams) -> np.ndarray:
@@ -216,10 +242,12 @@ def stereogram_cpu(depth: np.ndarray, params: StereogramParams = StereogramParam
     h, w = d.shape
     params.check_width(w)
     n = params.oversample
-    sep = reference.separation(d, params.strip_width, params.depth_factor, params.exact, params.screen,
-                               params.invert != params.cross_eyed, n)
-    pattern = quantise(make_pattern(params.pattern, w, h, int(round(params.far_separation)), params.seed,
-                                    params.dot_size, frame, n))
+    sep = reference.separation(
+        d, params.strip_width, params.depth_factor, params.exact, params.screen, params.invert != params.cross_eyed, n
+    )
+    pattern = quantise(
+        make_pattern(params.pattern, w, h, int(round(params.far_separation)), params.seed, params.dot_size, frame, n)
+    )
     strip_width, first_strip = pixel_widths(params)
     if params.algorithm == "symmetric":
         image = reference.symmetric(sep, pattern, params.strip_width * n, params.eye_separation_px * n)
@@ -229,8 +257,13 @@ def stereogram_cpu(depth: np.ndarray, params: StereogramParams = StereogramParam
     return finish(image, params)
 
 
-def stereogram(depth: np.ndarray, params: StereogramParams = StereogramParams(), ctx: Context | None = None,
-               cpu: bool = False, frame: int = 0) -> np.ndarray:
+def stereogram(
+    depth: np.ndarray,
+    params: StereogramParams = StereogramParams(),
+    ctx: Context | None = None,
+    cpu: bool = False,
+    frame: int = 0,
+) -> np.ndarray:
     """One stereogram from D (float32 (H, W) in [0, 1], 0 = near): float32 (H, W, 3), row 0 on top.
     ``cpu``: use the reference instead of the GPU (same image). Without ``ctx``, the process's default
     headless context is used; either way the context keeps one renderer for these calls, so a

@@ -32,13 +32,28 @@ def multiscene_subject(source: str, size: tuple[int, int], ctx, hidden: str = DE
 
 
 TECHNIQUES = (
-    Technique(name="sis", title="Autostereograms of a depth map (Dehos et al. 2014): sequential, strip-parallel, symmetric",
-              renderer="illusio.sis.stereogram:StereogramRenderer", params="illusio.sis.params:StereogramParams",
-              subject="illusio.sis.technique:depth_subject", source_kind="depth map or hidden shape",
-              default_source=DEFAULT_HIDDEN, presets=("raw",), viewer_mode="illusio.viewer.modes.sis:SisMode",
-              showcase="illusio.gallery.sis:sis_showcase", benchmarks=("sis", "sis_quality")),
-    Technique(name="sis-scene", title="A stereogram on a surface of a 3D scene: the multi-scene pipeline (Dehos et al. 2014)",
-              renderer="illusio.sis.multiscene:MultiSceneRenderer", params="illusio.sis.params:MultiSceneParams",
-              subject="illusio.sis.technique:multiscene_subject", source_kind="scene", default_source="living-room",
-              presets=("tv", "wall", "interactive"), viewer_mode="illusio.viewer.modes.sis:SisMode"),
+    Technique(
+        name="sis",
+        title="Autostereograms of a depth map (Dehos et al. 2014): sequential, strip-parallel, symmetric",
+        renderer="illusio.sis.stereogram:StereogramRenderer",
+        params="illusio.sis.params:StereogramParams",
+        subject="illusio.sis.technique:depth_subject",
+        source_kind="depth map or hidden shape",
+        default_source=DEFAULT_HIDDEN,
+        presets=("raw",),
+        viewer_mode="illusio.viewer.modes.sis:SisMode",
+        showcase="illusio.gallery.sis:sis_showcase",
+        benchmarks=("sis", "sis_quality"),
+    ),
+    Technique(
+        name="sis-scene",
+        title="A stereogram on a surface of a 3D scene: the multi-scene pipeline (Dehos et al. 2014)",
+        renderer="illusio.sis.multiscene:MultiSceneRenderer",
+        params="illusio.sis.params:MultiSceneParams",
+        subject="illusio.sis.technique:multiscene_subject",
+        source_kind="scene",
+        default_source="living-room",
+        presets=("tv", "wall", "interactive"),
+        viewer_mode="illusio.viewer.modes.sis:SisMode",
+    ),
 )

@@ -14,5 +14,14 @@ from .navigation import FixedCamera, OrbitCamera, WalkCamera
 from .path import CameraPath, Keyframe, PathRecorder
 from .viewer import Viewer
 
-__all__ = ["Viewer", "MODES", "Mode", "CameraPath", "Keyframe", "PathRecorder", "WalkCamera", "OrbitCamera",
-           "FixedCamera"]
+__all__ = [
+    "Viewer",
+    "MODES",
+    "Mode",
+    "CameraPath",
+    "Keyframe",
+    "PathRecorder",
+    "WalkCamera",
+    "OrbitCamera",
+    "FixedCamera",
+]

@@ -16,8 +16,14 @@ class DisplayPass:
         self.ctx = ctx
         self.program = ctx.program("viewer/shaders/display.glsl")
 
-    def __call__(self, target: moderngl.Framebuffer, size: tuple[int, int], image: moderngl.Texture,
-                 aside: tuple | None = None, encode_srgb: bool = False) -> None:
+    def __call__(
+        self,
+        target: moderngl.Framebuffer,
+        size: tuple[int, int],
+        image: moderngl.Texture,
+        aside: tuple | None = None,
+        encode_srgb: bool = False,
+    ) -> None:
         """Draw ``image`` over the whole of ``size`` (the left half with an ``aside``) into ``target``.
         ``aside``: (texture, "colour" | "depth") or (texture, "grey", scale)."""
         w, h = size

@@ -46,7 +46,7 @@ class WalkCamera:
     kind = "walk"
 
     @classmethod
-    def from_view(cls, view: View, speed: float = 1.5) -> "WalkCamera":
+    def from_view(cls, view: View, speed: float = 1.5) -> WalkCamera:
         eye = np.asarray(view.pose.position, np.float64)
         yaw, pitch = _angles(np.asarray(view.pose.target, np.float64) - eye)
         return cls(eye, yaw, pitch, view.camera, speed)
@@ -59,8 +59,14 @@ class WalkCamera:
         heading = _direction(self.yaw, 0.0)
         right = np.array([-heading[2], 0.0, heading[0]])
         step = np.zeros(3)
-        for key, direction in (("w", heading), ("s", -heading), ("d", right), ("a", -right),
-                               ("e", np.array([0.0, 1.0, 0.0])), ("q", np.array([0.0, -1.0, 0.0]))):
+        for key, direction in (
+            ("w", heading),
+            ("s", -heading),
+            ("d", right),
+            ("a", -right),
+            ("e", np.array([0.0, 1.0, 0.0])),
+            ("q", np.array([0.0, -1.0, 0.0])),
+        ):
             if key in keys:
                 step += direction
         if step.any():
@@ -97,15 +103,22 @@ class OrbitCamera:
     far_ratio: float | None = None
 
     @classmethod
-    def from_view(cls, view: View) -> "OrbitCamera":
+    def from_view(cls, view: View) -> OrbitCamera:
         target = np.asarray(view.pose.target, np.float64)
         offset = np.asarray(view.pose.position, np.float64) - target
         distance = float(np.linalg.norm(offset))
         azimuth = math.degrees(math.atan2(offset[0], offset[2]))
         elevation = math.degrees(math.asin(np.clip(offset[1] / max(distance, 1e-12), -1, 1)))
         d = max(distance, 1e-12)
-        return cls(target, distance, azimuth, elevation, view.camera, near_ratio=view.camera.near / d,
-                   far_ratio=view.camera.far / d)
+        return cls(
+            target,
+            distance,
+            azimuth,
+            elevation,
+            view.camera,
+            near_ratio=view.camera.near / d,
+            far_ratio=view.camera.far / d,
+        )
 
     def move(self, keys, dt: float) -> None:
         turn = self.turn_speed * dt
@@ -118,14 +131,18 @@ class OrbitCamera:
         self.elevation = float(np.clip(self.elevation + dy * self.sensitivity, -89.0, 89.0))
 
     def zoom(self, steps: float) -> None:
-        self.distance = max(self.distance * 0.9 ** steps, 1e-3)
+        self.distance = max(self.distance * 0.9**steps, 1e-3)
 
     def view(self) -> View:
         pose = Pose.orbit(tuple(float(v) for v in self.target), self.distance, self.azimuth, self.elevation)
         if self.near_ratio is None:
             return View(pose, self.camera)
-        return View(pose, Camera(self.camera.fov_y, self.near_ratio * self.distance, self.far_ratio * self.distance,
-                                 self.camera.shift))
+        return View(
+            pose,
+            Camera(
+                self.camera.fov_y, self.near_ratio * self.distance, self.far_ratio * self.distance, self.camera.shift
+            ),
+        )
 
 
 @dataclass

@@ -28,9 +28,19 @@ def frame_count(path: CameraPath | None, fps: float, exit_after: int | None) -> 
     return int(math.floor(path.duration * fps + 1e-9)) + 1
 
 
-def record(technique: str, source: str | None, variant: str | None, size: tuple[int, int], path: CameraPath | None,
-           fps: float, output: Path | None = None, screenshot: Path | None = None, exit_after: int | None = None,
-           ctx: Context | None = None, on_frame=None) -> int:
+def record(
+    technique: str,
+    source: str | None,
+    variant: str | None,
+    size: tuple[int, int],
+    path: CameraPath | None,
+    fps: float,
+    output: Path | None = None,
+    screenshot: Path | None = None,
+    exit_after: int | None = None,
+    ctx: Context | None = None,
+    on_frame=None,
+) -> int:
     """Play ``path`` in ``technique``'s mode at ``fps`` and write the frames to ``output`` (.mp4 or
     .gif) and the last to ``screenshot``. ``on_frame(index, viewer)`` is called after each frame
     (progress, tests). Returns the number of frames."""

@@ -42,7 +42,9 @@ class CameraPath:
         times = np.array([k.t for k in self.keyframes], np.float64)
         if (np.diff(times) <= 0).any():
             i = int(np.argmax(np.diff(times) <= 0)) + 1
-            raise InputError(f"keyframe {i + 1}: time {times[i]:g} s is not after the previous one ({times[i - 1]:g} s)")
+            raise InputError(
+                f"keyframe {i + 1}: time {times[i]:g} s is not after the previous one ({times[i - 1]:g} s)"
+            )
         self._t = times
         self._eye = np.array([k.eye for k in self.keyframes], np.float64)
         self._target = np.array([k.target for k in self.keyframes], np.float64)
@@ -53,23 +55,29 @@ class CameraPath:
         return float(self._t[-1])
 
     @classmethod
-    def parse(cls, text: str, name: str = "camera path") -> "CameraPath":
+    def parse(cls, text: str, name: str = "camera path") -> CameraPath:
         try:
             data = json.loads(text)
         except json.JSONDecodeError as exc:
             raise InputError(f"{name}: line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
         if not isinstance(data, list):
-            raise InputError(f"{name}: expected a JSON list of keyframes {{\"t\", \"eye\", \"target\"}}")
+            raise InputError(f'{name}: expected a JSON list of keyframes {{"t", "eye", "target"}}')
         keyframes = []
         for i, item in enumerate(data, 1):
-            if not isinstance(item, dict) or set(item) - {"t", "eye", "target"} or not {"t", "eye", "target"} <= set(item):
+            if (
+                not isinstance(item, dict)
+                or set(item) - {"t", "eye", "target"}
+                or not {"t", "eye", "target"} <= set(item)
+            ):
                 raise InputError(f"{name}: keyframe {i} must be an object with exactly t, eye and target")
             try:
                 t = float(item["t"])
                 eye = tuple(float(v) for v in item["eye"])
                 target = tuple(float(v) for v in item["target"])
             except (TypeError, ValueError):
-                raise InputError(f"{name}: keyframe {i}: t must be a number, eye and target lists of 3 numbers") from None
+                raise InputError(
+                    f"{name}: keyframe {i}: t must be a number, eye and target lists of 3 numbers"
+                ) from None
             if len(eye) != 3 or len(target) != 3 or not np.isfinite([t, *eye, *target]).all():
                 raise InputError(f"{name}: keyframe {i}: eye and target need 3 finite numbers, t a finite time")
             if np.allclose(eye, target):
@@ -81,12 +89,14 @@ class CameraPath:
             raise InputError(f"{name}: {exc}") from None
 
     @classmethod
-    def load(cls, path: str | os.PathLike) -> "CameraPath":
+    def load(cls, path: str | os.PathLike) -> CameraPath:
         return cls.parse(read_text(path, "camera path"), str(path))
 
     def to_json(self) -> str:
-        rows = [{"t": round(k.t, 6), "eye": [round(v, 6) for v in k.eye], "target": [round(v, 6) for v in k.target]}
-                for k in self.keyframes]
+        rows = [
+            {"t": round(k.t, 6), "eye": [round(v, 6) for v in k.eye], "target": [round(v, 6) for v in k.target]}
+            for k in self.keyframes
+        ]
         return "[\n" + ",\n".join("  " + json.dumps(r) for r in rows) + "\n]\n"
 
     def save(self, path: str | os.PathLike) -> Path:
@@ -137,7 +147,9 @@ class PathRecorder:
         self._last: Keyframe | None = None
 
     def add(self, t: float, view: View) -> None:
-        frame = Keyframe(float(t), tuple(float(v) for v in view.pose.position), tuple(float(v) for v in view.pose.target))
+        frame = Keyframe(
+            float(t), tuple(float(v) for v in view.pose.position), tuple(float(v) for v in view.pose.target)
+        )
         if not self.keyframes or t - self.keyframes[-1].t >= self.interval:
             self.keyframes.append(frame)
             self._last = None
@@ -145,7 +157,9 @@ class PathRecorder:
             self._last = frame
 
     def path(self) -> CameraPath:
-        frames = self.keyframes + ([self._last] if self._last is not None and self._last.t > self.keyframes[-1].t else [])
+        frames = self.keyframes + (
+            [self._last] if self._last is not None and self._last.t > self.keyframes[-1].t else []
+        )
         return CameraPath(frames)
 
     def save(self, path: str | os.PathLike) -> Path:

@@ -30,8 +30,16 @@ class Viewer:
     linear RGBA8 at the viewer's size). Input: :meth:`key`, :meth:`drag`, :meth:`scroll`;
     switching: :meth:`set_mode`, :meth:`set_variant`; the panel: :meth:`set_param`."""
 
-    def __init__(self, ctx: Context, technique: str = "plain", source: str | None = None, variant: str | None = None,
-                 size: tuple[int, int] = (1280, 720), path: CameraPath | None = None, record: PathRecorder | None = None):
+    def __init__(
+        self,
+        ctx: Context,
+        technique: str = "plain",
+        source: str | None = None,
+        variant: str | None = None,
+        size: tuple[int, int] = (1280, 720),
+        path: CameraPath | None = None,
+        record: PathRecorder | None = None,
+    ):
         self.ctx = ctx
         self.size = check_size(size)
         self.display = DisplayPass(ctx)
@@ -163,7 +171,7 @@ class Viewer:
             # last values that drew come back, and the panel says why
             if self._good_params is None or self._good_params == self.mode.params:
                 if self.frame_texture is None:
-                    raise            # nothing drawn yet: the input itself is bad (a recording stops)
+                    raise  # nothing drawn yet: the input itself is bad (a recording stops)
                 # the same values drew before: the window changed (too narrow for one strip, say);
                 # the last frame stays and the panel says why
                 self.last_error = self._stale_error = exc.one_line()
@@ -173,7 +181,7 @@ class Viewer:
             self.last_error = f"{exc.one_line()} (the last values that worked are back)"
         self._good_params = self.mode.params
         if self.last_error and self.last_error == self._stale_error:
-            self.last_error = self._stale_error = ""     # it draws again: the reason no longer holds
+            self.last_error = self._stale_error = ""  # it draws again: the reason no longer holds
         if self.frame_texture is None or self.frame_texture.size != self.size:
             self.ctx.release(self.frame_texture)
             self.frame_texture = self.ctx.acquire(self.size, 4, "f1")

@@ -2,7 +2,8 @@
 mouse navigation. Everything the window shows comes from a :class:`~illusio.viewer.viewer.Viewer`.
 
 Keys: W A S D walk (orbit: turn), Q E down / up (orbit: zoom), mouse drag to look (orbit: turn),
-wheel to zoom, Tab next technique, 1 2 3 4 5 a technique (plain, sis, lines, dof, ibr), V next view of the technique, H home,
+wheel to zoom, Tab next technique, 1 2 3 4 5 a technique (plain, sis, lines, dof, ibr), V next view of the technique,
+H home,
 P screenshot, Esc quit.
 """
 
@@ -34,27 +35,40 @@ class ViewerWindow:
     """A window driving one Viewer. :meth:`frame` draws one frame and handles the events that
     arrived; :meth:`run` loops until the window closes (or ``exit_after`` frames)."""
 
-    def __init__(self, technique: str = "plain", source: str | None = None, variant: str | None = None,
-                 size: tuple[int, int] = (1280, 720), path: CameraPath | None = None, record: Path | None = None,
-                 screenshot_dir: Path = Path(".")):
+    def __init__(
+        self,
+        technique: str = "plain",
+        source: str | None = None,
+        variant: str | None = None,
+        size: tuple[int, int] = (1280, 720),
+        path: CameraPath | None = None,
+        record: Path | None = None,
+        screenshot_dir: Path = Path("."),
+    ):
         if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
-            raise GLUnavailable("no display to open a window on (DISPLAY is not set); record a camera path "
-                                "offscreen instead: illusio view --path CAMERA.json -o OUT.mp4")
+            raise GLUnavailable(
+                "no display to open a window on (DISPLAY is not set); record a camera path "
+                "offscreen instead: illusio view --path CAMERA.json -o OUT.mp4"
+            )
         try:
             import moderngl_window
             from imgui_bundle import imgui
             from moderngl_window.context.glfw import Window
             from moderngl_window.integrations.imgui_bundle import ModernglWindowRenderer
         except ImportError as exc:
-            raise GLUnavailable(f"the window needs the viewer extras ({exc.name} is missing): "
-                                "pip install 'illusio[viewer]' (or record offscreen with -o OUT.mp4)") from None
+            raise GLUnavailable(
+                f"the window needs the viewer extras ({exc.name} is missing): "
+                "pip install 'illusio[viewer]' (or record offscreen with -o OUT.mp4)"
+            ) from None
 
         release_current()  # a headless context of this process must not stay current beside the window's
         try:
             self.window = Window(title="illusio", size=size, gl_version=(4, 3), vsync=False, resizable=True)
         except Exception as exc:  # glfw raises plain exceptions when no GL 4.3 window can be made
-            raise GLUnavailable(f"cannot open an OpenGL 4.3 window ({' '.join(str(exc).split())}); "
-                                "on Debian/Ubuntu: apt-get install -y --no-install-recommends libgl1 libgl1-mesa-dri") from None
+            raise GLUnavailable(
+                f"cannot open an OpenGL 4.3 window ({' '.join(str(exc).split())}); "
+                "on Debian/Ubuntu: apt-get install -y --no-install-recommends libgl1 libgl1-mesa-dri"
+            ) from None
         moderngl_window.activate_context(window=self.window)
         self.imgui = imgui
         self.imgui_context = imgui.create_context()
@@ -68,11 +82,15 @@ class ViewerWindow:
         import glfw
 
         handle = self.window._window
-        self.ctx = Context.wrap(self.window.ctx, activate=lambda: glfw.make_context_current(handle),
-                                deactivate=lambda: glfw.make_context_current(None))
+        self.ctx = Context.wrap(
+            self.window.ctx,
+            activate=lambda: glfw.make_context_current(handle),
+            deactivate=lambda: glfw.make_context_current(None),
+        )
         self.record_path = record
-        self.viewer = Viewer(self.ctx, technique, source, variant, self.window.buffer_size, path,
-                             PathRecorder() if record else None)
+        self.viewer = Viewer(
+            self.ctx, technique, source, variant, self.window.buffer_size, path, PathRecorder() if record else None
+        )
         self.screenshot_dir = Path(screenshot_dir)
         self.screenshots = 0
         self.panel_state: dict = {}
@@ -160,7 +178,9 @@ class ViewerWindow:
         imgui.render()
         self.gui.render(imgui.get_draw_data())
         self.window.ctx.enable_only(moderngl.NOTHING)  # imgui leaves blending on; the passes expect it off
-        self.window.title = f"illusio — {self.viewer.mode.name} ({self.viewer.mode.variant}) — {self.viewer.frame_ms:.0f} ms"
+        self.window.title = (
+            f"illusio — {self.viewer.mode.name} ({self.viewer.mode.variant}) — {self.viewer.frame_ms:.0f} ms"
+        )
         self.window.swap_buffers()
 
     def run(self, exit_after: int | None = None, screenshot: Path | None = None) -> None:
@@ -169,7 +189,11 @@ class ViewerWindow:
             while not self.window.is_closing and (exit_after is None or frames < exit_after):
                 self.frame()
                 frames += 1
-                if self.viewer.path is not None and self.viewer.time >= self.viewer.path.duration and exit_after is None:
+                if (
+                    self.viewer.path is not None
+                    and self.viewer.time >= self.viewer.path.duration
+                    and exit_after is None
+                ):
                     break
             if screenshot is not None:
                 self.screenshot(screenshot)

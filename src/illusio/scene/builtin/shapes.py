@@ -8,8 +8,20 @@ import numpy as np
 
 from ..mesh import Mesh, crease_split, vertex_normals
 
-__all__ = ["sphere", "torus", "torus_knot", "superquadric", "gear", "blob", "box", "cylinder", "cone",
-           "plane", "SHAPES", "shape"]
+__all__ = [
+    "sphere",
+    "torus",
+    "torus_knot",
+    "superquadric",
+    "gear",
+    "blob",
+    "box",
+    "cylinder",
+    "cone",
+    "plane",
+    "SHAPES",
+    "shape",
+]
 
 
 def _grid_mesh(points: np.ndarray, name: str) -> Mesh:
@@ -27,7 +39,11 @@ def _grid_mesh(points: np.ndarray, name: str) -> Mesh:
     _, weld = np.unique(np.round(v / 1e-6).astype(np.int64), axis=0, return_inverse=True)
     weld = weld.reshape(-1)
     welded_faces = weld[faces]
-    ok = (welded_faces[:, 0] != welded_faces[:, 1]) & (welded_faces[:, 1] != welded_faces[:, 2]) & (welded_faces[:, 0] != welded_faces[:, 2])
+    ok = (
+        (welded_faces[:, 0] != welded_faces[:, 1])
+        & (welded_faces[:, 1] != welded_faces[:, 2])
+        & (welded_faces[:, 0] != welded_faces[:, 2])
+    )
     faces = faces[ok]
     welded = np.zeros((weld.max() + 1, 3), np.float32)
     welded[weld] = v
@@ -57,8 +73,15 @@ def torus(major: float = 1.0, minor: float = 0.35, segments: int = 96, sides: in
     return _grid_mesh(pts, "torus")
 
 
-def torus_knot(p: int = 2, q: int = 3, major: float = 1.0, minor: float = 0.4, tube: float = 0.18,
-               segments: int = 256, sides: int = 24) -> Mesh:
+def torus_knot(
+    p: int = 2,
+    q: int = 3,
+    major: float = 1.0,
+    minor: float = 0.4,
+    tube: float = 0.18,
+    segments: int = 256,
+    sides: int = 24,
+) -> Mesh:
     """(p, q) torus knot: a tube of radius ``tube`` around a curve winding p times around the y axis
     and q times through the hole of a torus (major, minor)."""
     t = np.linspace(0, 2 * np.pi, segments + 1)
@@ -91,8 +114,14 @@ def superquadric(exponents=(0.4, 0.4), size=(1.0, 1.0, 1.0), segments: int = 96,
     th = np.linspace(-np.pi, np.pi, segments + 1)
     ph = np.linspace(-np.pi / 2, np.pi / 2, rings + 1)
     t, p = np.meshgrid(th, ph)
-    pts = np.stack([spow(np.cos(p), e2) * spow(np.cos(t), e1) * size[0], spow(np.sin(p), e2) * size[1],
-                    -spow(np.cos(p), e2) * spow(np.sin(t), e1) * size[2]], axis=-1)
+    pts = np.stack(
+        [
+            spow(np.cos(p), e2) * spow(np.cos(t), e1) * size[0],
+            spow(np.sin(p), e2) * size[1],
+            -spow(np.cos(p), e2) * spow(np.sin(t), e1) * size[2],
+        ],
+        axis=-1,
+    )
     return _grid_mesh(pts, "superquadric")
 
 
@@ -112,8 +141,14 @@ def blob(radius: float = 1.0, bumpiness: float = 0.18, seed: int = 7, subdivisio
     return Mesh(v, m.faces, None, m.uvs, name="blob")
 
 
-def gear(teeth: int = 14, radius: float = 1.0, tooth_depth: float = 0.16, hole: float = 0.35,
-         thickness: float = 0.3, samples_per_tooth: int = 16) -> Mesh:
+def gear(
+    teeth: int = 14,
+    radius: float = 1.0,
+    tooth_depth: float = 0.16,
+    hole: float = 0.35,
+    thickness: float = 0.3,
+    samples_per_tooth: int = 16,
+) -> Mesh:
     """A spur gear with a bore: a creased mechanical part (flat faces meeting at sharp edges),
     axis along y, centred on the origin."""
     n = teeth * samples_per_tooth
@@ -134,10 +169,14 @@ def gear(teeth: int = 14, radius: float = 1.0, tooth_depth: float = 0.16, hole: 
     ot, ob, it, ib = i, i + n, i + 2 * n, i + 3 * n
     otj, obj_, itj, ibj = j, j + n, j + 2 * n, j + 3 * n
     faces = np.r_[
-        np.c_[ot, it, itj], np.c_[ot, itj, otj],        # top annulus (normal +y)
-        np.c_[ob, obj_, ibj], np.c_[ob, ibj, ib],       # bottom annulus
-        np.c_[ot, otj, obj_], np.c_[ot, obj_, ob],      # outer wall
-        np.c_[it, ib, ibj], np.c_[it, ibj, itj],        # bore wall (facing the axis)
+        np.c_[ot, it, itj],
+        np.c_[ot, itj, otj],  # top annulus (normal +y)
+        np.c_[ob, obj_, ibj],
+        np.c_[ob, ibj, ib],  # bottom annulus
+        np.c_[ot, otj, obj_],
+        np.c_[ot, obj_, ob],  # outer wall
+        np.c_[it, ib, ibj],
+        np.c_[it, ibj, itj],  # bore wall (facing the axis)
     ]
     # orient every face outward: top faces up, walls away from/towards the axis
     v64 = v.astype(np.float64)
@@ -145,11 +184,11 @@ def gear(teeth: int = 14, radius: float = 1.0, tooth_depth: float = 0.16, hole: 
     centre = v64[faces].mean(axis=1)
     expected = np.zeros_like(centre)
     k = len(faces) // 8
-    expected[:2 * k, 1] = 1
-    expected[2 * k:4 * k, 1] = -1
+    expected[: 2 * k, 1] = 1
+    expected[2 * k : 4 * k, 1] = -1
     radial = centre * np.array([1, 0, 1])
-    expected[4 * k:6 * k] = radial[4 * k:6 * k]
-    expected[6 * k:] = -radial[6 * k:]
+    expected[4 * k : 6 * k] = radial[4 * k : 6 * k]
+    expected[6 * k :] = -radial[6 * k :]
     flip = (fn * expected).sum(axis=1) < 0
     faces[flip] = faces[flip][:, ::-1]
     vs, fs, ns, _ = crease_split(v, faces, 35.0)
@@ -160,9 +199,14 @@ def box(size=(1.0, 1.0, 1.0), uv_scale: float | None = None) -> Mesh:
     """Axis-aligned box centred on the origin with flat faces. uvs: metres / uv_scale when given
     (textures tile in world units), else 0..1 per face."""
     sx, sy, sz = (float(s) / 2 for s in size)
-    axes = [((1, 0, 0), (0, 0, -1), (0, 1, 0), sx, 2 * sz, 2 * sy), ((-1, 0, 0), (0, 0, 1), (0, 1, 0), sx, 2 * sz, 2 * sy),
-            ((0, 1, 0), (1, 0, 0), (0, 0, -1), sy, 2 * sx, 2 * sz), ((0, -1, 0), (1, 0, 0), (0, 0, 1), sy, 2 * sx, 2 * sz),
-            ((0, 0, 1), (1, 0, 0), (0, 1, 0), sz, 2 * sx, 2 * sy), ((0, 0, -1), (-1, 0, 0), (0, 1, 0), sz, 2 * sx, 2 * sy)]
+    axes = [
+        ((1, 0, 0), (0, 0, -1), (0, 1, 0), sx, 2 * sz, 2 * sy),
+        ((-1, 0, 0), (0, 0, 1), (0, 1, 0), sx, 2 * sz, 2 * sy),
+        ((0, 1, 0), (1, 0, 0), (0, 0, -1), sy, 2 * sx, 2 * sz),
+        ((0, -1, 0), (1, 0, 0), (0, 0, 1), sy, 2 * sx, 2 * sz),
+        ((0, 0, 1), (1, 0, 0), (0, 1, 0), sz, 2 * sx, 2 * sy),
+        ((0, 0, -1), (-1, 0, 0), (0, 1, 0), sz, 2 * sx, 2 * sy),
+    ]
     verts, norms, uvs, faces = [], [], [], []
     for k, (n, u, w, dist, lu, lw) in enumerate(axes):
         n, u, w = (np.asarray(x, float) for x in (n, u, w))
@@ -213,8 +257,14 @@ def cone(radius: float = 0.5, height: float = 1.0, top_radius: float = 0.0, segm
 
 
 SHAPES = {
-    "sphere": sphere, "torus": torus, "torus-knot": torus_knot, "superquadric": superquadric,
-    "gear": gear, "blob": blob, "box": box, "cylinder": cylinder,
+    "sphere": sphere,
+    "torus": torus,
+    "torus-knot": torus_knot,
+    "superquadric": superquadric,
+    "gear": gear,
+    "blob": blob,
+    "box": box,
+    "cylinder": cylinder,
 }
 
 

@@ -30,11 +30,13 @@ def value_noise(size: int, cells: int, seed: int = 0, octaves: int = 4) -> np.nd
 
 
 def _mix(a, b, t):
-    return (np.asarray(a, np.float32) * (1 - t[..., None]) + np.asarray(b, np.float32) * t[..., None]).astype(np.float32)
+    return (np.asarray(a, np.float32) * (1 - t[..., None]) + np.asarray(b, np.float32) * t[..., None]).astype(
+        np.float32
+    )
 
 
 def checker(size: int = 256, squares: int = 8, a=(0.8, 0.8, 0.78), b=(0.1, 0.1, 0.1)) -> np.ndarray:
-    i = (np.arange(size) * squares // size)
+    i = np.arange(size) * squares // size
     t = ((i[:, None] + i[None, :]) % 2).astype(np.float32)
     return _mix(a, b, t)
 

@@ -17,7 +17,7 @@ def _modes() -> dict[str, type[Mode]]:
     for t in techniques().values():
         mode = t.mode_class()
         if mode is not None:
-            modes.setdefault(mode.name, mode)   # sis and sis-scene share one mode (its views)
+            modes.setdefault(mode.name, mode)  # sis and sis-scene share one mode (its views)
     return modes
 
 

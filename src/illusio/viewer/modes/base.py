@@ -60,7 +60,7 @@ class Mode:
     def home_view(self) -> View | None:
         raise NotImplementedError
 
-    def camera_at(self, eye) -> "Camera":
+    def camera_at(self, eye) -> Camera:
         """The lens for a view from ``eye`` (a camera path's): the home view's."""
         return self.home_view().camera
 
@@ -78,7 +78,7 @@ class Mode:
     def panel(self, imgui, viewer) -> None:
         """Widgets of the mode's own beyond its Params (a timeline scrubber...); none by default."""
 
-    def keep_from(self, previous: "Mode") -> None:
+    def keep_from(self, previous: Mode) -> None:
         """Take over what the user made in ``previous``, the same mode in another variant, beyond
         its params (the relight mode's virtual lamps and crate); nothing by default."""
 

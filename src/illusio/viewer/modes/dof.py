@@ -44,7 +44,6 @@ class DofMode(Mode):
     def home_view(self):
         return self.scene.camera()
 
-
     def image_size(self, size):
         return (max(1, size[0] // 2), size[1]) if self.show_coc else size
 
@@ -65,8 +64,10 @@ class DofMode(Mode):
         _, self.show_coc = imgui.checkbox("show the circle of confusion (black: in focus)", self.show_coc)
         if self.renderer.result() is not None:
             r = self.renderer.result()
-            imgui.text(f"focus {r.focus_distance:.2f} m, screen {r.screen_distance:.2f} m: "
-                       f"vergence–accommodation {r.conflict_dioptres:.2f} D")
+            imgui.text(
+                f"focus {r.focus_distance:.2f} m, screen {r.screen_distance:.2f} m: "
+                f"vergence–accommodation {r.conflict_dioptres:.2f} D"
+            )
         if self.player is not None and self.player.loop:
             changed, t = imgui.slider_float("time (s)##scenario", viewer.time % self.player.loop, 0.0, self.player.loop)
             if changed:

@@ -44,9 +44,15 @@ class IbrMode(Mode):
         if self.truth is not None:
             return self.truth.render_texture(frame, RenderSettings(shadows=False))
         if frame.size != self._captured_size:  # references at the window's size
-            self.renderer.prepare(capture(self.scene, orbit_views(self.scene, self.reference_count), frame.size, self.ctx))
+            self.renderer.prepare(
+                capture(self.scene, orbit_views(self.scene, self.reference_count), frame.size, self.ctx)
+            )
             self._captured_size = frame.size
-        params = self.params if self.variant == "reconstruction" else IbrParams(**{**self.params.__dict__, "show_sources": True})
+        params = (
+            self.params
+            if self.variant == "reconstruction"
+            else IbrParams(**{**self.params.__dict__, "show_sources": True})
+        )
         return self.renderer.render_texture(frame, params)
 
     def release(self) -> None:

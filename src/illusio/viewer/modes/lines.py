@@ -50,7 +50,9 @@ class LinesMode(Mode):
         if self.variant == "drawing":
             return super().render(frame)
         drawing = self.renderer.drawing(frame, self.params)
-        image = np.atleast_3d(debug_view(self.variant, drawing, self.mesh, self.renderer.curvature(self.params.curvature)))
+        image = np.atleast_3d(
+            debug_view(self.variant, drawing, self.mesh, self.renderer.curvature(self.params.curvature))
+        )
         rgb = np.repeat(image, 3, axis=2) if image.shape[2] == 1 else image  # q1 is a grey map
         return self.ctx.acquire_upload(np.dstack([rgb, np.ones(rgb.shape[:2])]).astype(np.float32))
 
@@ -64,8 +66,13 @@ class LinesMode(Mode):
 
         frame = self._frame
         try:
-            chosen = auto_parameters(self.renderer, frame.view, frame.size,
-                                     edge_target(self.renderer, self.mesh, frame.view, frame.size), self.params)
+            chosen = auto_parameters(
+                self.renderer,
+                frame.view,
+                frame.size,
+                edge_target(self.renderer, self.mesh, frame.view, frame.size),
+                self.params,
+            )
         except InputError as exc:
             self.message = str(exc)
             return True

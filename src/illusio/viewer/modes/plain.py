@@ -26,4 +26,3 @@ class PlainMode(Mode):
 
     def home_view(self):
         return self.scene.camera()
-

@@ -50,7 +50,7 @@ class RadiosityMode(Mode):
             return self.params.element
         w, h = element.size
         x = min(int(self.pointer[0] * w), w - 1)
-        y = min(int((1 - self.pointer[1]) * h), h - 1)          # GL rows start at the bottom
+        y = min(int((1 - self.pointer[1]) * h), h - 1)  # GL rows start at the bottom
         raw = self.ctx.framebuffer([element]).read(viewport=(x, y, 1, 1), components=1, dtype="f4")
         picked = int(np.frombuffer(raw, np.float32)[0])
         return picked if picked >= 0 else self.params.element

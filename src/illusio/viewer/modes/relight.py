@@ -1,4 +1,5 @@
-"""The relighting mode: the office's photograph (or a user's real-scene folder) relit live — a slider per real lamp, the method
+"""The relighting mode: the office's photograph (or a user's real-scene folder) relit live — a slider per real lamp,
+the method
 (per-pixel, the chapter's, or the baseline of 4.2) as the view, so the three compare on the same
 edits; it opens with the back lamps off. L puts a virtual lamp under the ceiling above the floor
 point under the pointer, O a crate on the floor there, and a drag moves the crate along the floor
@@ -31,8 +32,10 @@ _PHOTOGRAPHS: dict = {}
 class RelightMode(Mode):
     name = "relight"
     variants = ("per-pixel", "loscos", "baseline")
-    source_help = ("the real scene whose photograph is relit: the built-in office, or your own folder (scene.yaml, "
-                   "photograph, camera.json: illusio relight calibrate)")
+    source_help = (
+        "the real scene whose photograph is relit: the built-in office, or your own folder (scene.yaml, "
+        "photograph, camera.json: illusio relight calibrate)"
+    )
     source_label = "scene"
     source_choices = ("office",)
     shares_params = True
@@ -41,7 +44,7 @@ class RelightMode(Mode):
         super().__init__(ctx, source or "office", variant)
         folder = Path(self.source).is_dir()
         key = (self.source,) + PHOTOGRAPH
-        if key not in _PHOTOGRAPHS:          # a user's folder is read as it is; the office photographed once
+        if key not in _PHOTOGRAPHS:  # a user's folder is read as it is; the office photographed once
             _PHOTOGRAPHS[key] = load_real_scene(self.source) if folder else builtin_real_scene(self.source, *PHOTOGRAPH)
         self.real = _PHOTOGRAPHS[key]
         self.renderer = RelightRenderer(ctx)
@@ -52,11 +55,11 @@ class RelightMode(Mode):
         self.params = RelightParams(method=self.variant, lamp_scales=opening)
         corners = self.real.polygons.corners.reshape(-1, 3)
         self.floor, self.ceiling = float(corners[:, 1].min()), float(corners[:, 1].max())
-        self.lamps: list[tuple[float, float, float]] = []      # virtual lamps asked for
-        self.crate: np.ndarray | None = None                    # where the crate should stand
+        self.lamps: list[tuple[float, float, float]] = []  # virtual lamps asked for
+        self.crate: np.ndarray | None = None  # where the crate should stand
         self.message = ""
         self._session = None
-        self._placed = {"lamps": 0, "crate": None}             # what the current session has
+        self._placed = {"lamps": 0, "crate": None}  # what the current session has
 
     def keep_from(self, previous) -> None:
         self.lamps, self.crate = list(previous.lamps), previous.crate
@@ -103,13 +106,14 @@ class RelightMode(Mode):
             return
         self.message = ""
         m = session.model
-        exitance = float(m.exitance[np.isin(m.group, m.lamps)].mean())      # a lamp like the real ones
+        exitance = float(m.exitance[np.isin(m.group, m.lamps)].mean())  # a lamp like the real ones
         for k in range(self._placed["lamps"], len(self.lamps)):
             session.add_lamp(self.lamps[k], LAMP, (exitance,) * 3, f"virtual-lamp-{k}")
         self._placed["lamps"] = len(self.lamps)
         target = self.crate + np.array([0.0, CRATE / 2, 0.0])
         if self._placed["crate"] is None:
             from ...scene.builtin import shapes
+
             session.add_object(shapes.box((CRATE,) * 3), "crate", at=tuple(target))
             self._placed["crate"] = target
         elif np.abs(target - self._placed["crate"]).max() > 0.01:
@@ -124,8 +128,9 @@ class RelightMode(Mode):
 
     def render(self, frame: Frame):
         # the fresh solution of 4.3.3 belongs to loscos: the other views drop it
-        self.params = replace(self.params, method=self.variant,
-                              fresh_solution=self.params.fresh_solution and self.variant == "loscos")
+        self.params = replace(
+            self.params, method=self.variant, fresh_solution=self.params.fresh_solution and self.variant == "loscos"
+        )
         self._sync(self.renderer.session_for(self.params))
         # the photograph's camera at its own size: the viewer's display scales it to the window
         return self.renderer.render_texture(Frame(None, self.real.size, frame.time, frame.index), self.params)
@@ -135,7 +140,9 @@ class RelightMode(Mode):
         if session is None:
             return
         self.lamp_sliders(imgui, session.lamp_names, 3.0)
-        imgui.text(f"prepared in {session.times['prepare']:.1f} s; last edit {session.times.get('edit', 0) * 1000:.0f} ms")
+        imgui.text(
+            f"prepared in {session.times['prepare']:.1f} s; last edit {session.times.get('edit', 0) * 1000:.0f} ms"
+        )
         imgui.text("L: a lamp above the pointer; O: a crate there, drag it with the mouse")
         if "move object" in session.times:
             imgui.text(f"last crate move {session.times['move object'] * 1000:.0f} ms")

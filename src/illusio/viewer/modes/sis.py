@@ -17,20 +17,23 @@ from .base import Mode
 
 __all__ = ["SisMode"]
 
-_WALL = dict(host="back-wall", emission=0.0,
-             stereogram=StereogramParams(pattern="pink-noise", strip_width=100, depth_factor=40))
+_WALL = dict(
+    host="back-wall", emission=0.0, stereogram=StereogramParams(pattern="pink-noise", strip_width=100, depth_factor=40)
+)
 
 
 class SisMode(Mode):
     name = "sis"
     variants = ("tv", "wall", "interactive", "raw")
-    source_help = ("the hidden shape (a built-in shape or a mesh file, default torus-knot), or the scene whose "
-                   "host surfaces show the stereogram (a built-in or .yaml scene, default living-room)")
+    source_help = (
+        "the hidden shape (a built-in shape or a mesh file, default torus-knot), or the scene whose "
+        "host surfaces show the stereogram (a built-in or .yaml scene, default living-room)"
+    )
     source_label = "hidden shape"
     source_choices = tuple(SHAPES)
 
     def __init__(self, ctx, source=None, variant=None, scene: str = "living-room"):
-        if source is not None and not is_mesh_source(source):   # a scene: it hosts the default shape
+        if source is not None and not is_mesh_source(source):  # a scene: it hosts the default shape
             scene, source = source, None
         super().__init__(ctx, source or DEFAULT_HIDDEN, variant)
         self.hidden = hidden_scene(resolve_mesh(self.source))
@@ -42,9 +45,11 @@ class SisMode(Mode):
         self.scene = resolve_scene(scene)
         self.renderer = MultiSceneRenderer(ctx)
         self.renderer.prepare(MultiSceneSubject(self.scene, self.hidden))
-        self.params = {"tv": MultiSceneParams(),
-                       "wall": MultiSceneParams(**_WALL),
-                       "interactive": MultiSceneParams(**_WALL, interactive=True)}[self.variant]
+        self.params = {
+            "tv": MultiSceneParams(),
+            "wall": MultiSceneParams(**_WALL),
+            "interactive": MultiSceneParams(**_WALL, interactive=True),
+        }[self.variant]
 
     def home_view(self):
         return None if self.variant == "raw" else self.scene.camera("main")
