@@ -30,8 +30,8 @@ from illusio.core.renderer import Frame
 from illusio.gallery.ibr import showcase_path
 from illusio.ibr.captures import CaptureFrame, Intrinsics, frames_to_references
 from illusio.ibr.params import IbrParams
-from illusio.ibr.reconstruction import unproject
-from illusio.ibr.references import capture, orbit_views
+from illusio.ibr.proxy_mesh import unproject
+from illusio.ibr.reference_views import capture, orbit_views
 from illusio.ibr.renderer import IbrRenderer
 from illusio.passes.scene_renderer import RenderSettings, SceneRenderer
 from illusio.scene.builtin import builtin_scene, shapes, turntable

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 from illusio.batch.job import load_job
 from illusio.core.images import read_image
 from illusio.dof.scenario import load_scenario, shipped_scenario
-from illusio.ibr.references import load_cameras
+from illusio.ibr.reference_views import load_cameras
 from illusio.scene.camera import Camera
 from illusio.scene.loader import load_scene
 from illusio.sis.depth import read_depth

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, seed
 from hypothesis import strategies as st
 
-from illusio.ibr.references import ReferenceSet, ReferenceView, load_references, save_references
+from illusio.ibr.reference_views import ReferenceSet, ReferenceView, load_references, save_references
 from illusio.scene.camera import Camera, Pose, View
 from tests.conftest import SESSION_SEED
 from tests.fuzz.harness import FUZZ, MUTATIONS, corpus_cases, must_refuse, must_refuse_or_succeed, mutate

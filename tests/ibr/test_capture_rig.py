@@ -10,7 +10,14 @@ import numpy as np
 import pytest
 
 from illusio.core.errors import InputError
-from illusio.ibr.references import WALL_MARGIN, capture, load_references, orbit_views, rig_placement, save_references
+from illusio.ibr.reference_views import (
+    WALL_MARGIN,
+    capture,
+    load_references,
+    orbit_views,
+    rig_placement,
+    save_references,
+)
 from illusio.scene import load_scene
 from illusio.scene.builtin import shapes
 from illusio.scene.raycast import first_hit, world_triangles

@@ -16,7 +16,7 @@ from scipy.spatial.transform import Rotation
 from illusio.core.errors import InputError
 from illusio.core.images import write_image
 from illusio.ibr import captures
-from illusio.ibr.references import capture, load_references
+from illusio.ibr.reference_views import capture, load_references
 from illusio.scene import load_scene
 from illusio.scene.camera import Camera, Pose, View
 from tests.conftest import call_cli
@@ -275,7 +275,7 @@ def test_an_unknown_colmap_camera_model_is_named(tmp_path):
 
 
 def test_a_camera_keeps_its_pixel_aspect_through_a_references_file(tmp_path, ctx):
-    from illusio.ibr.references import save_references
+    from illusio.ibr.reference_views import save_references
 
     scene = load_scene("cornell-box")
     lens = Camera.from_intrinsics(32, 24, 30.0, 36.0, 14.0, 12.5)

@@ -231,8 +231,8 @@ def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference
     """The first pass: the reconstruction mesh's depth against passes.reference.gbuffer ray-casting
     the same mesh, with the points it leaves out drawn as reference.point_depth squares (the nearer
     wins); hole filling against renderer.fill_holes on a depth with random holes."""
-    from illusio.ibr.reconstruct import ReconstructPass
-    from illusio.ibr.reconstruction import reconstruction
+    from illusio.ibr.depth_pass import ReconstructPass
+    from illusio.ibr.proxy_mesh import reconstruction
     from illusio.ibr.renderer import fill_holes
     from illusio.passes import reference as passes_reference
     from illusio.scene.scene import Node, Scene
@@ -364,8 +364,8 @@ def test_the_first_pass_keeps_what_a_reference_saw_at_its_own_view(ctx, room):
     occlusion edges whose triangles were all cut as bridges, and what the grid steps over."""
     from dataclasses import replace
 
-    from illusio.ibr.reconstruct import ReconstructPass
-    from illusio.ibr.reconstruction import reconstruction
+    from illusio.ibr.depth_pass import ReconstructPass
+    from illusio.ibr.proxy_mesh import reconstruction
 
     _, refs = room
     rp = ReconstructPass(ctx)

@@ -39,7 +39,7 @@ def capture_command(
 ) -> None:
     """Capture reference views of SCENE (albedo, normal, emission, depth, the recorded colour, camera)."""
     from ..core.context import Context
-    from ..ibr.references import capture, load_cameras, orbit_views, save_references
+    from ..ibr.reference_views import capture, load_cameras, orbit_views, save_references
 
     if not 1 <= views <= 16:
         raise InputError(f"--views must be in 1..16, got {views}")
@@ -90,7 +90,7 @@ def import_command(
     and albedo, normals from the depth, the full intrinsics; every frame's camera and photo kept
     for --camera frame:K and --compare-photo K."""
     from ..ibr import captures
-    from ..ibr.references import save_references
+    from ..ibr.reference_views import save_references
     from ..ibr.select import MAX_REFERENCES
 
     if kind not in captures.KINDS:
@@ -223,7 +223,7 @@ def render_command(
     """Render a new view from REFERENCES."""
     from ..core.context import Context
     from ..core.renderer import Frame
-    from ..ibr.references import load_references
+    from ..ibr.reference_views import load_references
     from ..ibr.renderer import IbrRenderer
     from ..passes.scene_renderer import RenderSettings, render_scene
 

@@ -15,7 +15,9 @@ import warnings
 import typer
 
 from ..core.errors import IllusioError
-from . import batch, demo, dof, ibr, info, lines, listing, radiosity, relight, render, sis, view
+from ..core.lazy import load
+from ..core.technique import techniques
+from . import batch, demo, info, listing, view
 
 app = typer.Typer(
     add_completion=False,
@@ -44,22 +46,34 @@ def _main(
 
 app.command("info")(info.info)
 app.command("list")(listing.listing)
-app.command("render")(render.render)
 app.command("demo")(demo.demo)
-app.command("sis")(sis.sis)
-app.command("sis-scene")(sis.sis_scene)
-app.command("sis-decode")(sis.sis_decode)
-app.command("lines")(lines.lines)
-app.command("curvature")(lines.curvature)
+
+
+def _technique_commands() -> dict[str, str]:
+    """Every technique's commands from the registry (core.technique: ``commands``), in its order."""
+    out: dict[str, str] = {}
+    for t in techniques().values():
+        for name, target in t.command_targets().items():
+            if name in out:
+                raise TypeError(f"technique {t.name!r}: command {name!r} is another technique's already")
+            out[name] = target
+    return out
+
+
+#: two-word commands that are not groups: ``illusio relight prepare`` runs the command registered
+#: as "relight prepare" (one word to click, hidden from the command list; its usage line reads right)
+ALIASES: dict[tuple[str, str], str] = {}
+for _name, _target in _technique_commands().items():
+    _runs = load(_target)
+    if isinstance(_runs, typer.Typer):
+        app.add_typer(_runs, name=_name)
+    elif " " in _name:
+        ALIASES[tuple(_name.split(" ", 1))] = _name
+        app.command(_name, hidden=True)(_runs)
+    else:
+        app.command(_name)(_runs)
 app.command("view")(view.view)
-app.command("dof")(dof.dof)
-app.add_typer(ibr.app, name="ibr")
-app.command("radiosity")(radiosity.radiosity)
 app.command("batch")(batch.batch)
-app.command("relight")(relight.relight)
-app.command("relight-prepare", hidden=True)(relight.relight_prepare)
-app.command("relight-calibrate", hidden=True)(relight.relight_calibrate)
-app.command("relight-example", hidden=True)(relight.relight_example)
 
 
 def _flowed(text: str | None) -> str | None:
@@ -99,14 +113,6 @@ def _tidy(typer_app: typer.Typer) -> None:
 
 
 _tidy(app)
-
-#: two-word commands that are not groups: ``illusio relight prepare`` runs ``relight-prepare``,
-#: ``illusio relight calibrate`` ``relight-calibrate``, ``illusio relight example`` ``relight-example``
-ALIASES = {
-    ("relight", "prepare"): "relight-prepare",
-    ("relight", "calibrate"): "relight-calibrate",
-    ("relight", "example"): "relight-example",
-}
 
 
 def expand(argv: list[str]) -> list[str]:

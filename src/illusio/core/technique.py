@@ -47,7 +47,10 @@ class Technique:
     used when none is given; presets: the named setups the viewer offers as its views (sis's tv,
     wall, interactive, raw); viewer_mode: "module:Class" of its mode in ``illusio view``; showcase:
     "module:function" of its gallery section (None: shown in another technique's); benchmarks: its
-    suites under benchmarks/; needs: the optional package it cannot work without (e.g. "mitsuba")."""
+    suites under benchmarks/; needs: the optional package it cannot work without (e.g. "mitsuba");
+    commands: its ``illusio`` commands as "name=module:attribute", the attribute a command function or
+    a ``typer.Typer`` (a command group, as ``ibr``); a name of two words ("relight prepare") is a
+    subcommand of a one-word command that also runs on its own (``illusio relight SCENE``)."""
 
     name: str
     title: str
@@ -61,6 +64,7 @@ class Technique:
     showcase: str | None = None
     benchmarks: tuple[str, ...] = ()
     needs: str | None = None
+    commands: tuple[str, ...] = ()
 
     def renderer_class(self) -> type:
         return load(self.renderer)
@@ -76,6 +80,10 @@ class Technique:
 
             ctx = default_context()
         return load(self.subject)(self.default_source if source is None else source, tuple(size), ctx)
+
+    def command_targets(self) -> dict[str, str]:
+        """Command name -> "module:attribute" of what runs it (a function, or a typer.Typer group)."""
+        return dict(c.split("=", 1) for c in self.commands)
 
     def mode_class(self) -> type | None:
         return load(self.viewer_mode) if self.viewer_mode else None

@@ -13,6 +13,7 @@ TECHNIQUES = (
         default_source="museum",
         presets=("walk", "scenario"),
         viewer_mode="illusio.viewer.modes.dof:DofMode",
+        commands=("dof=illusio.cli.dof:dof",),
         showcase="illusio.gallery.dof:dof_showcase",
         benchmarks=("dof",),
     ),

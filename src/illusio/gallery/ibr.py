@@ -12,7 +12,7 @@ from ..core.context import Context
 from ..core.images import VideoWriter, write_image
 from ..core.renderer import Frame
 from ..ibr.params import IbrParams
-from ..ibr.references import capture, orbit_views, rig_placement
+from ..ibr.reference_views import capture, orbit_views, rig_placement
 from ..ibr.renderer import IbrRenderer
 from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.builtin import builtin_scene

@@ -25,7 +25,7 @@ from ..core.files import read_text
 from ..core.images import read_image
 from ..scene.camera import Pose, View
 from ..scene.intrinsics import Intrinsics, undistort_image
-from .references import ReferenceSet, ReferenceView
+from .reference_views import ReferenceSet, ReferenceView
 
 __all__ = [
     "Intrinsics",

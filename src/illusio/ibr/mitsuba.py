@@ -22,7 +22,7 @@ from ..passes.mitsuba import rgb as _rgb
 from ..passes.mitsuba import sensor as _sensor
 from ..scene.camera import View
 from ..scene.scene import AreaLight, PointLight, Scene
-from .references import ReferenceSet, ReferenceView
+from .reference_views import ReferenceSet, ReferenceView
 
 __all__ = ["capture_mitsuba", "mitsuba_available"]
 

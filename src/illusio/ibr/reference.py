@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .reconstruction import unproject
+from .proxy_mesh import unproject
 
 __all__ = ["select", "point_depth"]
 

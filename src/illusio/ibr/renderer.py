@@ -18,10 +18,10 @@ from ..core.renderer import Frame, Renderer
 from ..passes.gbuffer import GBuffer
 from ..passes.lights import emitters_from_lights
 from ..passes.shading import MAX_EMITTERS, ShadingParams
+from .depth_pass import ReconstructPass
 from .params import IbrParams
-from .reconstruct import ReconstructPass
-from .reconstruction import reconstruction
-from .references import ReferenceSet
+from .proxy_mesh import reconstruction
+from .reference_views import ReferenceSet
 from .select import ReferenceArrays, SelectPass
 
 __all__ = ["IbrRenderer", "render_views", "SOURCE_COLOURS", "source_view", "fill_holes", "fill_hits"]

@@ -14,7 +14,7 @@ def reference_subject(source: str, size: tuple[int, int], ctx):
     """A folder of reference views (``illusio ibr capture`` writes one), or CAPTURED_VIEWS views of
     the scene ``source`` along its main camera's right, captured at ``size``."""
     from ..scene.sources import resolve_scene
-    from .references import capture, load_references, orbit_views
+    from .reference_views import capture, load_references, orbit_views
 
     if Path(source).is_dir():
         return load_references(source)
@@ -33,6 +33,7 @@ TECHNIQUES = (
         default_source="office",
         presets=("reconstruction", "sources", "ground-truth"),
         viewer_mode="illusio.viewer.modes.ibr:IbrMode",
+        commands=("ibr=illusio.cli.ibr:app",),
         showcase="illusio.gallery.ibr:ibr_showcase",
         benchmarks=("ibr",),
     ),

@@ -14,6 +14,10 @@ TECHNIQUES = (
         default_source="torus-knot",
         presets=("drawing", "q1", "t1", "curvature"),
         viewer_mode="illusio.viewer.modes.lines:LinesMode",
+        commands=(
+            "lines=illusio.cli.lines:lines",
+            "curvature=illusio.cli.lines:curvature",
+        ),
         showcase="illusio.gallery.lines:lines_showcase",
         benchmarks=("lines", "lines_transfer"),
     ),

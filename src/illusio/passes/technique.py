@@ -12,6 +12,7 @@ TECHNIQUES = (
         source_kind="scene",
         default_source="living-room",
         viewer_mode="illusio.viewer.modes.plain:PlainMode",
+        commands=("render=illusio.cli.render:render",),
         benchmarks=("core",),
     ),
 )

@@ -14,9 +14,9 @@ import numpy as np
 from ..core.renderer import Frame, Renderer
 from ..scene.scene import Scene
 from .display import DisplayPass, leaf_mesh
+from .engine import Radiosity
 from .params import RadiosityParams
 from .polygons import Polygons, scene_polygons
-from .solution import Radiosity
 
 __all__ = ["RadiosityRenderer"]
 

@@ -13,6 +13,7 @@ TECHNIQUES = (
         default_source="office",
         presets=("radiosity", "mesh", "links"),
         viewer_mode="illusio.viewer.modes.radiosity:RadiosityMode",
+        commands=("radiosity=illusio.cli.radiosity:radiosity",),
         showcase="illusio.gallery.radiosity:radiosity_showcase",
         benchmarks=("radiosity",),
     ),

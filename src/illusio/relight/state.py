@@ -22,10 +22,10 @@ from ..core.files import load_npz
 from ..core.images import atomic_output
 from ..radiosity import HierarchyParams, Polygons
 from ..radiosity.display import LeafMesh
+from ..radiosity.engine import Radiosity
 from ..radiosity.hierarchy import FIELDS as HIERARCHY_FIELDS
 from ..radiosity.hierarchy import Hierarchy
 from ..radiosity.links import Links
-from ..radiosity.solution import Radiosity
 from ..scene.camera import Camera, Pose, View
 from .params import RelightParams
 from .photograph import RealScene

@@ -31,6 +31,12 @@ TECHNIQUES = (
         default_source="office",
         presets=("per-pixel", "loscos", "baseline"),
         viewer_mode="illusio.viewer.modes.relight:RelightMode",
+        commands=(
+            "relight=illusio.cli.relight:relight",
+            "relight prepare=illusio.cli.relight:relight_prepare",
+            "relight calibrate=illusio.cli.relight:relight_calibrate",
+            "relight example=illusio.cli.relight:relight_example",
+        ),
         showcase="illusio.gallery.relight:relight_showcase",
         benchmarks=("relight",),
         needs="mitsuba",

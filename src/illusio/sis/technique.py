@@ -42,6 +42,10 @@ TECHNIQUES = (
         default_source=DEFAULT_HIDDEN,
         presets=("raw",),
         viewer_mode="illusio.viewer.modes.sis:SisMode",
+        commands=(
+            "sis=illusio.cli.sis:sis",
+            "sis-decode=illusio.cli.sis:sis_decode",
+        ),
         showcase="illusio.gallery.sis:sis_showcase",
         benchmarks=("sis", "sis_quality"),
     ),
@@ -55,5 +59,6 @@ TECHNIQUES = (
         default_source="living-room",
         presets=("tv", "wall", "interactive"),
         viewer_mode="illusio.viewer.modes.sis:SisMode",
+        commands=("sis-scene=illusio.cli.sis:sis_scene",),
     ),
 )

@@ -147,12 +147,7 @@ uniform float exposure;
 layout(location = 0) out vec4 out_radiance;
 layout(location = 1) out float out_id;
 #else
-layout(location = 0) out vec4 out_colour;
-layout(location = 1) out float out_depth;
-layout(location = 2) out vec4 out_normal;
-layout(location = 3) out vec4 out_position;
-layout(location = 4) out float out_id;
-layout(location = 5) out vec4 out_emission;
+#include "common/gbuffer_outputs.glsl"
 #endif
 
 // reference k's attributes at the hit h (uv, depth read): bilinear where the four texels around the

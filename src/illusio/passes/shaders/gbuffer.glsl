@@ -1,17 +1,10 @@
 #version 430
 // G-buffer: one geometry pass writing every per-pixel attribute later passes need.
-// Attachments: 0 colour (albedo rgb, specular k_s), 1 linear depth (metres along the view axis),
-// 2 normal (world, unit, facing the viewer; a = Phong exponent), 3 world position (a = 1 where hit),
-// 4 object id (node index + 1 as float; 0 = background), 5 emission (rgb).
+// Attachments: shaders/common/gbuffer_outputs.glsl.
 #include "surface.glsl"
 
 #if defined(FRAGMENT_SHADER)
-layout(location = 0) out vec4 out_colour;
-layout(location = 1) out float out_depth;
-layout(location = 2) out vec4 out_normal;
-layout(location = 3) out vec4 out_position;
-layout(location = 4) out float out_id;
-layout(location = 5) out vec4 out_emission;
+#include "common/gbuffer_outputs.glsl"
 
 void main() {
     out_colour = vec4(surface_albedo(), specular);

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from ...core.renderer import Frame
 from ...ibr.params import IbrParams
-from ...ibr.references import capture, orbit_views
+from ...ibr.reference_views import capture, orbit_views
 from ...ibr.renderer import IbrRenderer
 from ...passes.scene_renderer import RenderSettings, SceneRenderer
 from ...scene.builtin import SCENES

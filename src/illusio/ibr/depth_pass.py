@@ -12,7 +12,7 @@ import numpy as np
 from ..core.context import Context
 from ..core.gl import set_uniform
 from ..scene.camera import View
-from .reconstruction import Reconstruction
+from .proxy_mesh import Reconstruction
 
 __all__ = ["ReconstructPass"]
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..scene.mesh import Mesh
-from .references import ReferenceSet, ReferenceView
+from .reference_views import ReferenceSet, ReferenceView
 
 __all__ = ["unproject", "reference_mesh", "uncovered_points", "Reconstruction", "reconstruction"]
 
