@@ -5,7 +5,6 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-import numpy as np
 import typer
 
 from ..core.errors import InputError
@@ -42,6 +41,7 @@ def dof(
     """Render SCENE with depth of field from a thin-lens eye (one focus for both eyes in stereo)."""
     from ..core.context import default_context
     from ..core.renderer import Frame
+    from ..dof.debug import debug_map, debug_params
     from ..dof.focus import object_distance
     from ..dof.renderer import DofRenderer
 
@@ -55,40 +55,25 @@ def dof(
         check_output_path(video, inputs)
         if video.suffix.lower() not in (".mp4", ".gif"):
             raise InputError(f"{video.name}: the video must be an .mp4 or a .gif")
-    if debug not in (None, "coc", "depth", "planes"):
-        raise InputError(f"--debug must be coc, depth or planes, got {debug!r}")
+    if debug is not None:
+        debug_params(params, debug)  # refuses an unknown map before any work
     w, h = parse_size(size)
     sc = resolve_scene(scene)
     view = sc.camera(camera)
     sc.check_in_view(view, (w, h))
     if focus_object:
         params = replace(params, focus_distance=object_distance(sc, focus_object, view))
-    if debug:  # the maps of the first eye; planes need the planes method, the others any blur method
-        params = replace(
-            params,
-            method="planes" if debug == "planes" else (params.method if params.method != "accumulation" else "gather"),
-            stereo="none",
-        )
     renderer = default_context().kept(DofRenderer)
     if scenario is not None:
         _play(renderer, sc, view, (w, h), params, scenario, out, video, fps, duration)
         return
     renderer.prepare(sc)
-    image = renderer.render(Frame(view, (w, h)), params)
-    params = replace(params, focus_distance=renderer.result().focus_distance)
     if debug:
-        from ..dof.reference import plane_index
-
-        m = renderer.ctx.readback(renderer.maps()["coc" if debug == "coc" else "depth"])[..., 0]
-        if debug == "coc":
-            image = m / params.max_coc
-        elif debug == "depth":
-            image = np.where(m > 0, 1 - m / max(float(m.max()), 1e-9), 0.0)
-        else:
-            image = plane_index(m, renderer.result().planes) / max(len(renderer.result().planes) - 1, 1)
-        write_image(out, image.astype(np.float32), srgb=False)
+        write_image(out, debug_map(renderer, Frame(view, (w, h)), params, debug), srgb=False)
         typer.echo(f"wrote {out} ({debug} map)")
         return
+    image = renderer.render(Frame(view, (w, h)), params)
+    params = replace(params, focus_distance=renderer.result().focus_distance)
     if params.stereo == "left-right":  # the two eyes as two files
         half = image.shape[1] // 2
         for eye, part in (("left", image[:, :half]), ("right", image[:, half:])):
