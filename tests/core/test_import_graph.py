@@ -108,3 +108,35 @@ def test_params_import_without_numba_or_gl(technique):
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "[]"
+
+
+TECHNIQUES = ("sis", "dof", "lines", "ibr", "radiosity", "relight")
+
+
+def _cross_technique_imports(modules, imports) -> list[str]:
+    """Imports from one technique's package of another technique's submodules (only the other
+    package itself, its public API, may be imported)."""
+    found = []
+    for module, edges in imports.items():
+        parts = module.split(".")
+        if len(parts) < 2 or parts[1] not in TECHNIQUES:
+            continue
+        for line, target in edges:
+            other = target.split(".")
+            if len(other) > 2 and other[1] in TECHNIQUES and other[1] != parts[1]:
+                found.append(f"{modules[module].relative_to(SRC.parent)}:{line}: {target}")
+    return found
+
+
+def test_no_technique_imports_another_techniques_submodules():
+    """docs/architecture.md: a technique uses another only through the names its package exports."""
+    modules = _modules()
+    imports = {m: [(line, t) for line, t, _ in _imports(m, p, modules)] for m, p in modules.items()}
+    assert _cross_technique_imports(modules, imports) == []
+
+
+def test_the_cross_technique_check_finds_one():
+    """The check above can fail: relight reaching into radiosity's engine module is reported."""
+    modules = _modules()
+    imports = {"illusio.relight.session": [(1, "illusio.radiosity.engine")]}
+    assert _cross_technique_imports(modules, imports) == ["illusio/relight/session.py:1: illusio.radiosity.engine"]

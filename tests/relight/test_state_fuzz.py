@@ -111,20 +111,19 @@ def test_kept_session_cases_are_refused(ctx, saved, name, bad, tmp_path):
     assert must_refuse(lambda p: RelightSession.load(p, ctx), path)
 
 
-def test_a_session_saved_before_the_estimate_knobs_loads_as_the_chapter_s(ctx, saved, tmp_path):
-    """A record without ``estimate`` and ``reference_weight`` (saved before the inverse estimate) was
-    prepared with eqs. 4.1/4.2 and the full eq. 4.9: it says so when loaded, not today's defaults."""
+def test_a_session_of_another_format_is_refused_with_the_command_that_prepares_it(ctx, saved, tmp_path):
+    """The format is versioned, not patched: a file of the previous format (or a later one) is
+    refused in one line naming both formats and the command that prepares the scene again."""
     import json
+
+    from illusio.core.errors import InputError
+    from illusio.relight.state import FORMAT
 
     _, arrays = saved
     record = json.loads(str(arrays["record"]))
-    assert record["params"]["estimate"] == "inverse"
-    for key in ("estimate", "reference_weight"):
-        del record["params"][key]
+    assert record["format"] == FORMAT == "illusio-relight-session/2"
+    record["format"] = "illusio-relight-session/1"
     path = tmp_path / "old.npz"
     path.write_bytes(archive_bytes({**arrays, "record": np.array(json.dumps(record))}))
-    session = RelightSession.load(path, ctx)
-    try:
-        assert (session.params.estimate, session.params.reference_weight) == ("brightness", "full")
-    finally:
-        session.release()
+    with pytest.raises(InputError, match=r"session/1.*session/2.*illusio relight prepare"):
+        RelightSession.load(path, ctx)

@@ -4,9 +4,8 @@ Each technique package holds a ``technique.py`` with its ``TECHNIQUES`` (most ha
 the stereogram and the multi-scene pipeline), re-exported by the package. Everything that lists
 techniques — the viewer's modes, the gallery's sections, ``illusio list``, the benchmark suites,
 the contract tests — loops over :func:`techniques`. A descriptor names its code as
-``"module:attribute"`` strings imported on first use, so reading the registry loads no renderer of
-the lazy packages (sis, lines, dof, ibr); passes, radiosity and relight still import their modules
-in their ``__init__`` (numba among them) — issue 29's import-cycle work is where that goes.
+``"module:attribute"`` strings imported on first use, so reading the registry loads no renderer,
+numba kernel or GL code; the ``illusio`` commands are built from it too (``commands``).
 
 Adding a technique: see docs/architecture.md, "Adding a technique"."""
 

@@ -30,10 +30,8 @@ def debug_params(params: DofParams, kind: str) -> DofParams:
     """The params a ``kind`` map is drawn with: one eye, and a method that makes that map."""
     if kind not in DEBUG_MAPS:
         raise InputError(f"--debug must be one of {', '.join(DEBUG_MAPS)}, got {kind!r}")
-    if kind == "planes":
-        method = "planes"
-    else:
-        method = params.method if params.method != "accumulation" else "gather"
+    blur = params.method if params.method != "accumulation" else "gather"
+    method = "planes" if kind == "planes" else blur
     return replace(params, method=method, stereo="none")
 
 

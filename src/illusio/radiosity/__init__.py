@@ -17,7 +17,15 @@ _EXPORTS = {
     **dict.fromkeys(("CRITERIA", "SHOW", "HierarchyParams", "RadiosityParams"), "params"),
     **dict.fromkeys(("Polygons", "scene_polygons"), "polygons"),
     "RadiosityRenderer": "renderer",
-    **dict.fromkeys(("Radiosity", "Stats"), "solution"),
+    **dict.fromkeys(("Radiosity", "Stats"), "engine"),
+    # the engine's parts that relighting builds on (its saved sessions hold hierarchies and links)
+    "CornerGather": "corner_cache",
+    "corner_average": "display",
+    **dict.fromkeys(("Hierarchy", "HIERARCHY_FIELDS"), "hierarchy"),
+    "Links": "links",
+    "render_mitsuba": "mitsuba",
+    "reference_display": "reference",
+    **dict.fromkeys(("polygon_areas", "quads_from_triangles"), "polygons"),
     **dict.fromkeys(("VISIBLE", "PARTIAL", "INVISIBLE"), "visibility"),
 }
 

@@ -34,6 +34,8 @@ FIELDS = {
     "irradiance": ((3,), np.float64),
     "active": ((), bool),
 }
+#: the per-element arrays by name, as radiosity exports them (relight.state saves them)
+HIERARCHY_FIELDS = FIELDS
 
 
 class Hierarchy:

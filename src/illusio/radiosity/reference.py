@@ -128,3 +128,7 @@ def display(positions, radiance, faces, view: View, size) -> tuple[np.ndarray, n
         (1 - u[ok] - v[ok])[:, None] * rad[f[:, 0]] + u[ok][:, None] * rad[f[:, 1]] + v[ok][:, None] * rad[f[:, 2]]
     )
     return image.reshape(h, w, 3), face.reshape(h, w)
+
+
+#: the display's plain statement under the name radiosity exports (relight's reference uses it)
+reference_display = display

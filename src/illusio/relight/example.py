@@ -66,7 +66,7 @@ def pinhole_photograph(polygons, intrinsics: Intrinsics, samples: int, seed: int
     principal point at (c_x, c_y) (``intrinsics``, distortion aside): a centred render, larger,
     cropped. What the undistorted photograph shows; with edited lamps, the truth of an edit."""
     from ..passes.denoise import denoiser_available
-    from ..radiosity.mitsuba import render_mitsuba
+    from ..radiosity import render_mitsuba
 
     w, h = intrinsics.width, intrinsics.height
     dx, dy = round(intrinsics.cx - (w - 1) / 2), round(intrinsics.cy - (h - 1) / 2)

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 from ..core.errors import InputError
 from ..core.params import check_ranges, param
-from ..radiosity.params import HierarchyParams
+from ..radiosity import HierarchyParams
 
 __all__ = [
     "RelightParams",

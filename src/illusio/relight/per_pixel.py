@@ -22,8 +22,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..radiosity import point_polygon
+from . import prepare as preparation
 
-__all__ = ["surface_points", "lamp_irradiance"]
+__all__ = ["surface_points", "lamp_irradiance", "prepare", "pixel_indirect", "image"]
 
 
 def surface_points(polygons, view, size):
@@ -99,3 +100,39 @@ def lamp_irradiance(
         out[:, k] = (f * visible)[:, None] * exitance[k]
         free[:, k] = f[:, None] * exitance[k]
     return (out, free) if unoccluded else out
+
+
+def prepare(s) -> None:
+    """The per-pixel method's preparation on a session: the surface point, normal and each lamp's
+    direct irradiance at every pixel it relights, and the indirect irradiance there."""
+    m = s.model
+    points, normals, polygon = surface_points(m, s.real.view, s.real.size)
+    lamp_rows = np.flatnonzero(np.isin(m.group, m.lamps))
+    emitting = m.exitance.max(axis=1) > 0  # lamps (scaled below) and self-luminous (kept)
+    s.pixel_seen = (polygon >= 0) & ~emitting[np.maximum(polygon, 0)] & (s.pixel_element >= 0)
+    s.lamp_rows = lamp_rows
+    s.pixel_lamp = lamp_irradiance(
+        m, lamp_rows, m.exitance[lamp_rows], points, normals, s.pixel_seen, seed=s.params.hierarchy.seed
+    )
+    s.pixel_indirect = pixel_indirect(s)
+
+
+def pixel_indirect(s) -> np.ndarray:
+    """I at the pixels the per-pixel method relights (n, 3): each leaf's indirect irradiance
+    averaged at the corner points of its surface and interpolated across the leaf by the display
+    (a flat value per leaf drew the leaves' edges as seams across the ceiling)."""
+    return preparation.corner_image(s, preparation.indirect(s)[s.solution.hierarchy.leaves()])[s.pixel_seen]
+
+
+def image(s) -> np.ndarray:
+    """The relit photograph (H, W, 3), photograph scale, under the session's lamp scales."""
+    m = s.model
+    scale = np.array([s.scales.get(m.names[m.group[r]], 1.0) for r in s.lamp_rows])
+    before = s.pixel_lamp.sum(axis=1) + s.pixel_indirect
+    after = (s.pixel_lamp * scale[None, :, None]).sum(axis=1) + pixel_indirect(s)
+    image = s.real.photograph.astype(np.float64).copy()
+    image[s.pixel_seen] *= np.where(before > 0, after / np.where(before > 0, before, 1), 0)
+    lamps = (s.pixel_polygon >= 0) & np.isin(m.group[np.maximum(s.pixel_polygon, 0)], m.lamps)
+    lamp_scale = {m.names[g]: s.scales.get(m.names[g], 1.0) for g in m.lamps}
+    image[lamps] *= np.array([lamp_scale[m.names[m.group[r]]] for r in s.pixel_polygon[lamps]])[:, None]
+    return image

@@ -136,7 +136,7 @@ def builtin_real_scene(
     Image Denoise guided by the first hit's albedo and normal — a camera's clean photograph, where
     the raw path tracer's grain would be carried into every relit image."""
     from ..passes.denoise import denoiser_available
-    from ..radiosity.mitsuba import render_mitsuba
+    from ..radiosity import render_mitsuba
 
     scene = builtin_scene(name)
     polygons = scene_polygons(scene)

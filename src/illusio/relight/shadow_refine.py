@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..radiosity.visibility import INVISIBLE, PARTIAL, VISIBLE
+from ..radiosity import INVISIBLE, PARTIAL, VISIBLE
 from .textures import colour_distance, neighbours
 
 __all__ = ["lamp_visibility", "split_decision", "refine_by_texture", "RefineStats"]
