@@ -22,7 +22,7 @@ _EXPORTS = {
             "load_cameras",
             "orbit_views",
         ),
-        "references",
+        "reference_views",
     ),
 }
 
