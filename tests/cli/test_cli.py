@@ -1,5 +1,6 @@
 """The command line as a user meets it: exit codes, one-line errors, files written."""
 
+import json
 import subprocess
 import sys
 
@@ -88,11 +89,60 @@ def test_demo_writes_gallery_with_existing_images(tmp_path):
         assert (tmp_path / "g" / rel).is_file()
     assert all(f"scenes/{n}-main.png" in page for n in ("living-room", "office", "museum", "turntable"))
     written = {p.relative_to(tmp_path / "g").as_posix() for p in (tmp_path / "g").rglob("*") if p.is_file()}
-    unshown = sorted(w for w in written - {"index.html"} if f"'{w}'" not in page)
+    unshown = sorted(w for w in written - {"index.html", "gallery.json"} if f"'{w}'" not in page)
     assert not unshown, f"written but not on the page: {unshown}"
     # scores in tables, and most items say how to make them again (the maps and patterns that are a
     # step of another item's pipeline have no command of their own)
     assert page.count("<table>") >= 3 and page.count("<code>illusio ") >= 0.75 * page.count("<figure>")
+    _captions_parse_back(json.loads((tmp_path / "g" / "gallery.json").read_text()))
+
+
+def _captions_parse_back(records: list[dict]) -> None:
+    """Every caption's command is a command of ours whose options parse; where the item records the
+    Params that made its image, the caption's options make the same Params (fields the command sets
+    from its own options, like --focus-object, aside)."""
+    import dataclasses
+    import shlex
+
+    import typer
+
+    from illusio.cli.main import app
+    from illusio.core.lazy import load
+    from illusio.core.options import params_from_options
+    from tests.cli.test_params_options import _technique_commands
+
+    group = typer.main.get_command(app)
+    table = {name: (click_command, callback) for name, click_command, callback in _technique_commands()}
+    for name, click_command in group.commands.items():
+        table.setdefault(name, (click_command, None))
+    with_params = 0
+    for record in records:
+        if not record["command"]:
+            continue
+        pieces = [shlex.split(piece) for piece in record["command"].split("&&")]
+        for k, words in enumerate(pieces):
+            assert words[0] == "illusio", record
+            name = " ".join(words[1:3]) if " ".join(words[1:3]) in table else words[1]
+            click_command, callback = table[name]
+            args = words[1 + len(name.split()) :]
+            ctx = click_command.make_context(name, args)
+            if k < len(pieces) - 1 or "params" not in record:
+                continue
+            recorded = record["params"]
+            cls = load(recorded["class"])
+            (key,) = [key for key, c in callback.params_classes.items() if c is cls]
+            parsed = params_from_options(cls, callback.option_specs[key], ctx.params)
+            made = json.loads(json.dumps(dataclasses.asdict(parsed), default=repr))
+            for path in recorded["derived"]:
+                head, *rest = path.split(".")
+                holder_made, holder_recorded = made, recorded["values"]
+                for part in rest:
+                    holder_made, holder_recorded = holder_made[head], holder_recorded[head]
+                    head = part
+                holder_made.pop(head), holder_recorded.pop(head)
+            assert made == recorded["values"], (record["image"], record["command"])
+            with_params += 1
+    assert with_params >= 20, with_params
 
 
 def test_demo_unknown_showcase_is_an_error(tmp_path):

@@ -18,75 +18,16 @@ run commands by their options) and the panel (which reads the same metadata) see
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import inspect
 import typing
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
 
 import typer
 
-from ..core.params import ParamInfo, check_value, describe, with_values
+from ..core.options import OptionSpec, option_specs, params_from_options
 
 __all__ = ["OptionSpec", "option_specs", "params_options"]
-
-
-@dataclass(frozen=True)
-class OptionSpec:
-    """One generated option. path: the dotted field path in the Params ("hierarchy.epsilon");
-    flag: "--epsilon" (a switch: "--x/--no-x"); name: the Python parameter's name; kind: as
-    ParamInfo.kind; info: the field's description."""
-
-    path: str
-    flag: str
-    name: str
-    kind: str
-    default: Any
-    info: ParamInfo
-    meta: Any
-
-    @property
-    def long(self) -> str:
-        """The option's first name ("--epsilon"), as batch jobs and error messages use it."""
-        return self.flag.split("/")[0]
-
-
-def option_specs(params_class, exclude: tuple[str, ...] = ()) -> list[OptionSpec]:
-    """The options a command gets for ``params_class`` (its default instance's values as defaults),
-    ``exclude`` naming dotted field paths the command sets itself."""
-    out: list[OptionSpec] = []
-    _walk(params_class(), "", set(exclude), out)
-    seen: dict[str, str] = {}
-    for spec in out:
-        if spec.long in seen:
-            raise TypeError(
-                f"{params_class.__name__}: {spec.path} and {seen[spec.long]} both make {spec.long}; "
-                f"give one a flag= in its param()"
-            )
-        seen[spec.long] = spec.path
-    return out
-
-
-def _walk(instance, prefix: str, exclude: set[str], out: list[OptionSpec]) -> None:
-    metas = {f.name: f.metadata for f in dataclasses.fields(instance)}
-    for info in describe(instance, "cli"):
-        path = prefix + info.name
-        if path in exclude:
-            continue
-        if info.kind == "params":
-            _walk(info.value, path + ".", exclude, out)
-            continue
-        if info.kind == "other":
-            continue  # nothing a command line can spell (colour tables, poses)
-        flag = info.flag or info.name.replace("_", "-")
-        if info.kind == "bool" and "/" not in flag:
-            flag = f"{flag}/no-{flag}"
-        flag = "/".join("--" + part for part in flag.split("/"))
-        out.append(
-            OptionSpec(path, flag, "param__" + path.replace(".", "__"), info.kind, info.value, info, metas[info.name])
-        )
 
 
 _TYPES = {"float": float, "int": int, "bool": bool, "choice": str, "multi": str, "text": str}
@@ -124,12 +65,6 @@ def _option(spec: OptionSpec) -> inspect.Parameter:
     return inspect.Parameter(spec.name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=default_type)
 
 
-def _value(spec: OptionSpec, raw):
-    if spec.kind == "multi":
-        return tuple(v.strip() for v in str(raw).split(",") if v.strip())
-    return raw
-
-
 def params_options(exclude: tuple[str, ...] = (), **classes) -> Callable:
     """Decorator: the command's keyword ``K`` (for each ``K=ParamsClass``) is made from generated
     options. ``exclude``: dotted paths ("params.stereogram.screen") the command sets itself."""
@@ -160,13 +95,8 @@ def params_options(exclude: tuple[str, ...] = (), **classes) -> Callable:
         @functools.wraps(fn)
         def command(**kwargs):
             for key, group in specs.items():
-                values = {}
-                for spec in group:
-                    value = _value(spec, kwargs.pop(spec.name))
-                    if value != spec.default:
-                        check_value(spec.meta, value, spec.long)
-                        values[spec.path] = value
-                kwargs[key] = with_values(classes[key](), **values)  # its own checks across fields
+                values = {spec.name: kwargs.pop(spec.name) for spec in group}
+                kwargs[key] = params_from_options(classes[key], group, values)
             return fn(**kwargs)
 
         parameters = kept + generated
@@ -178,6 +108,7 @@ def params_options(exclude: tuple[str, ...] = (), **classes) -> Callable:
         )
         command.__annotations__ = {p.name: p.annotation for p in order}
         command.option_specs = specs
+        command.params_classes = dict(classes)
         del command.__wrapped__  # typer must read our signature, not the wrapped function's
         return command
 

@@ -51,8 +51,10 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
             f"accumulation (the reference), focus on the blue "
             f"superquadric at {base.focus_distance:.2f} m, aperture {base.aperture_mm:g} mm",
             "64 lens positions averaged",
-            command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method accumulation "
-            f"--size {size[0]}x{size[1]} -o accumulation.png",
+            command=f"illusio dof museum --focus-object exhibit-superquadric --size {size[0]}x{size[1]} "
+            "-o accumulation.png",
+            params=replace(base, method="accumulation", samples=64),
+            derived=FOCUS_SET_BY_OBJECT,
         )
     )
     rows = []
@@ -72,8 +74,10 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                 method,
                 "PSNR and time in the table above",
                 figure=PAPER + ("section 3.2" if method.startswith("planes") else "section 2"),
-                command=f"illusio dof museum --focus-object exhibit-superquadric --aperture 120 --method {method} "
-                f"--size {size[0]}x{size[1]} -o {method}.png",
+                command=f"illusio dof museum --focus-object exhibit-superquadric --size {size[0]}x{size[1]} "
+                f"-o {method}.png",
+                params=params,
+                derived=FOCUS_SET_BY_OBJECT,
             )
         )
     section.tables.append(
@@ -90,7 +94,9 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
             "dof/museum-coc.png",
             f"circle of confusion (black: in focus; white: the largest drawn, {base.max_coc:g} px)",
             "dof.lens: A·|1/d − 1/d_f|·H / (2 tan(fov/2))",
-            command="illusio dof museum --focus-object exhibit-superquadric --aperture 120 --debug coc -o coc.png",
+            command="illusio dof museum --focus-object exhibit-superquadric --debug coc -o coc.png",
+            params=base,
+            derived=FOCUS_SET_BY_OBJECT,
         )
     )
     distances = renderer.result().planes
@@ -104,20 +110,25 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
             "dof/museum-planes-debug.png",
             "the planes each pixel takes, in grey levels",
             figure=PAPER + "Figure 8",
-            command="illusio dof museum --debug planes -o planes.png",
+            command="illusio dof museum --focus-object exhibit-superquadric --debug planes -o planes.png",
+            params=base,
+            derived=FOCUS_SET_BY_OBJECT,
             details=f"{base.planes_behind} behind, {base.planes_front} in front of the focal plane, "
             f"{base.distribution} spreading",
         )
     )
     section.items.append(_table(out_dir / "dof/methods.png", rows, f"{size[0]}×{size[1]}, {ctx.info()['renderer']}"))
-    anaglyph = renderer.render(frame, replace(base, stereo="anaglyph", method="planes"))
+    anaglyph_params = replace(base, stereo="anaglyph", method="planes")
+    anaglyph = renderer.render(frame, anaglyph_params)
     write_image(out_dir / "dof/museum-anaglyph.png", anaglyph)
     section.items.append(
         Item(
             "dof/museum-anaglyph.png",
             "the stereo pair as a red-cyan anaglyph (Dubois)",
             "one focus for both eyes; zero parallax at the focus distance",
-            command="illusio dof museum -o m.png --focus-object exhibit-superquadric --aperture 120 --stereo anaglyph",
+            command="illusio dof museum -o m.png --focus-object exhibit-superquadric",
+            params=anaglyph_params,
+            derived=FOCUS_SET_BY_OBJECT,
         )
     )
     renderer.release()
@@ -170,12 +181,20 @@ def _museum_walk(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float 
     )
 
 
-#: Figure 11 as README and the gallery give it, with an aperture that shows the blur
+#: Figure 11 as README and the gallery give it: the paper's planes, an aperture that shows the blur
 FIGURE_11_APERTURE = 500.0
-FIGURE_11_COMMAND = (
-    f"illusio dof futuristic --scenario futuristic --video fig11.mp4 --stereo anaglyph "
-    f"--aperture {FIGURE_11_APERTURE:g}"
+FIGURE_11_PARAMS = DofParams(method="planes", aperture_mm=FIGURE_11_APERTURE, stereo="anaglyph")
+FIGURE_11_ITEM = Item(
+    "dof/futuristic-scenario.mp4",
+    "the scenario (dof/scenarios/futuristic.txt) as a red-cyan anaglyph",
+    figure=PAPER + "Figure 11",
+    command="illusio dof futuristic --scenario futuristic --video fig11.mp4",
+    params=FIGURE_11_PARAMS,
 )
+FIGURE_11_COMMAND = FIGURE_11_ITEM.command_line
+
+#: the dof command sets the focus distance from --focus-object (an exhibit's distance from the camera)
+FOCUS_SET_BY_OBJECT = ("focus_distance",)
 
 
 def _scenario_video(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float = 8.0) -> Item:
@@ -189,7 +208,7 @@ def _scenario_video(ctx: Context, out_dir: Path, size: tuple[int, int], fps: flo
     player = ScenarioPlayer(load_scenario(shipped_scenario("futuristic")), scene)
     view = scene.camera()
     renderer = DofRenderer(ctx)
-    params = DofParams(method="planes", aperture_mm=FIGURE_11_APERTURE, stereo="anaglyph")
+    params = FIGURE_11_PARAMS
     small = (max(64, size[0] // 2), max(36, size[1] // 2))
     count = int(player.loop * fps)
     focuses, largest = [], 0.0
@@ -207,11 +226,8 @@ def _scenario_video(ctx: Context, out_dir: Path, size: tuple[int, int], fps: flo
             focuses.append(renderer.result().focus_distance)
             largest = max(largest, float(ctx.readback(renderer.maps()["coc"]).max()))
     renderer.release()
-    return Item(
-        "dof/futuristic-scenario.mp4",
-        "the scenario (dof/scenarios/futuristic.txt) as a red-cyan anaglyph",
-        figure=PAPER + "Figure 11",
-        command=FIGURE_11_COMMAND,
+    return replace(
+        FIGURE_11_ITEM,
         details=f"the paper's planes; the focus follows the script (ship, robot when it fires, projectile, ship) "
         f"between {min(focuses):.1f} and {max(focuses):.1f} m; circles of confusion up to {largest:.0f} px "
         f"at {small[0]}×{small[1]}; {count} frames at {fps:g} fps",

@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
 import html
+import json
+import shlex
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from ..core.images import atomic_output
+from ..core.options import option_words
 
 __all__ = ["Item", "Section", "Table", "write_gallery"]
 
@@ -15,7 +20,12 @@ __all__ = ["Item", "Section", "Table", "write_gallery"]
 class Item:
     """One image or video (.mp4, .webm: shown as a looping video): its path relative to the gallery
     folder, a caption, optional details, the paper figure it answers and the command that makes it
-    again."""
+    again.
+
+    ``params``: the Params instance that made the image, if one did: its fields that differ from the
+    defaults are written as options at the end of ``command`` (the last command where ``&&`` chains
+    several), so the caption cannot drift from the image. ``derived``: dotted fields the command's own
+    options set instead (``--focus-object`` sets the focus distance), left out of the words."""
 
     image: str
     caption: str
@@ -23,6 +33,27 @@ class Item:
     figure: str = ""
     command: str = ""
     files: tuple[str, ...] = ()  # other files it comes with (a camera path), linked
+    params: Any = None
+    derived: tuple[str, ...] = ()
+
+    @property
+    def command_line(self) -> str:
+        """``command`` with the options that make ``params`` appended."""
+        if self.params is None or not self.command:
+            return self.command
+        return " ".join([self.command, *map(shlex.quote, option_words(self.params, self.derived))])
+
+    def record(self) -> dict:
+        """The item as data (``gallery.json``): image, command line, and the Params that made it."""
+        out: dict[str, Any] = {"image": self.image, "command": self.command_line}
+        if self.params is not None:
+            cls = type(self.params)
+            out["params"] = {
+                "class": f"{cls.__module__}:{cls.__qualname__}",
+                "values": dataclasses.asdict(self.params),
+                "derived": list(self.derived),
+            }
+        return out
 
 
 @dataclass
@@ -90,7 +121,8 @@ _CHECK = """
 
 
 def write_gallery(out_dir: str | Path, title: str, sections: list[Section], footer: str = "") -> Path:
-    """Write ``out_dir/index.html`` atomically and return its path."""
+    """Write ``out_dir/index.html`` and ``out_dir/gallery.json`` (every item as data: its image, its
+    command and the Params that made it) atomically and return the page's path."""
     out = Path(out_dir)
     parts = [
         f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
@@ -116,7 +148,7 @@ def write_gallery(out_dir: str | Path, title: str, sections: list[Section], foot
                 f"<figcaption>{html.escape(it.caption)}"
                 + (f" <span class='details'>({html.escape(it.figure)})</span>" if it.figure else "")
                 + (f"<div class='details'>{html.escape(it.details)}</div>" if it.details else "")
-                + (f"<div><code>{html.escape(it.command)}</code></div>" if it.command else "")
+                + (f"<div><code>{html.escape(it.command_line)}</code></div>" if it.command else "")
                 + (
                     "".join(
                         f"<div class='details'><a href='{html.escape(f, quote=True)}'>{html.escape(f)}</a></div>"
@@ -129,6 +161,9 @@ def write_gallery(out_dir: str | Path, title: str, sections: list[Section], foot
     if footer:
         parts.append(f"<p class='details'>{html.escape(footer)}</p>")
     parts.append(f"<script>{_CHECK}</script></body></html>\n")
+    records = [it.record() for s in sections for it in s.items]
+    with atomic_output(out / "gallery.json") as tmp:
+        tmp.write_text(json.dumps(records, indent=1, default=repr))
     path = out / "index.html"
     with atomic_output(path) as tmp:
         tmp.write_text("\n".join(parts))

@@ -84,7 +84,8 @@ def ibr_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float 
             "the walk's middle frame: reconstruction, ground truth, source views",
             f"PSNR {scores[count // 2]:.1f} dB",
             figure="Porquet 2005, Figure 4.5 (source views)",
-            command="illusio ibr render refs --camera between:0,1 --show-sources -o sources.png",
+            command="illusio ibr render refs --camera between:0,1 -o sources.png",
+            params=IbrParams(show_sources=True),
         )
     )
     return section

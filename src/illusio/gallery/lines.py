@@ -70,7 +70,8 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
                 label,
                 "built-in torus knot",
                 figure="Judd et al. 2007 and the report, ch. 2",
-                command=f"illusio lines torus-knot --lines {','.join(kinds)} -o knot.png",
+                command="illusio lines torus-knot --view 20,30 -o knot.png",
+                params=LineParams(lines=kinds),
             )
         )
     fat = shapes.torus(1.0, 0.7)  # R < 2r: it has H = 0 curves
@@ -85,7 +86,8 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
             "K = 0 (brown: top and bottom circles), H = 0 (purple: inside the hole), isophote n·l = 0.5 "
             "(grey), silhouettes; the built-in torus of the command is thinner (R > 2r): no H = 0 curve",
             figure="rtsc, the tool the report compares against",
-            command="illusio lines torus --lines silhouettes,k-zero,h-zero,isophotes -o torus.png",
+            command="illusio lines torus --view 20,35 -o torus.png",
+            params=LineParams(lines=kinds),
         )
     )
     blob = shape("blob")
@@ -114,7 +116,8 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
                 label,
                 caption,
                 figure="rtsc, the tool the report compares against",
-                command=f"illusio lines blob --lines {','.join(kinds)} -o blob.png",
+                command="illusio lines blob -o blob.png",
+                params=LineParams(lines=kinds),
             )
         )
     renderer.prepare(knot)
@@ -154,10 +157,11 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
                 f"{name}: default drawing",
                 "apparent ridges (hybrid) + silhouettes" + speed,
                 command=f"illusio lines {source} --view {az},{el} -o {name}.png",
+                params=LineParams(),
             )
         )
     # the τ × λ grid (Figure 4.2) and the comparison with Canny, on the last mesh shown
-    name, mesh, (az, el), _ = meshes[min(1, len(meshes) - 1)]
+    name, mesh, (az, el), source = meshes[min(1, len(meshes) - 1)]
     v = framing_view(mesh, az, el)
     renderer.prepare(mesh)
     write_image(out_dir / "lines/grid.png", parameter_grid(renderer, v, (side // 3, side // 3)))
@@ -167,7 +171,7 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
             f"τ × λ grid on the {name}",
             "rows τ = −3, −2, −1, 0; columns λ = 0, 0.5, 1, 2",
             figure="the apparent-ridges report, Figure 4.2",
-            command="illusio lines torus-knot --grid -o grid.png",
+            command=f"illusio lines {source} --view {az},{el} --grid -o grid.png",
         )
     )
     phong = cmp.phong_render(ctx, mesh, v, tile)
@@ -205,11 +209,13 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
             "apparent ridges + silhouettes against Canny edges",
             "red ours only, blue Canny only, black both; scores in the table above",
             figure="the apparent-ridges report, ch. 4",
-            command="illusio lines torus-knot --compare canny -o k.png",
+            command=f"illusio lines {source} --view {az},{el} --compare canny -o {name}.png",
+            params=LineParams(),
         )
     )
     hybrid = renderer.render(Frame(v, tile), LineParams(lines=("apparent-ridges",)))
-    judd = renderer.render(Frame(v, tile), LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space"))
+    judd_params = LineParams(lines=("apparent-ridges", "silhouettes"), method="object-space")
+    judd = renderer.render(Frame(v, tile), judd_params)
     agree = cmp.score(cmp.line_mask(hybrid), cmp.line_mask(judd), 3.0)
     write_image(out_dir / "lines/methods.png", cmp.overlay(cmp.line_mask(hybrid), cmp.line_mask(judd)))
     section.tables[-1].rows.append(
@@ -228,7 +234,8 @@ def lines_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Sectio
             "hybrid (red) against Judd's object-space apparent ridges + contours (blue)",
             "agreement in the table above (tolerance 3 px)",
             figure="the apparent-ridges report, ch. 3",
-            command="illusio lines torus-knot --method object-space -o judd.png",
+            command=f"illusio lines {source} --view {az},{el} -o judd.png",
+            params=judd_params,
         )
     )
     section.items.append(auto_pairs(renderer, meshes[:3], tile, out_dir))
@@ -246,7 +253,7 @@ def photo_comparison(renderer, case, tile, out_dir: Path) -> Item:
     shift the registered score found."""
     from ..lines.photograph import exposed, photograph
 
-    name, mesh, (az, el), _ = case
+    name, mesh, (az, el), source = case
     v = framing_view(mesh, az, el)
     renderer.prepare(mesh)
     drawing = renderer.render(Frame(v, tile), LineParams())
@@ -276,7 +283,8 @@ def photo_comparison(renderer, case, tile, out_dir: Path) -> Item:
         f"photograph taken 3 px right, 2 px up of the drawing's camera; F1 {plain.f1:.2f} as drawn, "
         f"{found.f1:.2f} registered (shift found {dx:+d}, {dy:+d} px)",
         figure="the apparent-ridges report, Figure 4.4",
-        command="illusio lines blob --compare photo -o blob.png",
+        command=f"illusio lines {source} --view {az},{el} --compare photo -o {name}.png",
+        params=LineParams(),
     )
 
 

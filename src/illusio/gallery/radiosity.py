@@ -68,6 +68,7 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
                 note,
                 figure="Hanrahan et al. 1991; Loscos 1999, Figure 4.6",
                 command=f"illusio radiosity {name} -o {name}.png --reference {name}-mitsuba.png --spp {spp} --stats",
+                params=RadiosityParams(),
             )
         )
         if name == "office":
@@ -88,6 +89,8 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
                         "illusio radiosity office -o relit.png --set-lamp lamp-0=0 --set-lamp lamp-2=0 "
                         "--set-lamp lamp-3=2"
                     ),
+                    params=off,
+                    derived=("lamp_scales",),  # the --set-lamp options
                 )
             )
     renderer.release()

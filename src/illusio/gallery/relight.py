@@ -64,7 +64,8 @@ def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: in
             f"{loscos.solution.stats.leaves} leaves: {stats.split} splits kept, {stats.undone} "
             "undone (no change of visibility under them, Figure 4.8a)",
             figure="Loscos 1999, Figures 4.8b and 4.12",
-            command=f"illusio relight office --method loscos --show mesh --size {small[0]}x{small[1]} -o mesh.png",
+            command=f"illusio relight office --show mesh --size {small[0]}x{small[1]} -o mesh.png",
+            params=loscos.params,
         )
     )
     noise = "denoised" if denoiser_available() else "noise included"
@@ -95,7 +96,8 @@ def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: in
                 f"{name}: photograph | truth | " + " | ".join(METHODS),
                 "scores in the table above",
                 figure="Loscos 1999, Figure 4.17",
-                command=f"illusio relight office {sets} --method per-pixel -o relit.png",
+                command=f"illusio relight office {sets} -o relit.png",
+                params=sessions["per-pixel"].params,
             )
         )
         table.rows.append([name] + notes)

@@ -49,7 +49,10 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     section.items.append(
         Item("sis/depth.png", "depth map", "rendered torus knot, white = near", figure=PAPER + "Figure 28")
     )
-    base = StereogramParams(strip_width=max(2.0, 100 * scale), depth_factor=max(1.0, 50 * scale), guides=True)
+    # rounded so that the caption's options are the values themselves
+    base = StereogramParams(
+        strip_width=round(max(2.0, 100 * scale), 1), depth_factor=round(max(1.0, 50 * scale), 1), guides=True
+    )
     texture_path = out_dir / "sis/planks-texture.png"
     write_image(texture_path, textures.planks(256, 3, 5))  # the wallpaper stripes are too faint to fuse
     section.items.append(Item("sis/planks-texture.png", "the pattern the texture stereogram repeats", "planks, 256 px"))
@@ -67,8 +70,9 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                 f"{name} stereogram",
                 f"fast GPU pass, W_s = {params.strip_width:.0f}, β = {params.depth_factor:.0f} px",
                 figure=PAPER + "Figure 28",
-                command=f"illusio sis torus-knot -o {name}.png --size {w}x{h} --strip-width {params.strip_width:g} "
-                f"--depth-factor {params.depth_factor:g} --guides{pattern}",
+                command=f"illusio sis torus-knot -o {name}.png --size {w}x{h}{pattern}",
+                params=params,
+                derived=("pattern",),
             )
         )
     sep = separation(depth, base.strip_width, base.depth_factor)
@@ -97,8 +101,8 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                 f"{algorithm} algorithm",
                 "self-check in the table above",
                 figure=PAPER + "Algorithm 1",
-                command=f"illusio sis torus-knot -o {algorithm}.png --size {w}x{h} --algorithm {algorithm} "
-                f"--strip-width {params.strip_width:g} --depth-factor {params.depth_factor:g}",
+                command=f"illusio sis torus-knot -o {algorithm}.png --size {w}x{h}",
+                params=params,
             )
         )
         checks.rows.append([algorithm, f"{report.matched:.1%}", f"{report.checked:,}", f"{report.mean_error:.3f}"])
@@ -118,6 +122,7 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                 "stereogram computed in screen space, shown as the TV's glow",
                 figure=PAPER + "Figure 23",
                 command=f"illusio sis-scene living-room --camera {camera} -o tv.png --size {w}x{h}",
+                params=MultiSceneParams(),
             )
         )
         d = ctx.readback(multi.maps()["depth"])[..., 0]
@@ -140,10 +145,9 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
             "sis/tv-animated.gif",
             "animated snow and a turning hidden knot",
             figure=PAPER + "section 4.3",
-            command=(
-                "illusio sis-scene living-room --camera tv --frames 24 --spin 15 --video tv.gif -o "
-                f"tv.png --size {w // 2}x{h // 2}"
-            ),
+            command="illusio sis-scene living-room --camera tv --frames 24 --video tv.gif -o tv.png "
+            f"--size {w // 2}x{h // 2}",
+            params=spinning,
             details="24 frames, 15° per frame; each frame's stereogram is recomputed from the new depth and snow",
         )
     )
@@ -168,11 +172,10 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
             "sis/wall.png",
             "a texture stereogram as the wall behind the sofa",
             figure=PAPER + "Figure 24",
-            command=(
-                "illusio sis-scene living-room --camera main --host back-wall --hidden torus --pattern "
-                "wall-texture.png "
-                f"--strip-width 100 --depth-factor 40 --emission 0 -o wall.png --size {w}x{h}"
-            ),
+            command="illusio sis-scene living-room --camera main --hidden torus --pattern wall-texture.png "
+            f"-o wall.png --size {w}x{h}",
+            params=wall,
+            derived=("stereogram.pattern",),
             details="the wall's mottled texture hides a torus; lit like any wall (no glow)",
         )
     )
@@ -189,9 +192,10 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
                 f"shadows {'on' if host_shadows else 'off'} the host",
                 what,
                 figure=PAPER + "section 6",
-                command=f"illusio sis-scene living-room --camera main --host back-wall --hidden torus "
-                f"--pattern wall-texture.png --strip-width 100 --depth-factor 40 --emission 0 --shadows "
-                f"--{'' if host_shadows else 'no-'}host-shadows -o {name}.png --size {w}x{h}",
+                command=f"illusio sis-scene living-room --camera main --hidden torus --pattern wall-texture.png "
+                f"-o {name}.png --size {w}x{h}",
+                params=lit,
+                derived=("stereogram.pattern",),
             )
         )
     write_image(out_dir / "sis/wall-depth.png", np.where(d >= 0, 1.0 - d, 0.0))
@@ -218,8 +222,8 @@ def sis_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
             "sis/interactive-rug.png",
             "interaction mode on the rug",
             figure=PAPER + "Figure 25",
-            command=f"illusio sis-scene living-room --camera main --host rug --pattern random-dot --strip-width 100 "
-            f"--depth-factor 40 --emission 0 --interactive -o rug.png --size {w}x{h}",
+            command=f"illusio sis-scene living-room --camera main -o rug.png --size {w}x{h}",
+            params=interactive,
             details="the hidden knot is seen from where the viewer stands relative to the rug",
         )
     )
@@ -264,8 +268,8 @@ def oblique_wall(ctx: Context, multi: MultiSceneRenderer, scene, out_dir: Path, 
         "sphere is squeezed to "
         "cos 45° of its width; the viewer layout keeps it round (benchmarks/RESULTS.md: oblique hosts)",
         figure=PAPER + "Figure 27",
-        command=f"illusio sis-scene living-room --camera {OBLIQUE_CAMERA} --host back-wall "
-        f"--hidden sphere --emission 0 --host-layout viewer -o wall45.png --size {w}x{h}",
+        command=f"illusio sis-scene living-room --camera {OBLIQUE_CAMERA} --hidden sphere -o wall45.png --size {w}x{h}",
+        params=params,  # the viewer layout's, the right half
     )
 
 
