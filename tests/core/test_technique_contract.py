@@ -113,3 +113,76 @@ def test_a_frame_of_another_size_is_that_size(t, ctx, subjects):
         assert renderer.render(Frame(None, other), t.params_class()()).shape[:2] == (other[1], other[0])
     finally:
         renderer.release()
+
+
+def _field_changes(params, prefix=""):
+    """(dotted path, [other values to try]) for every declared field of ``params`` a generic change
+    can reach: a switch flipped, another choice, a set with one member more or less, a number
+    doubled, halved, or at an end of its range. Text (paths, names) and "other" fields aside."""
+    from illusio.core.params import describe
+
+    seen = {}
+    for audience in ("panel", "cli"):
+        for info in describe(params, audience):
+            seen.setdefault(info.name, info)
+    for info in seen.values():
+        path = prefix + info.name
+        if info.kind == "params":
+            yield from _field_changes(info.value, path + ".")
+        elif info.kind == "bool":
+            yield path, [not info.value]
+        elif info.kind == "choice":
+            yield path, [c for c in info.choices if c != info.value]
+        elif info.kind == "multi":
+            more = [(*info.value, c) for c in info.choices if c not in info.value]
+            fewer = [tuple(v for v in info.value if v != drop) for drop in info.value]
+            yield path, [v for v in fewer + more if v]
+        elif info.kind in ("int", "float"):
+            lo, hi = info.range if info.range is not None else (-np.inf, np.inf)
+            value = info.value
+            tries = [value * 2 if value else 1, value / 2, hi, lo, (lo + hi) / 2]
+            cast = (lambda v: int(round(v))) if info.kind == "int" else float
+            values = []
+            for v in tries:
+                if np.isfinite(v) and lo <= v <= hi and cast(v) != value and cast(v) not in values:
+                    values.append(cast(v))
+            yield path, values
+
+
+@pytest.mark.parametrize("t", ALL, ids=lambda t: t.name)
+def test_changing_each_declared_field_changes_the_image_or_is_documented_as_not_visible(t, ctx, subjects):
+    """Over every technique: each declared field, changed within its range, changes the default
+    view's image (some pixel by more than 2/255), or its Params documents why it does not in
+    ``NOT_VISIBLE_BY_DEFAULT`` (a field that only matters with another setting, for another
+    subject or for speed). A documented field that does change the image is reported too, so the
+    list stays true."""
+    from illusio.core.params import with_values
+
+    params_class = t.params_class()
+    documented = dict(getattr(params_class, "NOT_VISIBLE_BY_DEFAULT", {}))
+    renderer, subject = _prepared(t, ctx, subjects)
+    try:
+        renderer.prepare(subject)
+        base = renderer.render(Frame(None, SIZE), params_class())
+        unseen, stale = {}, []
+        for path, values in _field_changes(params_class()):
+            outcome = "refused"
+            for value in values:
+                try:
+                    changed = with_values(params_class(), **{path: value})
+                    image = renderer.render(Frame(None, SIZE), changed)
+                except InputError:  # refused with this subject or size: the next value
+                    continue
+                difference = float(np.abs(image - base).max())
+                outcome = f"{value!r}: largest change {difference * 255:.2f}/255"
+                if difference > 2 / 255:
+                    outcome = "changed"
+                    break
+            if outcome != "changed" and path not in documented:
+                unseen[path] = outcome
+            if outcome == "changed" and path in documented:
+                stale.append(path)
+        assert not unseen, f"{t.name}: fields that change nothing, undocumented: {unseen}"
+        assert not stale, f"{t.name}: documented as not visible but they change the image: {stale}"
+    finally:
+        renderer.release()

@@ -4,6 +4,7 @@ the gallery and the viewer read their defaults from here."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 from ..core.params import check_ranges, param
 from ..passes.settings import COMPOSITES, RenderSettings
@@ -94,6 +95,21 @@ class DofParams:
     )
     accommodation: float = param(0.3, range=(0.0, 5.0), unit="s", help="time constant of the focus following a policy")
     settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+
+    #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
+    NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
+        "samples": "only the accumulation method",
+        "planes_behind": "only the planes method",
+        "planes_front": "only the planes method",
+        "distribution": "only the planes method",
+        "plane_scale": "only the planes method",
+        "eye_separation": "only a stereo output",
+        "screen_distance": "only a stereo output",
+        "seed": "only the accumulation method's lens positions",
+        "accommodation": "only with a focus policy, from one frame to the next",
+        "settings.shadow_tile_size": "shadows are off by default",
+        "settings.forward": "the same image by design; speed only",
+    }
 
     __post_init__ = check_ranges
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 from ..core.params import check_ranges, param
 from ..passes.settings import RenderSettings
@@ -67,6 +68,19 @@ class IbrParams:
     light_z: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights z")
 
     settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+
+    #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
+    NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
+        "selection": "the same choice in one pass or several: speed only",
+        "bilinear_depth": "the default references are as sharp as the output: under 2/255",
+        "max_distance": "the default capture leaves no point farther than this from its best reference",
+        "grazing": "the default capture's proxy mesh has few triangles seen that obliquely: under 2/255",
+        "fill_radius": "fills holes: the default view between the references has none",
+        "fill_disocclusions": "fills disocclusions: the default view between the references has none",
+        "settings.shadows": "the image comes from the references, their shadows in them",
+        "settings.shadow_tile_size": "the image comes from the references, their shadows in them",
+        "settings.forward": "the same image by design; speed only",
+    }
 
     @property
     def light_offset(self) -> tuple[float, float, float]:

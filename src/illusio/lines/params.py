@@ -5,6 +5,7 @@ describes it). The CLI, the gallery and the viewer read their defaults from here
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 from ..core.params import check_ranges, param
 from .reference import REPORT_THRESHOLD
@@ -128,6 +129,17 @@ class LineParams:
     colours: tuple = param(DEFAULT_COLOURS, panel=False)
     widths: tuple = param(DEFAULT_WIDTHS, panel=False)
     curvature: CurvatureParams = param(default_factory=CurvatureParams)
+
+    #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
+    NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
+        "object_threshold": "only with method object-space",
+        "ridge_threshold": "only where ridges or valleys are drawn",
+        "suggestive_threshold": "only where suggestive contours or DwKr lines are drawn",
+        "isophote_level": "only where isophotes are drawn",
+        "highlight_threshold": "only where suggestive or principal highlights are drawn",
+        "depth_jump": "only with the image-space silhouettes",
+        "curvature.confidence": "only with adaptive fits (curvature.adaptive)",
+    }
 
     def __post_init__(self):
         object.__setattr__(self, "lines", tuple(self.lines))

@@ -4,6 +4,7 @@ the scene renderer's settings and the stereo composites' names."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 from ..core.params import check_ranges, param
 
@@ -34,5 +35,10 @@ class RenderSettings:
     )
     exposure: float = param(1.0, range=(0.01, 16.0), log=True, help="scale on the linear radiance")
     forward: bool = param(False, label="forward shading", help="light in the pass that draws (same image)")
+
+    #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
+    NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
+        "forward": "the same image by design (forward and deferred lighting agree within 1/255); speed only",
+    }
 
     __post_init__ = check_ranges

@@ -4,6 +4,7 @@ it), with units and ranges. The CLI, the viewer and the benchmarks read their de
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 from ..core.errors import InputError
 from ..core.params import check_ranges, param
@@ -84,6 +85,13 @@ class RadiosityParams:
         cli=True,
         help="show links: the receiving element (-1: the most linked)",
     )
+
+    #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
+    NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
+        "tolerance": "a change re-solves from the solution shown, already converged: under 2/255",
+        "max_iterations": "the default solve converges well before its cap",
+        "element": "only with show links",
+    }
 
     def __post_init__(self):
         check_ranges(self)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 from ..core.errors import InputError
 from ..core.params import check_ranges, param
@@ -118,6 +119,13 @@ class RelightParams:
     final_hierarchy: HierarchyParams = param(default_factory=lambda: FINAL_HIERARCHY, panel=False)
     lamp_scales: tuple = param((), panel=False)
     exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="factor on the displayed radiance")
+
+    #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
+    NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
+        "hierarchy.lights_to_leaves": "loscos, the default method, pushes the lamps' links to the leaves (4.3.2)",
+        "hierarchy.clusters": "refused: relighting reads element links, its solutions take clusters=False",
+        "hierarchy.sliver_piece": "relighting keeps the model's own polygons (taken as 0)",
+    }
 
     def __post_init__(self):
         check_ranges(self)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import ClassVar
 
 from ..core.errors import InputError
 from ..core.gl import MAX_SIZE
@@ -23,6 +24,10 @@ __all__ = ["StereogramParams", "MultiSceneParams", "ALGORITHMS", "PATTERNS"]
 ALGORITHMS = ("sequential", "strip", "fast", "symmetric")
 #: built-in patterns; any other value is a path to an image used as a tiled texture
 PATTERNS = ("random-dot", "grey-dots", "colour-dots", "pink-noise", "snow")
+
+
+_SCREEN_FIELDS = ("diagonal_cm", "aspect", "width_px", "viewing_distance_cm", "eye_separation_cm")
+_SCREEN_ONLY_WHEN_EXACT = "the physical screen enters only with exact (equation 3) and the range checks"
 
 
 @dataclass(frozen=True)
@@ -61,6 +66,11 @@ class StereogramParams:
     invert: bool = param(False, help="D → 1 − D (black = near)")
     oversample: int = param(1, range=(1, 8), step=1, help="compute at N times the width")
     seed: int = param(0, range=(0, 2**31 - 1), step=1, help="seed of every random pattern")
+
+    #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
+    NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
+        f"screen.{name}": _SCREEN_ONLY_WHEN_EXACT for name in _SCREEN_FIELDS
+    }
 
     def __post_init__(self):
         if self.algorithm not in ALGORITHMS:
@@ -146,6 +156,17 @@ class MultiSceneParams:
         help="the hidden scene through the host's uvs, or laid out upright in the viewer's image of it",
     )
     reuse_static: bool = param(True, help="a still camera shades only the host again")
+
+    #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
+    NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
+        **{f"stereogram.{path}": why for path, why in StereogramParams.NOT_VISIBLE_BY_DEFAULT.items()},
+        "stereogram.guides": "a host's stereogram has no guide dots: only the full-frame stereogram (sis) draws them",
+        "spin": "turns the hidden scene from one frame to the next: frame 0 is unturned",
+        "settings.shadow_tile_size": "shadows are off by default (section 6: they disturb the stereogram)",
+        "settings.forward": "the main scene is always lit forward, in the pass that colours the host",
+        "host_shadows": "only with settings.shadows on",
+        "reuse_static": "speed only: an unchanged view's static shading is kept, the image is the same",
+    }
 
     __post_init__ = check_ranges
 
