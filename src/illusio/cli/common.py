@@ -6,11 +6,32 @@ import sys
 from contextlib import contextmanager
 from pathlib import Path
 
+import typer
+
 from ..core.errors import InputError
 from ..core.gl import check_size
-from ..scene.sources import resolve_mesh, resolve_scene
+from ..scene.sources import SCENE_RULE, resolve_mesh, resolve_scene
 
-__all__ = ["parse_size", "resolve_scene", "resolve_mesh", "progress", "scene_inputs"]
+__all__ = [
+    "parse_size",
+    "resolve_scene",
+    "resolve_mesh",
+    "progress",
+    "scene_inputs",
+    "SCENE_HELP",
+    "on_turntable_option",
+]
+
+#: what a command's SCENE argument accepts, the scene-or-shape rule included
+SCENE_HELP = (
+    "a built-in scene, a scene file (.gltf, .glb, .obj with its .mtl, .yaml, .mgf), a mesh file or a built-in "
+    "shape; " + SCENE_RULE
+)
+
+
+def on_turntable_option():
+    """The ``--on-turntable`` switch: read a glTF or OBJ scene file as one shape on the turntable."""
+    return typer.Option(False, "--on-turntable", help="read a scene file as one merged shape on the turntable")
 
 
 def parse_size(text: str) -> tuple[int, int]:

@@ -10,13 +10,14 @@ import typer
 from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
 from ..dof.params import DofParams
-from .common import parse_size, resolve_scene, scene_inputs
+from .common import SCENE_HELP, on_turntable_option, parse_size, resolve_scene, scene_inputs
 from .params_options import params_options
 
 
 @params_options(params=DofParams)
 def dof(
-    scene: str = typer.Argument("living-room", help="built-in scene, .yaml scene, mesh file or built-in shape"),
+    scene: str = typer.Argument("living-room", help=SCENE_HELP),
+    on_turntable: bool = on_turntable_option(),
     output: Path = typer.Option(
         None, "-o", "--output", help="image to write (.png, .exr, .npy); with --scenario, the first frame"
     ),
@@ -58,7 +59,7 @@ def dof(
     if debug is not None:
         debug_params(params, debug)  # refuses an unknown map before any work
     w, h = parse_size(size)
-    sc = resolve_scene(scene)
+    sc = resolve_scene(scene, on_turntable)
     view = sc.camera(camera)
     sc.check_in_view(view, (w, h))
     if focus_object:

@@ -13,7 +13,7 @@ import typer
 from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path, write_image, write_video
 from ..ibr.params import IbrParams
-from .common import parse_eye_target, parse_size, resolve_scene, scene_inputs
+from .common import SCENE_HELP, on_turntable_option, parse_eye_target, parse_size, resolve_scene, scene_inputs
 from .params_options import params_options
 
 app = typer.Typer(add_completion=False, no_args_is_help=True, help="Image-based rendering from reference views.")
@@ -21,7 +21,8 @@ app = typer.Typer(add_completion=False, no_args_is_help=True, help="Image-based 
 
 @app.command("capture")
 def capture_command(
-    scene: str = typer.Argument(..., help="built-in scene, .yaml scene, mesh file or built-in shape"),
+    scene: str = typer.Argument(..., help=SCENE_HELP),
+    on_turntable: bool = on_turntable_option(),
     output: Path = typer.Option(..., "-o", "--output", help="folder to write the references to"),
     views: int = typer.Option(3, "--views", help="reference cameras along the main camera's right"),
     cameras: Path = typer.Option(
@@ -48,7 +49,7 @@ def capture_command(
     if not 1 <= samples <= 65536:
         raise InputError(f"--samples must be in 1..65536, got {samples}")
     chosen = load_cameras(cameras) if cameras is not None else None
-    sc = resolve_scene(scene)
+    sc = resolve_scene(scene, on_turntable)
     chosen = chosen or orbit_views(sc, views, baseline)
     if renderer == "mitsuba":
         from ..ibr.mitsuba import capture_mitsuba

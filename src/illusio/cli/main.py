@@ -17,7 +17,7 @@ import typer
 from ..core.errors import IllusioError
 from ..core.lazy import load
 from ..core.technique import techniques
-from . import batch, demo, info, listing, view
+from . import batch, demo, export, info, listing, view
 
 app = typer.Typer(
     add_completion=False,
@@ -47,6 +47,7 @@ def _main(
 app.command("info")(info.info)
 app.command("list")(listing.listing)
 app.command("demo")(demo.demo)
+app.command("export")(export.export)
 
 
 def _technique_commands() -> dict[str, str]:

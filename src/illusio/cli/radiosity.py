@@ -11,7 +11,7 @@ import typer
 from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
 from ..radiosity.params import RadiosityParams
-from .common import parse_size, resolve_scene, scene_inputs
+from .common import SCENE_HELP, on_turntable_option, parse_size, resolve_scene, scene_inputs
 from .params_options import params_options
 
 
@@ -32,9 +32,8 @@ def parse_lamps(values: list[str], flag: str = "--set-lamp") -> tuple:
 
 @params_options(params=RadiosityParams)
 def radiosity(
-    scene: str = typer.Argument(
-        ..., help="built-in scene (cornell-box, office, living-room, ...), a .yaml scene or an MGF file (.mgf)"
-    ),
+    on_turntable: bool = on_turntable_option(),
+    scene: str = typer.Argument(..., help=SCENE_HELP),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png sRGB, .npy/.exr linear)"),
     set_lamp: list[str] = typer.Option(None, "--set-lamp", help="NAME=SCALE, the lamp's exitance × SCALE (repeatable)"),
     size: str = typer.Option("640x480", "--size", help="WIDTHxHEIGHT of both images"),
@@ -71,7 +70,7 @@ def radiosity(
     parse_size(f"{w * k}x{h * k}")
     params = replace(params, lamp_scales=parse_lamps(set_lamp))
     seed, exposure, element = params.hierarchy.seed, params.exposure, params.element
-    sc = resolve_scene(scene)
+    sc = resolve_scene(scene, on_turntable)
     view = sc.camera(camera)
     sc.check_in_view(view, (w, h))
     renderer = default_context().kept(RadiosityRenderer)

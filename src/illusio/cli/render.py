@@ -11,19 +11,21 @@ from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
 from ..core.renderer import DEFAULT_SIZE
 from ..passes.scene_renderer import RenderSettings
-from .common import parse_eye_target, parse_size, parse_view_angles, resolve_scene, scene_inputs
+from .common import (
+    SCENE_HELP,
+    on_turntable_option,
+    parse_eye_target,
+    parse_size,
+    parse_view_angles,
+    resolve_scene,
+    scene_inputs,
+)
 
 _DEFAULT = RenderSettings()
 
 
 def render(
-    scene: str = typer.Argument(
-        ...,
-        help=(
-            "built-in scene (cornell-box, living-room, office, museum, turntable), a .yaml scene, a mesh "
-            "file or a built-in shape"
-        ),
-    ),
+    scene: str = typer.Argument(..., help=SCENE_HELP),
     output: Path = typer.Option(
         ...,
         "-o",
@@ -44,6 +46,7 @@ def render(
     shadows: bool = typer.Option(_DEFAULT.shadows, "--shadows/--no-shadows", help="cube shadow maps"),
     exposure: float = typer.Option(_DEFAULT.exposure, "--exposure", help="scale on linear radiance before writing"),
     bit_depth: int = typer.Option(8, "--bit-depth", help="8, or 16 (16-bit PNG, half-float EXR)"),
+    on_turntable: bool = on_turntable_option(),
 ) -> None:
     """Render SCENE to an image (or, with --turntable, a video around it)."""
     from ..core.context import default_context
@@ -64,7 +67,7 @@ def render(
         raise InputError("--turntable N writes a video (-o .mp4 or .gif); a video needs --turntable N")
     angles = parse_view_angles(view) if view is not None else None
     pair = parse_eye_target(camera) if camera is not None else None
-    sc = resolve_scene(scene)
+    sc = resolve_scene(scene, on_turntable)
     base = sc.camera(None if pair is not None else camera)
     if pair is not None:
         base = View(Pose(*pair), base.camera)

@@ -13,7 +13,7 @@ from ..core.gl import check_size
 from ..core.images import check_output_path, read_image, write_image, write_video
 from ..scene.camera import Screen
 from ..sis.params import MultiSceneParams, StereogramParams
-from .common import parse_size, progress, scene_inputs
+from .common import SCENE_HELP, on_turntable_option, parse_size, progress, scene_inputs
 from .params_options import params_options
 
 _DEFAULT = StereogramParams()
@@ -185,7 +185,8 @@ def sis_decode(
 
 @params_options(params=MultiSceneParams)
 def sis_scene(
-    scene: str = typer.Argument("living-room", help="built-in scene or .yaml with a host surface"),
+    scene: str = typer.Argument("living-room", help="the main scene, with a host surface: " + SCENE_HELP),
+    on_turntable: bool = on_turntable_option(),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png); with --frames, the first frame"),
     hidden: str = typer.Option(
         "torus-knot", "--hidden", help="what the stereogram hides: a built-in shape or a mesh file"
@@ -221,7 +222,7 @@ def sis_scene(
     if frame < 0:
         raise InputError(f"--frame must be ≥ 0, got {frame}")
     w, h = parse_size(size)
-    main = resolve_scene(scene)
+    main = resolve_scene(scene, on_turntable)
     pair = parse_eye_target(camera)
     view = main.camera(None if pair is not None or (camera == "tv" and "tv" not in main.cameras) else camera)
     if pair is not None:

@@ -9,13 +9,24 @@ from .builtin import SCENES, SHAPES, shape, turntable
 from .loader import load_scene
 from .mesh import MESH_FORMATS, Mesh, load_mesh
 from .scene import Scene
+from .scene_file import is_scene_file, load_scene_file
 
-__all__ = ["resolve_scene", "resolve_mesh", "is_mesh_source", "scene_subject", "mesh_subject"]
+__all__ = ["SCENE_RULE", "resolve_scene", "resolve_mesh", "is_mesh_source", "scene_subject", "mesh_subject"]
 
 
-def is_mesh_source(source: str) -> bool:
-    """Whether ``source`` names a single mesh (a built-in shape or a mesh file) rather than a scene."""
-    return source in SHAPES or Path(source).suffix.lower() in MESH_FORMATS
+#: the one rule, as ``--help`` and the docs state it
+SCENE_RULE = (
+    "a glTF or OBJ file with more than one mesh node, or any material, light or camera, is a scene (its "
+    "own lights and cameras); any other mesh file is a shape on the turntable (--turntable forces that)"
+)
+
+
+def is_mesh_source(source: str, turntable: bool = False) -> bool:
+    """Whether ``source`` names a single mesh (a built-in shape, or a mesh file that is not a scene
+    by :data:`SCENE_RULE`, or any mesh file with ``turntable``) rather than a scene."""
+    if source in SHAPES:
+        return True
+    return Path(source).suffix.lower() in MESH_FORMATS and (turntable or not is_scene_file(source))
 
 
 def resolve_mesh(source: str) -> Mesh:
@@ -31,12 +42,15 @@ def resolve_mesh(source: str) -> Mesh:
     raise InputError(f"{source}: not a mesh ({', '.join(MESH_FORMATS)})")
 
 
-def resolve_scene(source: str) -> Scene:
-    """A built-in scene, a YAML scene file, a mesh file or a built-in shape (on the turntable)."""
+def resolve_scene(source: str, on_turntable: bool = False) -> Scene:
+    """A built-in scene, a YAML or MGF scene file, a glTF or OBJ scene file (:data:`SCENE_RULE`), or
+    a mesh file or built-in shape on the turntable (any mesh file with ``on_turntable``)."""
     if source in SCENES or Path(source).suffix.lower() in (".yaml", ".yml", ".mgf"):
         return load_scene(source)
-    if is_mesh_source(source):
+    if is_mesh_source(source, on_turntable):
         return turntable(resolve_mesh(source))
+    if is_scene_file(source):
+        return load_scene_file(source)
     if not Path(source).exists():
         raise InputError(
             f"{source}: no such file, and not a built-in scene ({', '.join(SCENES)}) or shape "

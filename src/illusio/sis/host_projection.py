@@ -69,7 +69,11 @@ class HostProjectionPass:
             set_uniform(prog, "depth_box", (x0, h - y1, x1, h - y0))
         for _, node in hosts:
             if node.mesh.uvs is None:
-                raise InputError(f"host {node.name!r} has no texture coordinates to carry a stereogram")
+                with_uvs = [n.name for n in gpu_scene.scene.nodes if n.visible and n.mesh.uvs is not None]
+                raise InputError(
+                    f"host {node.name!r} has no texture coordinates to carry a stereogram: unwrap it (uvs) in the "
+                    f"tool that made it, or choose a node that has them: {', '.join(with_uvs) or 'none has'}"
+                )
             set_uniform(prog, "uv_min", tuple(float(v) for v in node.mesh.uvs.min(axis=0)))
             set_uniform(prog, "uv_max", tuple(float(v) for v in node.mesh.uvs.max(axis=0)))
             set_uniform(prog, "model_matrix", node.transform)

@@ -1,0 +1,474 @@
+"""Scenes made by other tools: glTF 2.0 (``.gltf``, ``.glb``) and OBJ with its MTL, read as a
+:class:`Scene` that keeps the file's node and material names, colours, textures, lights and cameras.
+
+trimesh reads the node graph, the transforms, the geometry with its uvs and the materials (glTF's
+PBR materials, MTL's); pygltflib reads what trimesh drops: ``KHR_lights_punctual``, cameras,
+``KHR_materials_emissive_strength``, and the features illusio does not draw, named in one warning.
+
+**Scene or shape** (:func:`is_scene_file`), one rule: a file with more than one mesh node, or any
+material, light or camera, is a scene; any other mesh file is a shape that commands place on the
+turntable (``--turntable`` forces that reading of a scene file).
+
+**Materials** (glTF metallic-roughness onto Lambert + Phong), stated rules:
+- diffuse colour = base colour factor × (1 − metallic); the base colour texture (sRGB, decoded to
+  linear) multiplies it through the uvs;
+- Phong specular k_s = 0.04·(1 − metallic) + metallic·mean(base colour factor); shininess
+  n = 2/α² − 2 with α = roughness² (the Blinn-Phong exponent of the same highlight width),
+  clamped to [1, 10⁴]. Absent factors take glTF's defaults (metallic 1, roughness 1);
+- emission = emissive factor × emissive strength × the emissive texture's mean (linear);
+- MTL: Kd is the diffuse colour (linear, as Blender's importer reads it), map_Kd its texture, Ks's
+  mean k_s, Ns the shininess, Ke the emission.
+
+**Lights** (``KHR_lights_punctual``; photometric units converted with 683 lm/W, the luminous efficacy
+at 555 nm): a point light of I cd is a :class:`PointLight` of I/683 W/sr; a spot light is the point
+light at its position (its cone is not drawn: named in the warning); a directional light of E lux is
+a point light 100 scene radii away against its direction, of E/683 · d² W/sr, so its irradiance at
+the scene is the same. A file with no light and no emissive material gets the turntable's two lamps
+scaled to its bounds (said in the warning).
+
+**Cameras**: a perspective camera is a named camera (its node's name, else the camera's); with none,
+``main`` frames the scene's bounds. Orthographic cameras are dropped (named in the warning).
+"""
+
+from __future__ import annotations
+
+import os
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..core.errors import InputError
+from ..core.images import srgb_to_linear
+from .camera import Camera, Pose, View
+from .mesh import Mesh, validate_arrays
+from .scene import AreaLight, Material, Node, PointLight, Scene
+
+__all__ = ["SCENE_FILE_FORMATS", "SceneFileWarning", "is_scene_file", "load_scene_file", "LUMENS_PER_WATT"]
+
+SCENE_FILE_FORMATS = (".gltf", ".glb", ".obj")
+
+#: lm/W: the luminous efficacy of 555 nm light, the photometric → radiometric factor
+LUMENS_PER_WATT = 683.0
+
+#: how far a directional light's stand-in point light is, in scene radii
+DIRECTIONAL_DISTANCE = 100.0
+
+
+class SceneFileWarning(UserWarning):
+    """What a scene file uses that illusio does not draw, or what it added (one line per file)."""
+
+
+def is_scene_file(path: str | os.PathLike) -> bool:
+    """Whether the mesh file at ``path`` is a scene (more than one mesh node, or any material, light
+    or camera) rather than one shape for the turntable. False for formats that hold one mesh."""
+    p = Path(path)
+    suffix = p.suffix.lower()
+    if suffix not in SCENE_FILE_FORMATS or not p.is_file():
+        return False
+    if suffix == ".obj":
+        return _obj_is_scene(p)
+    gltf = _read_gltf(p)
+    mesh_nodes = sum(1 for n in gltf.nodes if n.mesh is not None)
+    lights = (gltf.extensions or {}).get("KHR_lights_punctual", {}).get("lights", [])
+    return mesh_nodes > 1 or bool(gltf.materials) or bool(gltf.cameras) or bool(lights)
+
+
+def _obj_is_scene(p: Path) -> bool:
+    objects, materials = 0, False
+    with open(p, "rb") as f:
+        for raw in f:
+            word = raw.split(maxsplit=1)[:1]
+            if word == [b"o"]:
+                objects += 1
+            elif word in ([b"mtllib"], [b"usemtl"]):
+                materials = True
+    return objects > 1 or materials
+
+
+def _read_gltf(p: Path):
+    import pygltflib
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            gltf = pygltflib.GLTF2().load(str(p))
+    except Exception as exc:  # pygltflib raises many kinds on corrupt input
+        reason = " ".join(str(exc).split())[:200] or type(exc).__name__
+        raise InputError(f"{p}: cannot read glTF ({reason})") from None
+    if gltf is None:
+        raise InputError(f"{p}: cannot read glTF (not a glTF 2.0 file)")
+    return gltf
+
+
+def _check_external_files(p: Path, gltf) -> None:
+    """InputError naming the first image or buffer file the glTF refers to and the folder lacks
+    (trimesh would draw the scene without it)."""
+    from urllib.parse import unquote
+
+    for kind, items in (("image", gltf.images), ("buffer", gltf.buffers)):
+        for k, item in enumerate(items or ()):
+            uri = getattr(item, "uri", None)
+            if uri and not uri.startswith("data:") and not (p.parent / unquote(uri)).is_file():
+                raise InputError(f"{p}: {kind} {k} refers to {unquote(uri)!r}, which is not in {p.parent}")
+
+
+def load_scene_file(path: str | os.PathLike) -> Scene:
+    """The scene in the glTF or OBJ file at ``path`` (see the module docstring for the rules).
+    InputError naming the file on anything it cannot read; one :class:`SceneFileWarning` listing
+    what is not drawn."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: no such file")
+    if p.suffix.lower() not in SCENE_FILE_FORMATS:
+        raise InputError(f"{p}: not a scene file ({', '.join(SCENE_FILE_FORMATS)})")
+    gltf = _read_gltf(p) if p.suffix.lower() != ".obj" else None
+    if gltf is not None:
+        _check_external_files(p, gltf)
+    unsupported: list[str] = [] if gltf is None else _unsupported(gltf)
+    try:
+        scene = _scene_from_trimesh(p, _load_trimesh(p), gltf, unsupported)
+        if gltf is not None:
+            _lights_and_cameras(gltf, scene, unsupported)
+            _scene_extras(gltf, scene)
+    except InputError as exc:
+        raise InputError(f"{p}: {exc}" if str(p) not in str(exc) else str(exc)) from None
+    if not scene.cameras:
+        scene.cameras["main"] = framing_view(scene)
+    if not scene.lights and not any(max(n.material.emission) > 0 for n in scene.nodes):
+        _add_lamps(scene)
+        unsupported.append("no light in the file: two lamps added (key and fill, as the turntable's)")
+    if unsupported:
+        warnings.warn(f"{p}: " + "; ".join(unsupported), SceneFileWarning, stacklevel=2)
+    return scene
+
+
+def _load_trimesh(p: Path):
+    import trimesh
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            loaded = trimesh.load(str(p), force="scene", process=False)
+    except Exception as exc:  # trimesh raises many kinds on corrupt input
+        reason = " ".join(str(exc).split())[:200] or type(exc).__name__
+        raise InputError(f"{p}: cannot read scene ({reason})") from None
+    return loaded
+
+
+def _scene_from_trimesh(p: Path, tscene, gltf, unsupported: list[str]) -> Scene:
+    import trimesh
+
+    materials = _gltf_materials(gltf)
+    extras = _node_extras(gltf)
+    scene = Scene(p.stem)
+    others = 0
+    order = {n.name: i for i, n in enumerate(gltf.nodes)} if gltf is not None else {}
+    for node_name in sorted(tscene.graph.nodes_geometry, key=lambda n: order.get(n, len(order))):
+        own = extras.get(node_name, {})
+        if "area_light" in own:  # illusio's own lamp, exported as a panel: read back as the lamp
+            scene.lights.append(_area_light(own["area_light"], node_name))
+            continue
+        transform, geometry_name = tscene.graph[node_name]
+        geometry = tscene.geometry[geometry_name]
+        if not isinstance(geometry, trimesh.Trimesh):
+            others += 1
+            continue
+        vertices = np.asarray(geometry.vertices, np.float64)
+        faces = np.asarray(geometry.faces, np.int64).reshape(-1, 3)
+        validate_arrays(vertices, faces, f"node {node_name!r}")
+        uv = getattr(geometry.visual, "uv", None)
+        uvs = np.asarray(uv, np.float32) if uv is not None and len(uv) == len(vertices) else None
+        normals = np.asarray(geometry.vertex_normals, np.float64)  # the file's, else trimesh's smooth ones
+        used = np.zeros(len(vertices), bool)
+        used[faces.reshape(-1)] = True
+        if not used.all():  # a primitive's share of a buffer other primitives use too: not the file's count
+            remap = np.cumsum(used) - 1
+            vertices, faces, normals = vertices[used], remap[faces], normals[used]
+            uvs = None if uvs is None else uvs[used]
+        mesh = Mesh(vertices.astype(np.float32), faces.astype(np.int32), normals=normals, uvs=uvs, name=str(node_name))
+        material = _material(geometry.visual, materials, unsupported)
+        if material.texture is not None and uvs is None:
+            unsupported.append(f"node {node_name!r}: a texture but no texture coordinates (drawn untextured)")
+            material.texture = None
+        scene.add(
+            Node(
+                _unique(scene, str(node_name)),
+                mesh,
+                np.asarray(transform, np.float64),
+                material,
+                tags=tuple(own.get("tags", ())),
+                visible=bool(own.get("visible", True)),
+            )
+        )
+    if others:
+        unsupported.append(f"{others} point clouds or lines (no triangles)")
+    if not scene.nodes:
+        raise InputError(f"{p}: holds no triangle mesh")
+    return scene
+
+
+def _illusio_extras(item) -> dict:
+    extras = getattr(item, "extras", None)
+    own = extras.get("illusio") if isinstance(extras, dict) else None
+    return own if isinstance(own, dict) else {}
+
+
+def _node_extras(gltf) -> dict:
+    """illusio's own data (written by illusio.scene.export) of each uniquely named glTF node."""
+    if gltf is None:
+        return {}
+    names = [n.name for n in gltf.nodes]
+    return {n.name: _illusio_extras(n) for n in gltf.nodes if n.name and names.count(n.name) == 1}
+
+
+def _area_light(record: dict, name: str) -> AreaLight:
+    try:
+        return AreaLight(**{k: tuple(v) if isinstance(v, list) else v for k, v in record.items()})
+    except TypeError as exc:
+        raise InputError(f"node {name!r}: extras.illusio.area_light is not an area light ({exc})") from None
+
+
+def _unique(scene: Scene, name: str) -> str:
+    taken = {n.name for n in scene.nodes}
+    candidate, k = name, 1
+    while candidate in taken:
+        k += 1
+        candidate = f"{name}-{k}"
+    return candidate
+
+
+def _gltf_materials(gltf) -> dict:
+    """glTF materials by name (unique names only): their float factors and extensions, which
+    trimesh rounds to bytes or drops."""
+    if gltf is None:
+        return {}
+    names = [m.name for m in gltf.materials]
+    return {m.name: m for m in gltf.materials if m.name and names.count(m.name) == 1}
+
+
+def _material(visual, gltf_materials: dict, unsupported: list[str]) -> Material:
+    from trimesh.visual.material import PBRMaterial, SimpleMaterial
+
+    source = getattr(visual, "material", None)
+    if isinstance(source, PBRMaterial):
+        return _pbr_material(source, gltf_materials.get(source.name), unsupported)
+    if isinstance(source, SimpleMaterial):
+        return _mtl_material(source)
+    colours = getattr(visual, "vertex_colors", None) if getattr(visual, "kind", None) else None
+    if colours is not None and len(colours):
+        return Material(colour=srgb_to_linear(np.asarray(colours, np.float64)[:, :3].mean(axis=0) / 255))
+    return Material()
+
+
+def _factor(value, n: int, default) -> np.ndarray:
+    if value is None:
+        return np.asarray(default, np.float64)
+    a = np.asarray(value, np.float64).reshape(-1)[:n]
+    return a / 255 if np.asarray(value).dtype == np.uint8 else a
+
+
+def _texture(image) -> np.ndarray | None:
+    if image is None:
+        return None
+    rgb = np.asarray(image.convert("RGB"), np.float32) / 255
+    return srgb_to_linear(rgb)
+
+
+def _pbr_material(source, gltf_material, unsupported: list[str]) -> Material:
+    pbr = getattr(gltf_material, "pbrMetallicRoughness", None)
+    base = _factor(getattr(pbr, "baseColorFactor", None) or source.baseColorFactor, 3, (1.0, 1.0, 1.0))
+    metallic = float(_first(getattr(pbr, "metallicFactor", None), source.metallicFactor, 1.0))
+    roughness = float(_first(getattr(pbr, "roughnessFactor", None), source.roughnessFactor, 1.0))
+    alpha = max(roughness**2, 1e-3)
+    emission = _factor(getattr(gltf_material, "emissiveFactor", None) or source.emissiveFactor, 3, (0.0, 0.0, 0.0))
+    extensions = getattr(gltf_material, "extensions", None) or {}
+    strength = float(extensions.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0))
+    emissive_texture = _texture(source.emissiveTexture)
+    if emissive_texture is not None:
+        emission = emission * emissive_texture.reshape(-1, 3).mean(axis=0)
+    own = _illusio_extras(gltf_material)
+    mode = getattr(gltf_material, "alphaMode", None) or getattr(source, "alphaMode", None)
+    name = source.name or "unnamed"
+    if mode in ("MASK", "BLEND"):
+        unsupported.append(f"material {name!r}: alpha {mode.lower()} (drawn opaque)")
+    return Material(
+        colour=tuple(np.clip(base * (1 - metallic), 0, 1)),
+        texture=_texture(source.baseColorTexture),
+        specular=float(own.get("specular", np.clip(0.04 * (1 - metallic) + metallic * base.mean(), 0, 1))),
+        shininess=float(own.get("shininess", np.clip(2 / alpha**2 - 2, 1, 1e4))),
+        emission=tuple(emission * strength),
+    )
+
+
+def _first(*values):
+    return next(v for v in values if v is not None)
+
+
+def _mtl_material(source) -> Material:
+    kwargs = getattr(source, "kwargs", {}) or {}
+    emission = kwargs.get("Ke")
+    specular = _factor(source.specular, 3, (0.0, 0.0, 0.0)) if source.specular is not None else np.zeros(3)
+    return Material(
+        colour=tuple(np.clip(_factor(source.diffuse, 3, (0.8, 0.8, 0.8)), 0, 1)),
+        texture=_texture(source.image),
+        specular=float(np.clip(specular.mean(), 0, 1)),
+        shininess=float(np.clip(source.glossiness or 1.0, 1, 1e4)),
+        emission=tuple(float(v) for v in np.asarray(emission, np.float64).reshape(-1)[:3])
+        if emission is not None
+        else (0.0, 0.0, 0.0),
+    )
+
+
+def _unsupported(gltf) -> list[str]:
+    """What the file uses that illusio does not draw (the lights and cameras are checked as read)."""
+    out = []
+    counts = {
+        "skins": len(gltf.skins or ()),
+        "animations": len(gltf.animations or ()),
+        "meshes with morph targets": sum(1 for m in gltf.meshes if any(p.targets for p in m.primitives)),
+        "meshes with a second uv set (TEXCOORD_1)": sum(
+            1 for m in gltf.meshes if any(getattr(p.attributes, "TEXCOORD_1", None) is not None for p in m.primitives)
+        ),
+    }
+    out += [f"{n} {what}" for what, n in counts.items() if n]
+    drawn = {"KHR_lights_punctual", "KHR_materials_emissive_strength"}
+    used = sorted(set(gltf.extensionsUsed or ()) - drawn)
+    if used:
+        out.append("extensions " + ", ".join(used))
+    return out
+
+
+def _node_matrices(gltf) -> list[np.ndarray]:
+    """Each glTF node's local → world 4×4 (matrix, or translation · rotation · scale)."""
+    from trimesh.transformations import quaternion_matrix
+
+    local = []
+    for node in gltf.nodes:
+        if node.matrix is not None:
+            m = np.asarray(node.matrix, np.float64).reshape(4, 4).T  # glTF stores columns
+        else:
+            m = np.eye(4)
+            if node.scale is not None:
+                m = np.diag([*node.scale, 1.0]) @ m
+            if node.rotation is not None:
+                x, y, z, w = node.rotation
+                m = quaternion_matrix([w, x, y, z]) @ m
+            if node.translation is not None:
+                m[:3, 3] += node.translation
+        if not np.isfinite(m).all():
+            raise InputError(f"node {node.name or gltf.nodes.index(node)!r}: its transform is not finite")
+        local.append(m)
+    parent = {c: i for i, n in enumerate(gltf.nodes) for c in (n.children or ())}
+    world: dict[int, np.ndarray] = {}
+
+    def resolve(i: int, depth: int = 0) -> np.ndarray:
+        if depth > len(gltf.nodes):
+            raise InputError("the node hierarchy has a cycle")
+        if i not in world:
+            world[i] = (resolve(parent[i], depth + 1) if i in parent else np.eye(4)) @ local[i]
+        return world[i]
+
+    return [resolve(i) for i in range(len(gltf.nodes))]
+
+
+def _lights_and_cameras(gltf, scene: Scene, unsupported: list[str]) -> None:
+    lights = (gltf.extensions or {}).get("KHR_lights_punctual", {}).get("lights", [])
+    matrices = _node_matrices(gltf)
+    lo, hi = scene.bounds()
+    centre, radius = (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1e-6)
+    for i, node in enumerate(gltf.nodes):
+        m = matrices[i]
+        position = m[:3, 3]
+        forward = -m[:3, 2] / max(np.linalg.norm(m[:3, 2]), 1e-12)
+        light_ref = (node.extensions or {}).get("KHR_lights_punctual")
+        if light_ref is not None:
+            index = light_ref.get("light")
+            if not isinstance(index, int) or not 0 <= index < len(lights):
+                raise InputError(f"node {node.name!r}: light {index!r} is not in KHR_lights_punctual")
+            name = lights[index].get("name") or node.name or f"light-{index}"
+            scene.lights.append(_light(lights[index], name, position, forward, centre, radius))
+            scene.lights[-1].shadows = bool(_illusio_extras(node).get("shadows", True))
+            if lights[index].get("type") == "spot":
+                unsupported.append(f"spot light {scene.lights[-1].name!r}: its cone is not drawn (a point light)")
+        if node.camera is not None:
+            if not 0 <= node.camera < len(gltf.cameras):
+                raise InputError(f"node {node.name!r}: camera {node.camera} does not exist")
+            camera = gltf.cameras[node.camera]
+            name = node.name or camera.name or f"camera-{node.camera}"
+            if camera.type != "perspective" or camera.perspective is None:
+                unsupported.append(f"orthographic camera {name!r}")
+                continue
+            p = camera.perspective
+            near = float(p.znear or 0.05)
+            far = float(p.zfar) if p.zfar else max(1000 * near, 4 * radius + float(np.linalg.norm(position - centre)))
+            up = m[:3, 1] / max(np.linalg.norm(m[:3, 1]), 1e-12)
+            target = position + forward * max(float(np.dot(centre - position, forward)), near * 2)
+            own = _illusio_extras(camera)
+            lens = Camera(
+                float(np.degrees(p.yfov)),
+                near,
+                far,
+                shift=tuple(own.get("shift", (0.0, 0.0))),
+                pixel_aspect=float(own.get("pixel_aspect", 1.0)),
+            )
+            scene.cameras[name] = View(Pose(tuple(position), tuple(target), tuple(up)), lens)
+
+
+def _light(light: dict, name: str, position, forward, centre, radius) -> PointLight:
+    kind = light.get("type")
+    colour = tuple(float(c) for c in light.get("color", (1.0, 1.0, 1.0)))
+    intensity = float(light.get("intensity", 1.0))
+    if kind in ("point", "spot"):
+        return PointLight(tuple(position), colour, intensity / LUMENS_PER_WATT, name=name)
+    if kind == "directional":
+        distance = DIRECTIONAL_DISTANCE * radius
+        return PointLight(
+            tuple(centre - forward * distance), colour, intensity / LUMENS_PER_WATT * distance**2, name=name
+        )
+    raise InputError(f"light {name!r}: unknown type {kind!r} (point, spot or directional)")
+
+
+def _scene_extras(gltf, scene: Scene) -> None:
+    """The scene-wide data illusio.scene.export writes: name, ambient, background, curves, actions."""
+    from .scene import Action, Curve
+
+    own = _illusio_extras(gltf.scenes[gltf.scene or 0]) if gltf.scenes else {}
+    scene.name = str(own.get("name", scene.name))
+    for key in ("ambient", "background"):
+        if key in own:
+            setattr(scene, key, tuple(float(v) for v in own[key]))
+    for record in own.get("curves", ()):
+        scene.curves[record["name"]] = Curve(
+            record["name"], np.asarray(record["points"]), record.get("kind", "polyline")
+        )
+    for record in own.get("actions", ()):
+        scene.actions[record["name"]] = Action(record["name"], record["object"], record["curve"])
+
+
+def framing_view(scene: Scene, azimuth: float = 30.0, elevation: float = 20.0, fov_y: float = 40.0) -> View:
+    """A camera orbiting the centre of the scene's bounds that fits their bounding sphere in view."""
+    lo, hi = scene.bounds()
+    centre, radius = (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1e-6)
+    distance = radius * 1.1 / np.sin(np.radians(fov_y) / 2)
+    pose = Pose.orbit(tuple(centre), distance, azimuth, elevation)
+    return View(pose, Camera(fov_y, max(distance - 2 * radius, distance * 1e-3), distance + 2 * radius))
+
+
+def _add_lamps(scene: Scene) -> None:
+    lo, hi = scene.bounds()
+    centre, radius = (lo + hi) / 2, max(float(np.linalg.norm(hi - lo)) / 2, 1e-6)
+    side = 0.8 * radius
+    scene.lights.append(
+        AreaLight(
+            tuple(centre + np.array([1.5, 3.0, 1.5]) * radius),
+            (side, 0, 0),
+            (0, 0, side),
+            (1.0, 0.97, 0.92),
+            35.0,
+            name="key",
+        )
+    )
+    scene.lights.append(
+        PointLight(tuple(centre + np.array([-2.5, 1.0, 1.0]) * radius), (0.75, 0.85, 1.0), 2.5 * radius**2, name="fill")
+    )
