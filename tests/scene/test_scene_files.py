@@ -264,3 +264,29 @@ def test_a_truncated_glb_is_one_line_and_exit_2(tmp_path, room):
     data = room.read_bytes()
     (tmp_path / "cut.glb").write_bytes(data[: len(data) // 2])
     assert_one_line_error(illusio("render", tmp_path / "cut.glb", "-o", tmp_path / "x.png"), "cut.glb")
+
+
+def test_a_multi_material_obj_read_as_one_mesh_counts_the_files_unreferenced_vertices(tmp_path):
+    """Two cubes of two materials and one stray vertex: read as one shape (lines), the one stray
+    vertex is dropped and said, not each material's copy of the other cube's eight."""
+    from illusio.scene.mesh import MeshWarning, load_mesh
+
+    corners = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    lines = (
+        ["mtllib two.mtl"] + [f"v {x} {y} {z}" for x, y, z in corners] + [f"v {x + 3} {y} {z}" for x, y, z in corners]
+    )
+    lines.append("v 9 9 9")
+    for material, offset in (("red", 0), ("blue", 8)):
+        lines += [f"o {material}-cube", f"usemtl {material}"]
+        lines += ["f " + " ".join(str(v + 1 + offset) for v in quad) for quad in quads]
+    (tmp_path / "two.obj").write_text("\n".join(lines) + "\n")
+    (tmp_path / "two.mtl").write_text("newmtl red\nKd 0.8 0.1 0.1\nnewmtl blue\nKd 0.1 0.1 0.8\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mesh = load_mesh(tmp_path / "two.obj")
+    said = [str(w.message) for w in caught if issubclass(w.category, MeshWarning)]
+    assert said == [f"{tmp_path / 'two.obj'}: dropped 1 unreferenced vertices"], said
+    assert len(mesh.vertices) == 16 and len(mesh.faces) == 24
+    scene = load_scene_file(tmp_path / "two.obj")  # as a scene: two nodes, their own colours
+    assert len(scene.nodes) == 2

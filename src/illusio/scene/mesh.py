@@ -254,7 +254,15 @@ def _read_with_trimesh(p: Path):
         geoms = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)] if loaded.geometry else []
         if not geoms:
             raise InputError(f"{p}: mesh is empty (no triangles in the file)")
-        loaded = trimesh.util.concatenate(geoms) if len(geoms) > 1 else geoms[0]
+        shared = all(
+            len(g.vertices) == len(geoms[0].vertices) and np.array_equal(g.vertices, geoms[0].vertices) for g in geoms
+        )
+        if len(geoms) > 1 and shared:
+            # one vertex list that each material's faces index (an OBJ's, read in order): kept once,
+            # so an unreferenced count is the file's
+            loaded = trimesh.Trimesh(geoms[0].vertices, np.concatenate([g.faces for g in geoms]), process=False)
+        else:
+            loaded = trimesh.util.concatenate(geoms) if len(geoms) > 1 else geoms[0]
     if not isinstance(loaded, trimesh.Trimesh):
         raise InputError(f"{p}: holds no triangle mesh (found {type(loaded).__name__})")
     vertices = np.asarray(loaded.vertices, dtype=np.float64)
