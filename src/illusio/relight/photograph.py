@@ -145,10 +145,14 @@ def builtin_real_scene(
     return RealScene(polygons, view, render_mitsuba(polygons, view, size, samples, seed, denoise=denoise))
 
 
+#: the model of a real scene, the first of these a folder holds
+MODEL_NAMES = ("scene.yaml", "scene.yml", "scene.glb", "scene.gltf", "scene.obj")
+
+
 def load_real_scene(folder, response: str = "auto") -> RealScene:
-    """A real scene from a folder: ``scene.yaml`` (the model in illusio's scene schema: the lamps are
-    its lights, a surface with an emission is self-luminous), a photograph (PHOTOGRAPH_NAMES, read by
-    read_photograph) and its camera — ``camera.json``
+    """A real scene from a folder: its model (MODEL_NAMES: illusio's scene schema, or glTF or OBJ as
+    other tools write it; the lamps are its lights, a surface with an emission is self-luminous), a
+    photograph (PHOTOGRAPH_NAMES, read by read_photograph) and its camera — ``camera.json``
     (relight.calibrate: a pose and either full intrinsics with OpenCV's distortion, as
     ``illusio relight calibrate`` writes it, or a vertical fov) or else the scene's ``main`` camera.
     The photograph must be the camera's size when camera.json gives one; a distorted lens's
@@ -157,18 +161,19 @@ def load_real_scene(folder, response: str = "auto") -> RealScene:
 
     from ..scene import load_scene
     from ..scene.intrinsics import undistort_image
+    from ..scene.scene_file import SCENE_FILE_FORMATS, load_scene_file
     from .calibrate import read_camera
 
     root = Path(folder)
     if not root.is_dir():
         raise InputError(f"{root}: not a folder (a real scene is a folder with scene.yaml and a photograph)")
-    scene_file = next((root / n for n in ("scene.yaml", "scene.yml") if (root / n).is_file()), None)
+    scene_file = next((root / n for n in MODEL_NAMES if (root / n).is_file()), None)
     if scene_file is None:
-        raise InputError(f"{root}: no scene.yaml (the model of the real scene)")
+        raise InputError(f"{root}: no model of the real scene ({', '.join(MODEL_NAMES)})")
     photo_file = next((root / n for n in PHOTOGRAPH_NAMES if (root / n).is_file()), None)
     if photo_file is None:
         raise InputError(f"{root}: no photograph ({', '.join(PHOTOGRAPH_NAMES)})")
-    scene = load_scene(scene_file)
+    scene = load_scene_file(scene_file) if scene_file.suffix in SCENE_FILE_FORMATS else load_scene(scene_file)
     _response(response) if response != "auto" else None  # a bad response named before any reading
     photograph = read_photograph(photo_file, response)
     camera_file = root / "camera.json"
@@ -182,7 +187,7 @@ def load_real_scene(folder, response: str = "auto") -> RealScene:
         if intrinsics is not None and intrinsics.distorted:
             photograph = undistort_image(photograph, intrinsics)
     else:
-        view = scene.camera("main")
+        view = scene.camera()  # main, or a glTF's first camera
     return RealScene(scene_polygons(scene), view, photograph)
 
 

@@ -63,6 +63,10 @@ def export_gltf(scene: Scene, path: str | os.PathLike) -> Path:
         source = materials.get(material.name)
         if source is not None:
             material.extras = {"illusio": {"specular": source.specular, "shininess": source.shininess}}
+            # trimesh writes factors through a byte: the exact values
+            material.pbrMetallicRoughness.baseColorFactor = [*map(float, source.colour), 1.0]
+            if max(source.emission) > 0:
+                material.emissiveFactor = [float(c) for c in source.emission]
             if max(source.emission) > 1:
                 material.extensions = {
                     "KHR_materials_emissive_strength": {"emissiveStrength": float(max(source.emission))}
