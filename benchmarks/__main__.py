@@ -16,7 +16,11 @@ from .runner import print_table, write_results
 
 #: each technique's suites (core.technique: ``benchmarks``) in the registry's order, then those of
 #: the whole package (the protocol's overheads, the viewer, batch jobs)
-SUITES = list(dict.fromkeys([s for t in techniques().values() for s in t.benchmarks] + ["protocol", "viewer", "batch"]))
+SUITES = list(
+    dict.fromkeys(
+        [s for t in techniques().values() for s in t.benchmarks] + ["protocol", "viewer", "batch", "scene_files"]
+    )
+)
 
 
 def main(argv=None) -> int:

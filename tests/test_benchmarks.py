@@ -55,3 +55,18 @@ def test_dof_speed_is_compared_with_the_accumulation_of_equal_quality():
     assert n == pytest.approx(2**1.5) and t == pytest.approx(80 * 2**0.5)
     assert matched(ladder, 28.0) == (1.0, 40.0)
     assert matched(ladder, 40.0) is None
+
+
+def test_quick_scene_files_benchmark_times_our_load_beside_trimeshs(tmp_path):
+    r = subprocess.run(
+        [sys.executable, "-m", "benchmarks", "scene_files", "--quick", "--repeat", "1", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        timeout=600,
+    )
+    assert r.returncode == 0, r.stderr
+    data = json.loads((tmp_path / "scene_files.json").read_text())
+    names = {t["name"] for t in data["timings"]}
+    assert {"scene-file/illusio load", "scene-file/trimesh load", "scene-file/trimesh load + vertex normals"} <= names
+    assert data["ratios"]["illusio load peak memory (MB, tracemalloc)"] > 0

@@ -132,9 +132,10 @@ def _normalise(n: np.ndarray, fallback=(0.0, 1.0, 0.0)) -> np.ndarray:
 def vertex_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     """Area-weighted vertex normals; isolated vertices get +y."""
     fn = face_normals(np.asarray(vertices, np.float32).reshape(-1, 3), np.asarray(faces, np.int64).reshape(-1, 3))
-    acc = np.zeros((len(vertices), 3))
-    for k in range(3):
-        np.add.at(acc, np.asarray(faces)[:, k], fn)
+    corners = np.asarray(faces, np.int64).reshape(-1)
+    per_corner = np.repeat(fn, 3, axis=0)  # each face's normal at its three corners
+    # bincount sums per vertex as np.add.at does, a few times faster
+    acc = np.stack([np.bincount(corners, per_corner[:, c], minlength=len(vertices)) for c in range(3)], axis=1)
     return _normalise(acc)
 
 
