@@ -259,4 +259,6 @@ def test_a_folder_whose_model_is_gltf_is_the_same_real_scene(tmp_path):
     a, b = load_real_scene(yaml_folder), load_real_scene(gltf_folder)
     assert a.polygons.names == b.polygons.names and a.polygons.lamps == b.polygons.lamps
     assert np.allclose(a.polygons.corners, b.polygons.corners, atol=1e-5)
-    assert np.allclose(a.polygons.reflectance, b.polygons.reflectance) and np.allclose(a.polygons.exitance, b.polygons.exitance)
+    assert np.allclose(a.polygons.reflectance, b.polygons.reflectance) and np.allclose(
+        a.polygons.exitance, b.polygons.exitance
+    )

@@ -290,3 +290,45 @@ def test_a_multi_material_obj_read_as_one_mesh_counts_the_files_unreferenced_ver
     assert len(mesh.vertices) == 16 and len(mesh.faces) == 24
     scene = load_scene_file(tmp_path / "two.obj")  # as a scene: two nodes, their own colours
     assert len(scene.nodes) == 2
+
+
+@pytest.mark.parametrize("technique", ["plain", "sis", "lines", "dof", "ibr", "radiosity", "relight"])
+def test_every_viewer_mode_opens_a_gltf_scene(technique, room, tmp_path, ctx):
+    """`illusio view room.glb --technique T`: each mode draws the file (its camera, its lamps; the sis
+    mode's stereogram on the file's largest surface with uvs, the relighting's photograph of it)."""
+    if technique in ("relight",):
+        pytest.importorskip("mitsuba", reason="the photo extra: the scene's photograph")
+    from illusio.viewer.offscreen import record
+    from illusio.viewer.path import CameraPath, Keyframe
+
+    frames = []
+    path = CameraPath([Keyframe(0.0, (0, 2.5, 5), (0, 0.5, 0)), Keyframe(1.0, (1, 2.5, 5), (0, 0.5, 0))])
+    count = record(
+        technique,
+        str(room),
+        None,
+        (64, 40),
+        path,
+        1.0,
+        tmp_path / "v.mp4",
+        ctx=ctx,
+        on_frame=lambda i, viewer: frames.append(viewer.image()),
+    )
+    assert count == 2 and (tmp_path / "v.mp4").stat().st_size > 0
+    assert max(float(np.std(f)) for f in frames) > 0.01, "blank frames"
+
+
+def test_commands_take_the_files_names(room, tmp_path):
+    """--focus-object, --host and --set-lamp name the file's own nodes and lamps."""
+    r = illusio("dof", room, "--focus-object", "green-ball", "-o", tmp_path / "d.png", "--size", "64x40")
+    assert r.returncode == 0, r.stderr
+    assert "focus 5.38 m" in r.stdout  # the ball's distance along the file camera's axis
+    r = illusio("sis-scene", room, "--host", "floor", "--emission", "0", "-o", tmp_path / "s.png", "--size", "96x64")
+    assert r.returncode == 0, r.stderr
+    r = illusio("radiosity", room, "--set-lamp", "bulb=2", "-o", tmp_path / "r.png", "--size", "64x40")
+    assert r.returncode == 0, r.stderr
+    assert_one_line_error(
+        illusio("sis-scene", room, "--host", "panel", "-o", tmp_path / "x.png", "--size", "96x64"),
+        "no texture coordinates",
+        "floor",
+    )

@@ -79,7 +79,7 @@ class RadiosityRenderer(Renderer):
         solution = self.solve(params)
         view = frame.view
         if view is None:
-            view = self._scene.camera("main") if self._scene is not None else _framing_view(self.polygons)
+            view = self._scene.camera() if self._scene is not None else _framing_view(self.polygons)
         colour, element = self.display(view, frame.size, params.exposure, edges=params.show == "mesh")
         if params.show == "links":
             chosen = params.element if params.element >= 0 else default_element(solution)

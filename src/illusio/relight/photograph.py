@@ -13,8 +13,8 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..radiosity import Polygons, scene_polygons
-from ..scene.builtin import builtin_scene
 from ..scene.camera import View
+from ..scene.sources import resolve_scene
 from .params import DEFAULT_PATHS, DEFAULT_SIZE
 
 __all__ = [
@@ -131,16 +131,17 @@ def builtin_real_scene(
     seed: int = 0,
     denoise: bool | None = None,
 ) -> RealScene:
-    """The built-in case: ``name``'s polygons photographed by Mitsuba from its main camera, at
+    """The built-in case: the polygons of scene ``name`` (a built-in scene, or a scene file: glTF,
+    OBJ, YAML, MGF) photographed by Mitsuba from its main camera, at
     ``samples`` paths a pixel and, with ``denoise`` (default: when pyoidn is installed), through Open
     Image Denoise guided by the first hit's albedo and normal — a camera's clean photograph, where
     the raw path tracer's grain would be carried into every relit image."""
     from ..passes.denoise import denoiser_available
     from ..radiosity import render_mitsuba
 
-    scene = builtin_scene(name)
+    scene = resolve_scene(name)
     polygons = scene_polygons(scene)
-    view = scene.camera("main")
+    view = scene.camera()  # main, or a scene file's first camera
     denoise = denoiser_available() if denoise is None else bool(denoise)
     return RealScene(polygons, view, render_mitsuba(polygons, view, size, samples, seed, denoise=denoise))
 

@@ -50,8 +50,8 @@ class RelightMode(Mode):
         self.renderer = RelightRenderer(ctx)
         self.renderer.prepare(self.real)
         # the office opens on Figure 4.17b (the back lamps off), so the three methods show their
-        # difference; a user's scene as photographed
-        opening = () if folder else (("lamp-0", 0.0), ("lamp-1", 0.0))
+        # difference; any other scene as photographed
+        opening = (("lamp-0", 0.0), ("lamp-1", 0.0)) if self.source == "office" else ()
         self.params = RelightParams(method=self.variant, lamp_scales=opening)
         corners = self.real.polygons.corners.reshape(-1, 3)
         self.floor, self.ceiling = float(corners[:, 1].min()), float(corners[:, 1].max())

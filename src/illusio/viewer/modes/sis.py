@@ -4,6 +4,10 @@ the hidden scene), or the raw stereogram full screen with its depth map beside i
 
 from __future__ import annotations
 
+from dataclasses import replace
+
+import numpy as np
+
 from ...core.renderer import Frame
 from ...scene.builtin import SHAPES
 from ...scene.sources import is_mesh_source, resolve_mesh, resolve_scene
@@ -20,6 +24,19 @@ __all__ = ["SisMode"]
 _WALL = dict(
     host="back-wall", emission=0.0, stereogram=StereogramParams(pattern="pink-noise", strip_width=100, depth_factor=40)
 )
+
+
+def _default_host(scene, wanted: str) -> str:
+    """A node tagged ``host``, else the node with texture coordinates of the largest bounding box."""
+    tagged = [n.name for n in scene.nodes if n.visible and "host" in n.tags]
+    if tagged:
+        return tagged[0]
+    candidates = [n for n in scene.nodes if n.visible and n.mesh.uvs is not None]
+    if not candidates:
+        return wanted  # refused by the renderer with the nodes that could be hosts
+    return max(
+        candidates, key=lambda n: float(np.prod(np.ptp(n.mesh.vertices, axis=0)[np.ptp(n.mesh.vertices, axis=0) > 0]))
+    ).name
 
 
 class SisMode(Mode):
@@ -50,9 +67,13 @@ class SisMode(Mode):
             "wall": MultiSceneParams(**_WALL),
             "interactive": MultiSceneParams(**_WALL, interactive=True),
         }[self.variant]
+        if not any(n.name == self.params.host or self.params.host in n.tags for n in self.scene.nodes):
+            # a scene of the user's, with no node of that name: its own host, else its largest surface
+            # that can carry a stereogram (texture coordinates)
+            self.params = replace(self.params, host=_default_host(self.scene, self.params.host))
 
     def home_view(self):
-        return None if self.variant == "raw" else self.scene.camera("main")
+        return None if self.variant == "raw" else self.scene.camera()
 
     def navigation(self):
         # the source is the hidden shape: the viewer walks the room whatever it is
