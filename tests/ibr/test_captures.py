@@ -182,6 +182,17 @@ def test_a_colmap_workspace_imports(tmp_path, capsys, office_capture):
     assert code == 0, cap.err
     psnr, _ = _score(tmp_path, capsys, tmp_path / "refs", 3)
     assert psnr > 24, psnr
+    # a depth map cut short mid-value (a copy interrupted): one line naming it, exit 2, nothing written
+    from tests.cli.test_cli import assert_one_line_error, illusio
+
+    cut = src / "stereo" / "depth_maps" / "img2.png.geometric.bin"
+    cut.write_bytes(cut.read_bytes()[:-1001])
+    assert_one_line_error(
+        illusio("ibr", "import", "colmap", src, "-o", tmp_path / "refs-2", "--frames", "0,2,4"),
+        "img2.png.geometric.bin",
+        "cut short",
+    )
+    assert not (tmp_path / "refs-2").exists()
 
 
 def _distort(image, intr, k1, k2, p1, p2, order):

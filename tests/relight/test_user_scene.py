@@ -262,3 +262,19 @@ def test_a_folder_whose_model_is_gltf_is_the_same_real_scene(tmp_path):
     assert np.allclose(a.polygons.reflectance, b.polygons.reflectance) and np.allclose(
         a.polygons.exitance, b.polygons.exitance
     )
+
+
+def test_a_folder_without_camera_json_is_refused_unless_the_guess_is_asked_for(tmp_path):
+    """Relit from a guessed camera, the image would be wrong with nothing to stop the user: the
+    folder is refused with the command that makes camera.json; --camera-guess relights anyway."""
+    from tests.cli.test_cli import assert_one_line_error, illusio
+
+    folder = _folder(tmp_path / "room", OFF_CENTRE, np.full((H, W, 3), 0.4, np.float32))
+    (folder / "camera.json").unlink()
+    (folder / "scene.yaml").write_text(ROOM + "cameras:\n  main: {position: [0.2, 1.2, 2.6], target: [0, 0.6, -1]}\n")
+    assert_one_line_error(
+        illusio("relight", folder, "-o", tmp_path / "x.png", "--epsilon", "3e-3"), "no camera.json", "relight calibrate"
+    )
+    assert not (tmp_path / "x.png").exists()
+    r = illusio("relight", folder, "-o", tmp_path / "x.png", "--epsilon", "3e-3", "--camera-guess")
+    assert r.returncode == 0, r.stderr

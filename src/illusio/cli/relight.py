@@ -58,12 +58,15 @@ RESPONSE_HELP = (
 )
 
 
-def _real_scene(scene: str, size: str, samples: int, response: str = "auto"):
+CAMERA_GUESS_HELP = "a folder without camera.json: relight from the model's own camera (unchecked)"
+
+
+def _real_scene(scene: str, size: str, samples: int, response: str = "auto", camera_guess: bool = False):
     """A folder (scene.yaml, photograph, camera.json) or a built-in scene photographed by Mitsuba."""
     from ..relight import builtin_real_scene, load_real_scene
 
     if Path(scene).is_dir():
-        return load_real_scene(scene, response)
+        return load_real_scene(scene, response, camera_guess)
     if not 1 <= samples <= 1 << 16:
         raise InputError(f"--samples must be in 1..65536, got {samples}")
     return builtin_real_scene(scene, parse_size(size), samples)
@@ -80,6 +83,7 @@ def relight_prepare(
     size: str = typer.Option(DEFAULT_SIZE_TEXT, "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph"),
     response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
+    camera_guess: bool = typer.Option(False, "--camera-guess", help=CAMERA_GUESS_HELP),
     *,
     params: RelightParams,
 ) -> None:
@@ -90,7 +94,7 @@ def relight_prepare(
     out = check_output_path(output, [str(p) for p in Path(scene).iterdir()] if Path(scene).is_dir() else [])
     if out.suffix.lower() != ".npz":
         raise InputError(f"-o: a prepared session is saved as .npz, got {out.name}")
-    session = RelightSession(_real_scene(scene, size, samples, response), params)
+    session = RelightSession(_real_scene(scene, size, samples, response, camera_guess), params)
     session.save(out)
     typer.echo(f"wrote {out}: {session.solution.stats.leaves} leaves, prepared in {session.times['prepare']:.1f} s")
     _report_registration(session)
@@ -132,6 +136,7 @@ def relight(
         "or registration (the model's edges over the photograph's)",
     ),
     response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
+    camera_guess: bool = typer.Option(False, "--camera-guess", help=CAMERA_GUESS_HELP),
     *,
     params: RelightParams,
 ) -> None:
@@ -155,7 +160,7 @@ def relight(
     if saved:
         session = RelightSession.load(scene)
     else:
-        session = RelightSession(_real_scene(scene, size, samples, response), params)
+        session = RelightSession(_real_scene(scene, size, samples, response, camera_guess), params)
     real = session.real
     unknown = sorted(set(scales) - set(session.lamp_names))
     if unknown:

@@ -287,9 +287,13 @@ def read_colmap_array(path) -> np.ndarray:
     if not match:
         raise InputError(f"{p}: not a COLMAP array (it starts with width&height&channels&)")
     w, h, c = (int(v) for v in match.groups())
-    values = np.frombuffer(data[match.end() :], dtype="<f4")
-    if values.size != w * h * c:
-        raise InputError(f"{p}: {values.size} values for a {w}×{h}×{c} map")
+    body = data[match.end() :]
+    if len(body) != 4 * w * h * c:  # checked in bytes: a file cut mid-value is no whole float32
+        raise InputError(
+            f"{p}: {len(body):,} bytes of values for a {w}×{h}×{c} map of float32 ({4 * w * h * c:,} bytes): "
+            f"{'cut short' if len(body) < 4 * w * h * c else 'too long'}"
+        )
+    values = np.frombuffer(body, dtype="<f4")
     a = values.reshape((w, h, c), order="F").transpose(1, 0, 2)[..., 0]
     return np.where(np.isfinite(a) & (a > 0), a, 0.0).astype(np.float32)
 

@@ -150,12 +150,13 @@ def builtin_real_scene(
 MODEL_NAMES = ("scene.yaml", "scene.yml", "scene.glb", "scene.gltf", "scene.obj")
 
 
-def load_real_scene(folder, response: str = "auto") -> RealScene:
+def load_real_scene(folder, response: str = "auto", camera_guess: bool = False) -> RealScene:
     """A real scene from a folder: its model (MODEL_NAMES: illusio's scene schema, or glTF or OBJ as
     other tools write it; the lamps are its lights, a surface with an emission is self-luminous), a
     photograph (PHOTOGRAPH_NAMES, read by read_photograph) and its camera — ``camera.json``
     (relight.calibrate: a pose and either full intrinsics with OpenCV's distortion, as
-    ``illusio relight calibrate`` writes it, or a vertical fov) or else the scene's ``main`` camera.
+    ``illusio relight calibrate`` writes it, or a vertical fov); without it the folder is refused
+    unless ``camera_guess`` takes the model's own camera (a wrong guess relights a wrong image).
     The photograph must be the camera's size when camera.json gives one; a distorted lens's
     photograph is undistorted here, so every pass sees a pinhole's image."""
     from pathlib import Path
@@ -187,8 +188,14 @@ def load_real_scene(folder, response: str = "auto") -> RealScene:
             )
         if intrinsics is not None and intrinsics.distorted:
             photograph = undistort_image(photograph, intrinsics)
+    elif camera_guess:
+        view = scene.camera()  # main, or a glTF's first camera: the user's explicit guess
     else:
-        view = scene.camera()  # main, or a glTF's first camera
+        raise InputError(
+            f"{root}: no camera.json (where the photograph was taken from): make it with `illusio relight "
+            f"calibrate {photo_file} --points POINTS.txt -o {camera_file}`, or relight with --camera-guess "
+            f"(the model's own camera, unchecked)"
+        )
     return RealScene(scene_polygons(scene), view, photograph)
 
 
