@@ -177,7 +177,7 @@ def test_concave_faces_are_triangulated_inside_their_outline(tmp_path):
         ("v a =\n\tp 0 0\n", "s.mgf:2: p takes 3 numbers, got 2"),
         ("xf -q 3\n", "s.mgf:1: xf -q is not read"),
         ("m nothing\n", "s.mgf:1: material 'nothing' is not defined"),
-        ("m x =\n\trd 1.5\n", "s.mgf:2: rd must be in [0, 1)"),
+        ("m x =\n\trd 1.5\n", "s.mgf:2: rd must be in [0, 1]"),
         ("i missing.mgf\n", "s.mgf:1: included file missing.mgf not found"),
         ("v c =\n\tp 0 0 0\nsph c\n", "s.mgf:3: sph expects a centre vertex and a radius"),
     ],
@@ -196,3 +196,33 @@ def test_unsupported_entities_are_named_in_one_warning(tmp_path):
     assert len(caught) == 1
     message = str(caught[0].message)
     assert all(s in message for s in ("ies", "fh", "rs (specular) × 1", "ts (transmission) × 1"))
+
+
+def test_renderparks_graz_office_reads_with_its_rd_1_said_once(mgf_scenes):
+    """graz.mgf (RenderPark's own scene) has materials with rd 1, which RenderPark reads with a
+    warning: read too, capped at MAX_REFLECTANCE, the lines named in one warning."""
+    from illusio.radiosity import scene_polygons
+    from illusio.scene.mgf import MAX_REFLECTANCE
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        scene = load_scene(mgf_scenes / "graz.mgf")
+    said = [str(w.message) for w in caught if "rd 1" in str(w.message)]
+    assert len(said) == 1 and "graz.mgf: rd 1 at line" in said[0] and "696" in said[0]
+    polygons = scene_polygons(scene)
+    assert polygons.reflectance.max() == pytest.approx(MAX_REFLECTANCE) and len(polygons) > 13_000
+
+
+def test_one_zero_area_polygon_is_dropped_and_counted_not_the_scene_refused(tmp_path):
+    """A sliver of (numerically) zero area among a file's polygons, as in RenderPark's scenes: dropped, counted in one warning naming its object."""
+    from illusio.radiosity import scene_polygons
+
+    floor = "m grey =\n\tc\n\trd 0.5\nv a =\n\tp 0 0 0\nv b =\n\tp 4 0 0\nv c =\n\tp 4 4 0\nv d =\n\tp 0 4 0\n"
+    sliver = "o glass1\nv e =\n\tp 1 1 0.5\nv g =\n\tp 2 2 0.5\nv h =\n\tp 1.5 1.5000000001 0.5\nf e g h\no -\n"
+    text = floor + "f a b c d\n" + sliver + LAMP
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        polygons = scene_polygons(load_mgf(_write(tmp_path, text), up="z"))
+    said = [str(w.message) for w in caught if "degenerate" in str(w.message)]
+    assert len(said) == 1 and "dropped 1 degenerate polygon " in said[0] and "glass1" in said[0], said
+    assert len(polygons) == 2  # the floor and the lamp

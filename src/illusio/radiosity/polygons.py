@@ -13,6 +13,7 @@ material emits is an emitter of exitance π × its emission (the office's monito
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -25,6 +26,10 @@ __all__ = ["Polygons", "scene_polygons", "quads_from_triangles", "MAX_POLYGONS"]
 #: the most input polygons a solution takes: every pair of roots that see each other is at least one
 #: link (there is no clustering of small polygons), so the links grow with the square of this
 MAX_POLYGONS = 4000
+
+
+#: a polygon whose area is below this share of the scene's extent squared is degenerate
+DEGENERATE_AREA = 1e-10
 
 
 @dataclass(eq=False)
@@ -67,7 +72,7 @@ class Polygons:
             raise InputError(f"{self.where(bad)} has non-finite corners")
         areas = polygon_areas(self.corners, self.triangle)
         scale = max(float(np.ptp(self.corners.reshape(-1, 3), axis=0).max()), 1e-9) if len(self) else 1.0
-        degenerate = areas <= 1e-10 * scale * scale
+        degenerate = areas <= DEGENERATE_AREA * scale * scale
         if degenerate.any():
             k = int(np.flatnonzero(degenerate)[0])
             what = "zero-area emitter" if self.exitance[k].max() > 0 else "degenerate polygon (zero area)"
@@ -286,8 +291,8 @@ def _cube(centre, side: float) -> np.ndarray:
 
 def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
     """The polygons of ``scene``'s visible nodes (ρ = material colour × the texture's mean) and of its
-    lamps (see the module docstring). Raises InputError on degenerate polygons, zero-area emitters
-    and reflectances outside [0, 1)."""
+    lamps (see the module docstring). Degenerate polygons (zero area) are dropped and counted in one
+    warning; InputError on reflectances outside [0, 1)."""
     corners, triangle, rho, exitance, group, names, lamps = [], [], [], [], [], [], []
     for node in scene.nodes:
         if not node.visible or "lamp" in node.tags:
@@ -327,12 +332,19 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         group.append(np.full(len(c), g))
     if not corners:
         raise InputError(f"scene {scene.name!r} has no visible geometry for radiosity")
-    return Polygons(
-        np.concatenate(corners),
-        np.concatenate(triangle),
-        np.concatenate(rho),
-        np.concatenate(exitance),
-        np.concatenate(group),
-        names,
-        lamps,
-    )
+    arrays = [np.concatenate(a) for a in (corners, triangle, rho, exitance, group)]
+    areas = polygon_areas(arrays[0], arrays[1])
+    scale = max(float(np.ptp(arrays[0].reshape(-1, 3), axis=0).max()), 1e-9)
+    degenerate = areas <= DEGENERATE_AREA * scale * scale
+    if degenerate.any():  # as RenderPark does: a scene of thousands is not refused for one sliver
+        where = sorted({names[g] for g in arrays[4][degenerate]})
+        warnings.warn(
+            f"scene {scene.name!r}: dropped {int(degenerate.sum())} degenerate polygon"
+            f"{'s' if degenerate.sum() > 1 else ''} (zero area) of {', '.join(where[:4])}"
+            f"{' …' if len(where) > 4 else ''}",
+            stacklevel=2,
+        )
+        arrays = [a[~degenerate] for a in arrays]
+        if not len(arrays[0]):
+            raise InputError(f"scene {scene.name!r}: every polygon has zero area")
+    return Polygons(*arrays, names, lamps)

@@ -97,6 +97,10 @@ class _Colour:
         return chromaticity_rgb(self.x, self.y)
 
 
+#: the largest reflectance a surface is given (radiosity's iteration converges only below 1)
+MAX_REFLECTANCE = 0.98
+
+
 @dataclass
 class _Material:
     rd: float = 0.0
@@ -106,7 +110,7 @@ class _Material:
     colour: _Colour = field(default_factory=_Colour)  # the material's current colour context
 
     def material(self) -> Material:
-        rho = np.clip(self.rd * self.rd_colour.rgb(), 0.0, 0.98)  # radiosity needs ρ < 1
+        rho = np.clip(self.rd * self.rd_colour.rgb(), 0.0, MAX_REFLECTANCE)  # radiosity needs ρ < 1
         emission = self.ed / LUMENS_PER_WATT * self.ed_colour.rgb() / math.pi  # exitance → radiance
         return Material(colour=tuple(rho), emission=tuple(emission))
 
@@ -169,6 +173,8 @@ class _State:
     #: (object path, material name) -> (triangles (n, 3, 3), its Material)
     geometry: dict[tuple[str, str], list] = field(default_factory=dict)
     ignored: Counter = field(default_factory=Counter)
+    #: lines of ``rd 1`` (read as the reflectance cap, MAX_REFLECTANCE)
+    full_reflectance: list[str] = field(default_factory=list)
 
     def point(self, name: str, where: str) -> np.ndarray:
         v = self.vertices.get(name)
@@ -436,8 +442,10 @@ def _entity(path: Path, state: _State, kind: str, args: list[str], where: str, d
         state.material.colour.x, state.material.colour.y = _spectrum_xy(wavelength, planck)
     elif kind == "rd":
         (value,) = _numbers(args, 1, kind, where)
-        if not 0 <= value < 1:
-            raise InputError(f"{where}: rd must be in [0, 1), got {value:g}")
+        if not 0 <= value <= 1:
+            raise InputError(f"{where}: rd must be in [0, 1], got {value:g}")
+        if value >= 1:  # RenderPark reads it too (and warns): all the light reflected
+            state.full_reflectance.append(where.rpartition(":")[2] or where)
         state.material.rd, state.material.rd_colour = float(value), replace(state.material.colour)
     elif kind == "ed":
         (value,) = _numbers(args, 1, kind, where)
@@ -507,6 +515,14 @@ def load_mgf(path, segments: int = SEGMENTS, up: str = "auto") -> Scene:
         warnings.warn(
             f"{p.name}: MGF entities read and not used: "
             + ", ".join(f"{name} × {count}" for name, count in sorted(state.ignored.items())),
+            stacklevel=2,
+        )
+    if state.full_reflectance:
+        lines = state.full_reflectance
+        warnings.warn(
+            f"{p.name}: rd 1 at line{'s' if len(lines) > 1 else ''} {', '.join(lines[:5])}"
+            f"{' …' if len(lines) > 5 else ''}: read as {MAX_REFLECTANCE:g} (a surface reflecting all its light "
+            "never lets a closed room's radiosity converge)",
             stacklevel=2,
         )
     scene = Scene(p.stem, ambient=(0.0, 0.0, 0.0), background=(0.0, 0.0, 0.0))
