@@ -214,7 +214,8 @@ def test_renderparks_graz_office_reads_with_its_rd_1_said_once(mgf_scenes):
 
 
 def test_one_zero_area_polygon_is_dropped_and_counted_not_the_scene_refused(tmp_path):
-    """A sliver of (numerically) zero area among a file's polygons, as in RenderPark's scenes: dropped, counted in one warning naming its object."""
+    """A sliver of (numerically) zero area among a file's polygons, as in RenderPark's scenes:
+    dropped, counted in one warning naming its object."""
     from illusio.radiosity import scene_polygons
 
     floor = "m grey =\n\tc\n\trd 0.5\nv a =\n\tp 0 0 0\nv b =\n\tp 4 0 0\nv c =\n\tp 4 4 0\nv d =\n\tp 0 4 0\n"
