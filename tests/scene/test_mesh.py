@@ -107,3 +107,45 @@ def test_obj_negative_indices_and_off_counts_on_the_keyword_line_load(tmp_path):
     off.write_text("OFF 4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 2\n")
     m = load_mesh(off)
     assert len(m.faces) == 2 and np.allclose(np.ptp(m.vertices, axis=0), (1, 1, 0))
+
+
+def _cube_obj(relative: bool) -> str:
+    """A cube whose faces follow their own v/vt/vn lines, indexed relatively (``f -4/-4/-1 ...``,
+    the construct of the peer's file, with more uvs and normals than positions) or absolutely."""
+    corners = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    lines = ["# relative indices, interleaved"]
+    for k, quad in enumerate(quads):
+        lines += [f"v {x} {y} {z}" for x, y, z in (corners[v] for v in quad)]
+        lines += ["vt 0 0", "vt 1 0", "vt 1 1", "vt 0 1", "vt 0.5 0.5", "vt 0.25 0.25", "vn 0 0 1", "vn 0 1 0"]
+        if relative:
+            lines.append("f " + " ".join(f"{c - 4}/{c - 6}/-2" for c in range(4)))
+        else:
+            lines.append("f " + " ".join(f"{4 * k + c + 1}/{6 * k + c + 1}/{2 * k + 1}" for c in range(4)))
+    return "\n".join(lines) + "\n"
+
+
+def test_an_obj_with_relative_indices_and_uvs_normals_reads_as_its_absolute_twin(tmp_path):
+    (tmp_path / "relative.obj").write_text(_cube_obj(True))
+    (tmp_path / "absolute.obj").write_text(_cube_obj(False))
+    a, b = load_mesh(tmp_path / "relative.obj"), load_mesh(tmp_path / "absolute.obj")
+    assert len(a.faces) == 12 and np.array_equal(a.vertices, b.vertices) and np.array_equal(a.faces, b.faces)
+    assert np.allclose(a.bounds[0], 0) and np.allclose(a.bounds[1], 1)
+
+
+def test_an_off_whose_header_is_indented_glued_and_commented_reads(tmp_path):
+    """``\\t   OFF8 6 12 # ...``: whitespace first, the vertex count glued to the keyword, a comment."""
+    corners = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+    quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    text = "\t   OFF8 6 12 # a cube, as a peer's test set writes it\n"
+    text += (
+        "\n".join(f"{x} {y} {z}" for x, y, z in corners)
+        + "\n"
+        + "\n".join(f"4 {a} {b} {c} {d}" for a, b, c, d in quads)
+    )
+    (tmp_path / "cube.off").write_text(text + "\n")
+    mesh = load_mesh(tmp_path / "cube.off")
+    assert len(mesh.vertices) == 8 and len(mesh.faces) == 12
+    (tmp_path / "cut.off").write_text(text.rsplit("\n", 2)[0] + "\n")  # the last face cut off
+    with pytest.raises(InputError, match="cut short"):
+        load_mesh(tmp_path / "cut.off")

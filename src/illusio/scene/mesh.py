@@ -6,6 +6,7 @@ outside, normals (N, 3) float32 unit, uvs (N, 2) float32 with v up (GL conventio
 
 from __future__ import annotations
 
+import io
 import os
 import warnings
 from dataclasses import dataclass, field, replace
@@ -231,6 +232,7 @@ def load_mesh(path: str | os.PathLike, *, repair: bool = True) -> Mesh:
 def _read_with_trimesh(p: Path):
     import trimesh
 
+    from .obj_indices import absolute_indices
     from .ply_strips import has_tristrips, read_ply_tristrips
 
     if p.suffix.lower() == ".ply" and has_tristrips(p):
@@ -242,10 +244,20 @@ def _read_with_trimesh(p: Path):
             raise InputError(f"{p}: cannot read PLY triangle strips ({exc})") from None
         return vertices, faces, None
 
+    absolute = absolute_indices(p.read_bytes()) if p.suffix.lower() == ".obj" else None
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            loaded = trimesh.load(str(p), process=False, maintain_order=True)
+            if absolute is not None:  # relative indices: the spec's meaning, not trimesh's
+                loaded = trimesh.load(
+                    io.BytesIO(absolute),
+                    file_type="obj",
+                    resolver=trimesh.resolvers.FilePathResolver(str(p)),
+                    process=False,
+                    maintain_order=True,
+                )
+            else:
+                loaded = trimesh.load(str(p), process=False, maintain_order=True)
     except Exception as exc:  # trimesh raises many kinds on corrupt input
         reason = " ".join(str(exc).split())[:200] or type(exc).__name__
         if "expected length" in reason:  # trimesh's PLY and GLB readers check the declared sizes

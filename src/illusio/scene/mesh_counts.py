@@ -8,6 +8,7 @@ reader, its total length here.)
 
 from __future__ import annotations
 
+import re
 import struct
 from pathlib import Path
 
@@ -125,9 +126,11 @@ def _check_off(path: Path, data: bytes) -> None:
         return
     head = lines[0].split()
     at = 1
-    if head[:1] and head[0].endswith(b"OFF"):
-        head = head[1:] or (lines[1].split() if len(lines) > 1 else [])
-        at = 1 if len(lines[0].split()) > 1 else 2
+    keyword = re.match(rb"^([A-Za-z]*OFF)(\d*)$", head[0]) if head else None
+    if keyword:  # "OFF", "COFF"..., the counts on its line (even glued to it: "OFF8 6 12") or the next
+        head = ([keyword.group(2)] if keyword.group(2) else []) + head[1:]
+        if not head:
+            head, at = (lines[1].split() if len(lines) > 1 else []), 2
     if len(head) < 2 or not all(t.isdigit() for t in head[:2]):
         raise InputError(
             f"{path}: OFF header must give the vertex and face counts, "

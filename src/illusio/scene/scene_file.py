@@ -32,6 +32,7 @@ scaled to its bounds (said in the warning).
 
 from __future__ import annotations
 
+import io
 import os
 import warnings
 from pathlib import Path
@@ -146,10 +147,19 @@ def load_scene_file(path: str | os.PathLike) -> Scene:
 def _load_trimesh(p: Path):
     import trimesh
 
+    from .obj_indices import absolute_indices
+
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            loaded = trimesh.load(str(p), force="scene", process=False)
+            absolute = absolute_indices(p.read_bytes()) if p.suffix.lower() == ".obj" else None
+            if absolute is not None:  # relative indices: the spec's meaning, not trimesh's
+                resolver = trimesh.resolvers.FilePathResolver(str(p))
+                loaded = trimesh.load(
+                    io.BytesIO(absolute), file_type="obj", resolver=resolver, force="scene", process=False
+                )
+            else:
+                loaded = trimesh.load(str(p), force="scene", process=False)
     except Exception as exc:  # trimesh raises many kinds on corrupt input
         reason = " ".join(str(exc).split())[:200] or type(exc).__name__
         raise InputError(f"{p}: cannot read scene ({reason})") from None
