@@ -490,3 +490,19 @@ def test_a_lamp_facing_away_from_everything_is_named():
     with pytest.warns(UserWarning, match="no light reaches any surface"):
         sol.build()
     assert sol.result.converged and sol.result.iterations < 10
+
+
+def test_a_refinement_past_its_link_budget_stops_with_the_budget_named(tmp_path):
+    """A scene whose links run away would grow until memory runs out: the budget stops it, by name."""
+    from illusio.scene import load_scene
+    from tests.cli.test_cli import assert_one_line_error, illusio
+
+    polygons = scene_polygons(load_scene("cornell-box"))
+    with pytest.raises(InputError, match=r"budget of 2,000 links \(--max-links\)"):
+        Radiosity(polygons, HierarchyParams(epsilon=1e-5, max_links=2_000)).build()
+    assert len(Radiosity(polygons, HierarchyParams(epsilon=1e-3, max_links=100_000)).build().links) < 100_000
+    assert_one_line_error(
+        illusio("radiosity", "cornell-box", "--max-links", "2000", "--epsilon", "1e-5", "-o", tmp_path / "x.png"),
+        "--max-links",
+    )
+    assert not (tmp_path / "x.png").exists()

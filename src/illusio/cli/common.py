@@ -31,7 +31,9 @@ SCENE_HELP = (
 
 def on_turntable_option():
     """The ``--on-turntable`` switch: read a glTF or OBJ scene file as one shape on the turntable."""
-    return typer.Option(False, "--on-turntable", help="read a scene file as one merged shape on the turntable")
+    return typer.Option(
+        False, "--on-turntable/--as-scene", help="read a scene file as one merged shape on the turntable"
+    )
 
 
 def parse_size(text: str) -> tuple[int, int]:

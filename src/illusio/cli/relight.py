@@ -83,7 +83,7 @@ def relight_prepare(
     size: str = typer.Option(DEFAULT_SIZE_TEXT, "--size", help="WIDTHxHEIGHT of the photograph (its main camera)"),
     samples: int = typer.Option(DEFAULT_PATHS, "--samples", help="paths per pixel of the photograph"),
     response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
-    camera_guess: bool = typer.Option(False, "--camera-guess", help=CAMERA_GUESS_HELP),
+    camera_guess: bool = typer.Option(False, "--camera-guess/--no-camera-guess", help=CAMERA_GUESS_HELP),
     *,
     params: RelightParams,
 ) -> None:
@@ -136,7 +136,7 @@ def relight(
         "or registration (the model's edges over the photograph's)",
     ),
     response: str = typer.Option("auto", "--response", help=RESPONSE_HELP),
-    camera_guess: bool = typer.Option(False, "--camera-guess", help=CAMERA_GUESS_HELP),
+    camera_guess: bool = typer.Option(False, "--camera-guess/--no-camera-guess", help=CAMERA_GUESS_HELP),
     *,
     params: RelightParams,
 ) -> None:

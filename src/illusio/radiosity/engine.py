@@ -80,6 +80,7 @@ class Radiosity:
         self.hierarchy = Hierarchy(polygons)
         self.visibility = Visibility(self.hierarchy, params.visibility_samples, params.seed)
         self.links = Links()
+        self.links.budget = self.params.max_links
         #: the clusters over the input polygons (None without ``params.clusters``) and their links
         self.tree = ClusterTree.build(self.hierarchy) if params.clusters else None
         self.cluster_links = ClusterLinks()
@@ -183,6 +184,7 @@ class Radiosity:
         reused, new ones made where the criterion asks), then solve: the second pass of Loscos
         4.3.3, links where the criterion puts them instead of at the leaves."""
         self.links = Links()
+        self.links.budget = self.params.max_links
         self.cluster_links = ClusterLinks()
         self._matrix = None
         self._link_from_roots(tolerance, max_iterations)

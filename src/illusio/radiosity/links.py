@@ -80,6 +80,8 @@ class Links:
     the link's rays gave when it was last recast (:meth:`Visibility.recast`), NO_RAYS (-1) for none."""
 
     def __init__(self, receiver=(), source=(), form_factor=(), visibility=(), tag=None, tag_owner=None, rays=None):
+        #: the most links refinement may make (radiosity.refine stops with an InputError past it); None: no bound
+        self.budget: int | None = None
         self._n = len(receiver)
         self._receiver = np.array(receiver, np.int64).reshape(-1)
         self._source = np.array(source, np.int64).reshape(-1)

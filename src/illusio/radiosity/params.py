@@ -39,7 +39,9 @@ class HierarchyParams:
     pair of input polygons is refined from the start (exact form factors everywhere, quadratic in
     the polygon count, at most MAX_POLYGONS). sliver_piece: a quad longer than max(4 × its width,
     sliver_piece·√A_ε) is cut along its length into pieces that long (Polygons.split_slivers; 0: never),
-    since an element narrower than √A_ε is never split however the light varies along it."""
+    since an element narrower than √A_ε is never split however the light varies along it. max_links:
+    the refinement's budget: past it the refinement stops with an error naming it (a scene whose links
+    run away would grow until memory runs out)."""
 
     epsilon: float = param(6e-5, range=(1e-9, 1.0), log=True, label="refinement ε (× total power)")
     min_area: float = param(0.0, range=(0.0, 100.0), unit="m²", label="minimum element area A_ε (0: automatic)")
@@ -51,6 +53,13 @@ class HierarchyParams:
     refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds")
     seed: int = param(0, range=(0, 2**31 - 1), step=1, help="visibility rays (and the path tracer of a reference)")
     clusters: bool = param(True, help="link through clusters of polygons (off: every pair of input polygons)")
+    max_links: int = param(
+        50_000_000,
+        range=(1_000, 2**31 - 1),
+        step=1_000,
+        label="link budget",
+        help="refinement stops with an error past this many links (memory: about 100 bytes a link)",
+    )
     sliver_piece: float = param(
         1.0,
         range=(0.0, 100.0),
@@ -91,6 +100,7 @@ class RadiosityParams:
         "tolerance": "a change re-solves from the solution shown, already converged: under 2/255",
         "max_iterations": "the default solve converges well before its cap",
         "element": "only with show links",
+        "hierarchy.max_links": "a budget: the default scene stays far below it (at its low end, refused)",
     }
 
     def __post_init__(self):

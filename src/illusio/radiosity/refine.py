@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..core.errors import InputError
 from .formfactor import facing_pairs
 from .hierarchy import Hierarchy
 from .links import Links
@@ -70,7 +71,7 @@ def refine(
     their ends unmoved): only V is cast for them, by :meth:`Visibility.recast` from what each kept
     (``rays``, default none). Elements are created as needed."""
     links = Links() if links is None else links
-    accepted = []
+    accepted, made = [], 0
     receivers = np.asarray(receivers, np.int64)
     if form_factor is not None and rays is None:
         rays = np.full(len(receivers), NO_RAYS, np.int64)
@@ -109,6 +110,13 @@ def refine(
         split_recv = split & ~split_src & can_r
         accept = ~(split_src | split_recv)
         accepted.append((recv[accept], src[accept], ff[accept], vis[accept], cast[accept]))
+        made += int(accept.sum())
+        if links.budget is not None and len(links) + made > links.budget:
+            raise InputError(
+                f"radiosity: the refinement passed its budget of {links.budget:,} links (--max-links) before "
+                f"it ended ({len(h):,} elements so far): raise ε (--epsilon) or the minimum element area "
+                "(--min-area), or the budget if the memory allows (about 100 bytes a link)"
+            )
         first_s = h.subdivide(src[split_src])
         first_r = h.subdivide(recv[split_recv])
         quad = np.arange(4)

@@ -125,6 +125,7 @@ class RelightParams:
         "hierarchy.lights_to_leaves": "loscos, the default method, pushes the lamps' links to the leaves (4.3.2)",
         "hierarchy.clusters": "refused: relighting reads element links, its solutions take clusters=False",
         "hierarchy.sliver_piece": "relighting keeps the model's own polygons (taken as 0)",
+        "hierarchy.max_links": "a budget: the default scene stays far below it (at its low end, refused)",
     }
 
     def __post_init__(self):

@@ -17,7 +17,7 @@ __all__ = ["SCENE_RULE", "resolve_scene", "resolve_mesh", "is_mesh_source", "sce
 #: the one rule, as ``--help`` and the docs state it
 SCENE_RULE = (
     "a glTF or OBJ file with more than one mesh node, or any material, light or camera, is a scene (its "
-    "own lights and cameras); any other mesh file is a shape on the turntable (--turntable forces that)"
+    "own lights and cameras); any other mesh file is a shape on the turntable (--on-turntable forces that)"
 )
 
 
