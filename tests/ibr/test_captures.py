@@ -83,6 +83,7 @@ def _score(tmp_path, capsys, refs, frame, extra=()):
         capsys,
     )
     assert code == 0, cap.err
+    assert "(sRGB, the displayed image)" in cap.out  # the convention papers score in
     psnr = float(re.search(r"PSNR ([\d.]+) dB", cap.out).group(1))
     ssim = float(re.search(r"SSIM ([\d.]+)", cap.out).group(1))
     return psnr, ssim

@@ -203,6 +203,11 @@ def render_command(
         help="render frame K of an imported capture and print "
         "PSNR and SSIM against its photo over the pixels with depth",
     ),
+    score_space: str = typer.Option(
+        "srgb",
+        "--score-space",
+        help="srgb: scores of the displayed image, as papers give them; linear: of the linear radiance",
+    ),
     path: Path = typer.Option(
         None,
         "--path",
@@ -266,14 +271,14 @@ def render_command(
         write_image(out, images[0])
         typer.echo(f"wrote {out} ({w}×{h})")
     if compare_photo is not None:
-        _compare(refs, compare_photo, images[0], (w, h))
+        _compare(refs, compare_photo, images[0], (w, h), score_space)
 
 
-def _compare(refs, k: int, image: np.ndarray, size: tuple[int, int]) -> None:
-    """PSNR and SSIM of ``image`` against frame ``k``'s photo, over the pixels the render covers."""
-    from skimage.metrics import structural_similarity
-
+def _compare(refs, k: int, image: np.ndarray, size: tuple[int, int], space: str) -> None:
+    """PSNR and SSIM of ``image`` against frame ``k``'s photo, over the pixels the render covers, in
+    ``space`` (the literature's: the displayed sRGB image)."""
     from ..core.images import read_image
+    from ..core.scores import image_scores
 
     photo = refs.frames[k][1]
     photo = read_image(photo)[..., :3] if isinstance(photo, (str, Path)) else np.asarray(photo)[..., :3]
@@ -283,10 +288,4 @@ def _compare(refs, k: int, image: np.ndarray, size: tuple[int, int]) -> None:
             f"(leave out --size)"
         )
     covered = np.abs(image[..., :3]).sum(axis=-1) > 0  # holes are black: no reference saw them
-    diff = (image[..., :3] - photo)[covered]
-    psnr = 10 * np.log10(1.0 / max(float(np.mean(diff**2)), 1e-12)) if covered.any() else float("nan")
-    _, ssim = structural_similarity(image[..., :3], photo, channel_axis=2, data_range=1.0, full=True)
-    ssim_value = float(ssim.mean(axis=-1)[covered].mean()) if covered.any() else float("nan")
-    typer.echo(
-        f"against frame {k}'s photo: PSNR {psnr:.2f} dB, SSIM {ssim_value:.3f} over {covered.mean():.0%} of the pixels"
-    )
+    typer.echo(f"against frame {k}'s photo: {image_scores(image, photo, covered, space)}")
