@@ -101,7 +101,8 @@ def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
         )
         mask = None
         for label, hierarchy in variants.items():
-            image, emitter = renderer.radiance(Frame(view, size), RadiosityParams(hierarchy), 4)
+            # untextured: Mitsuba of the polygons sees each surface at its mean reflectance
+            image, emitter = renderer.radiance(Frame(view, size), RadiosityParams(hierarchy, textures=False), 4)
             mask = ~emitter
             s = score(image, reference, mask)
             st = renderer.result().stats

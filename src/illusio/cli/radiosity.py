@@ -95,7 +95,11 @@ def radiosity(
     typer.echo(f"wrote {out} ({w}×{h})")
     if ref is not None:
         write_image(ref_out, ref)
-        s = score(image, ref, ~emitter)
+        # Mitsuba draws the polygons at their mean reflectance: scored against the same, untextured
+        flat = (
+            renderer.radiance(Frame(view, (w, h)), replace(params, textures=False), k)[0] if params.textures else image
+        )
+        s = score(flat, ref, ~emitter)
         typer.echo(
             f"wrote {ref_out}: mean relative error {100 * s.mean_relative_error:.1f} % over {s.pixels} "
             f"non-emitter pixels, PSNR {s.psnr:.1f} dB"

@@ -78,7 +78,9 @@ class RadiosityParams:
     B. max_iterations: at most this many. lamp_scales: (lamp name, factor on its exitance) pairs, the
     sliders of interactive relighting (links kept, only the solve reruns). show: one of SHOW.
     exposure: the displayed value is exposure × B/π (radiance, W/(m²·sr)) before sRGB encoding.
-    element: the element whose links ``show="links"`` draws (−1: the brightest receiver's largest)."""
+    element: the element whose links ``show="links"`` draws (−1: the brightest receiver's largest).
+    textures: the displayed solution modulated by the surfaces' textures (radiosity.texture_modulation;
+    the solve uses each surface's mean reflectance either way)."""
 
     hierarchy: HierarchyParams = param(default_factory=HierarchyParams)
     tolerance: float = param(1e-4, range=(1e-9, 0.5), log=True)
@@ -86,6 +88,11 @@ class RadiosityParams:
     lamp_scales: tuple = param((), panel=False)
     show: str = param("radiosity", choices=SHOW)
     exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="scale on the radiance B/π before encoding")
+    textures: bool = param(
+        True,
+        help="draw the surfaces' textures on the solution (off: each surface at its mean reflectance, "
+        "as the solve and a path tracer of its polygons see it)",
+    )
     element: int = param(
         -1,
         range=(-1, 2**31 - 1),

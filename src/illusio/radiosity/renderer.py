@@ -17,6 +17,7 @@ from .display import DisplayPass, leaf_mesh
 from .engine import Radiosity
 from .params import RadiosityParams
 from .polygons import Polygons, scene_polygons
+from .texture_modulation import TextureModulation
 
 __all__ = ["RadiosityRenderer"]
 
@@ -33,9 +34,11 @@ class RadiosityRenderer(Renderer):
         self.polygons: Polygons | None = None
         self._scene: Scene | None = None
         self._state = None  # (hierarchy params, lamp scales, tolerance, smooth) of the loaded mesh
+        self._textures: TextureModulation | None = None
 
     def _load(self, subject) -> None:
         self._scene = subject if isinstance(subject, Scene) else None
+        self._textures = TextureModulation(self.ctx, subject) if isinstance(subject, Scene) else None
         self.polygons = scene_polygons(subject) if isinstance(subject, Scene) else subject
         if not isinstance(self.polygons, Polygons):
             from ..core.errors import InputError
@@ -45,6 +48,9 @@ class RadiosityRenderer(Renderer):
     def _unload(self) -> None:
         super()._unload()
         self.display.release()
+        if self._textures is not None:
+            self._textures.release()
+            self._textures = None
         self._solution = None
         self._state = None
 
@@ -81,6 +87,8 @@ class RadiosityRenderer(Renderer):
         if view is None:
             view = self._scene.camera() if self._scene is not None else _framing_view(self.polygons)
         colour, element = self.display(view, frame.size, params.exposure, edges=params.show == "mesh")
+        if self._textures is not None and params.textures and params.show != "mesh":
+            colour = self._textures(colour, view)
         if params.show == "links":
             chosen = params.element if params.element >= 0 else default_element(solution)
             self.display.links(colour, view, solution.hierarchy, lighting(solution, chosen))
