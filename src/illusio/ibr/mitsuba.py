@@ -3,11 +3,11 @@ system package needed), with its depth, shading normals and albedo as AOVs. The 
 tracer's radiance (indirect light and soft shadows included), kept in ``ReferenceView.colour`` for
 the "photographic" output; albedo, normals and depth serve the selection and the re-lighting.
 
-What is exported: every visible node as a triangle mesh (a PLY written to a temporary folder) with a
-diffuse BSDF of its colour (a texture contributes its mean colour: the exporter writes no uvs), an
-area emitter where the material emits; point lights as Mitsuba point lights of the same radiant
-intensity; rectangular lamps as emitting rectangles of the same radiance. Mitsuba is an optional
-dependency (``pip install mitsuba``)."""
+What is exported: every visible node as a triangle mesh (a PLY written to a temporary folder, with
+its uvs when textured) with the BSDF of its material (:func:`material_bsdf`: its texture as a
+bitmap, Lambert or the principled BSDF), an area emitter where the material emits; point lights as
+Mitsuba point lights of the same radiant intensity; rectangular lamps as emitting rectangles of the
+same radiance. Mitsuba is an optional dependency (``pip install mitsuba``)."""
 
 from __future__ import annotations
 
@@ -27,6 +27,30 @@ from .reference_views import ReferenceSet, ReferenceView
 __all__ = ["capture_mitsuba", "mitsuba_available"]
 
 
+def material_bsdf(mi, material, textured: bool) -> dict:
+    """The Mitsuba BSDF of an illusio material: reflectance = colour × texture (a linear bitmap,
+    flipped: Mitsuba's v runs down the image, ours up) or, untextured, the colour; Lambert (``diffuse``)
+    without a specular term, else the ``principled`` BSDF, metallic 0, specular k_s / 0.08 (its F0
+    is 0.08 × specular), roughness (2/(n + 2))^¼ from the Phong exponent n (the exporter's rule)."""
+    colour = np.asarray(material.colour, np.float64)
+    if textured:
+        image = (colour * np.asarray(material.texture, np.float64))[::-1].astype(np.float32)
+        reflectance = {"type": "bitmap", "bitmap": mi.Bitmap(np.ascontiguousarray(image)), "raw": True}
+    else:
+        if material.texture is not None:  # a texture without uvs: its mean
+            colour = colour * np.asarray(material.texture, np.float64).reshape(-1, 3).mean(axis=0)
+        reflectance = _rgb(colour)
+    if material.specular <= 0:
+        return {"type": "diffuse", "reflectance": reflectance}
+    return {
+        "type": "principled",
+        "base_color": reflectance,
+        "metallic": 0.0,
+        "specular": float(min(1.0, material.specular / 0.08)),
+        "roughness": float((2 / (material.shininess + 2)) ** 0.25),
+    }
+
+
 def _scene_dict(mi, scene: Scene, folder: Path, lights: bool = True) -> dict:
     import trimesh
 
@@ -38,12 +62,13 @@ def _scene_dict(mi, scene: Scene, folder: Path, lights: bool = True) -> dict:
             :, :3
         ]
         path = folder / f"node-{k}.ply"
-        trimesh.Trimesh(world, node.mesh.faces, process=False).export(path)
         material = node.material
-        colour = np.asarray(material.colour, np.float64)
-        if material.texture is not None:
-            colour = colour * np.asarray(material.texture, np.float64).reshape(-1, 3).mean(axis=0)
-        shape = {"type": "ply", "filename": str(path), "bsdf": {"type": "diffuse", "reflectance": _rgb(colour)}}
+        textured = material.texture is not None and node.mesh.uvs is not None
+        mesh = trimesh.Trimesh(world, node.mesh.faces, process=False)
+        if textured:  # the uvs travel in the PLY (s, t)
+            mesh.visual = trimesh.visual.TextureVisuals(uv=np.asarray(node.mesh.uvs, np.float64))
+        mesh.export(path)
+        shape = {"type": "ply", "filename": str(path), "bsdf": material_bsdf(mi, material, textured)}
         if np.max(material.emission) > 0:
             shape["emitter"] = {"type": "area", "radiance": _rgb(material.emission)}
         out[f"node_{k}"] = shape
