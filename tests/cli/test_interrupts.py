@@ -25,8 +25,8 @@ def environment(tmp_path):
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_an_interrupted_video_leaves_nothing_behind(tmp_path, signum):
-    """A turntable video interrupted while its frames are being written: the command stops with a
-    non-zero status, the video does not exist and its temporary file is gone."""
+    """A turntable video interrupted while its frames are being written: the command says so in one
+    line and exits 130, the video does not exist and its temporary file is gone."""
     out = tmp_path / "spin.mp4"
     proc = subprocess.Popen(
         ILLUSIO + ["render", "living-room", "--turntable", "3600", "--size", "96x72", "-o", str(out)],
@@ -44,7 +44,8 @@ def test_an_interrupted_video_leaves_nothing_behind(tmp_path, signum):
         _, err = proc.communicate(timeout=60)
     finally:
         proc.kill()
-    assert proc.returncode != 0, err.decode()
+    assert proc.returncode == 130, err.decode()
+    assert err.decode().strip().splitlines() == ["illusio: interrupted: nothing written"], err.decode()
     assert not out.exists()
     assert not list(tmp_path.glob(".spin.tmp-*")), "a temporary file was left"
 

@@ -129,29 +129,35 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"illusio: warning: {' '.join(str(message).split())}", file=sys.stderr)
 
 
-def _terminated(signum, frame):
-    raise KeyboardInterrupt
+class Interrupted(BaseException):
+    """Ctrl-C or SIGTERM: a BaseException that click's handlers let through (they answer
+    KeyboardInterrupt with "Aborted!" and exit 1) and ``except Exception`` does not swallow, so every
+    ``finally`` runs (atomic outputs remove their temporary files) on its way to :func:`run`."""
+
+
+def _interrupted(signum, frame):
+    raise Interrupted
 
 
 def run(argv: list[str] | None = None) -> None:
     """Console-script entry point."""
     warnings.showwarning = _show_warning
-    previous = None
+    previous = {}
     if threading.current_thread() is threading.main_thread():
-        # SIGTERM unwinds like Ctrl-C: atomic outputs remove their temporary files, nothing partial stays
-        previous = signal.signal(signal.SIGTERM, _terminated)
+        # Ctrl-C and SIGTERM unwind: atomic outputs remove their temporary files, nothing partial stays
+        previous = {sig: signal.signal(sig, _interrupted) for sig in (signal.SIGINT, signal.SIGTERM)}
     argv = expand(sys.argv[1:] if argv is None else argv)
     try:
-        app(args=argv, standalone_mode=True)  # click answers Ctrl-C (and SIGTERM, here) with Aborted!, exit 1
+        app(args=argv, standalone_mode=True)
     except IllusioError as exc:
         print(f"illusio: error: {exc.one_line()}", file=sys.stderr)
         sys.exit(2)
-    except KeyboardInterrupt:
-        print("illusio: interrupted", file=sys.stderr)
+    except (Interrupted, KeyboardInterrupt):
+        print("illusio: interrupted: nothing written", file=sys.stderr)
         sys.exit(130)
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 if __name__ == "__main__":
