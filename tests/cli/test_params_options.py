@@ -187,3 +187,26 @@ def test_view_names_the_viewer_modes_the_registry_gives():
     from illusio.viewer.modes import MODES
 
     assert list(MODES) == _VIEWABLE
+
+
+def test_help_groups_each_commands_options_by_the_params_they_set():
+    """--help lists the command's own options apart from its Params' (issue 46: 36 options in one
+    panel): every generated option sits in its Params' panel, a nested field's under "title › field"."""
+    from illusio.cli.params_options import help_panel
+
+    for name, click_command, callback in _technique_commands():
+        specs = getattr(callback, "option_specs", None)
+        if not specs:
+            continue
+        opts = {o: p for p in click_command.params for o in getattr(p, "opts", ())}
+        panels = set()
+        for key, group in specs.items():
+            for spec in group:
+                panel = opts[spec.long].rich_help_panel
+                assert panel == help_panel(callback.params_classes[key], spec.path), (name, spec.long)
+                panels.add(panel)
+        own = [p for p in click_command.params if getattr(p, "rich_help_panel", None) is None]
+        assert own and panels, name
+    from illusio.radiosity.params import RadiosityParams
+
+    assert help_panel(RadiosityParams, "hierarchy.epsilon") == "Radiosity › hierarchy"

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import functools
 import inspect
+import re
 import typing
 from collections.abc import Callable
 
@@ -54,13 +55,27 @@ def _number(value: float) -> str:
     return str(int(value)) if float(value).is_integer() and abs(value) >= 1e5 else f"{value:g}"
 
 
-def _option(spec: OptionSpec) -> inspect.Parameter:
+def help_panel(params_class, path: str) -> str:
+    """The --help panel an option is listed under: the Params' own title (its ``PANEL``, else its
+    class name), and a nested field's options under "title › field" (``Radiosity › hierarchy``)."""
+    title = getattr(params_class, "PANEL", None) or re.sub(r"(?<!^)(?=[A-Z])", " ", params_class.__name__).removesuffix(
+        " Params"
+    )
+    head, _, _ = path.rpartition(".")
+    return f"{title} › {head.replace('.', ' › ').replace('_', ' ')}" if head else title
+
+
+def _option(spec: OptionSpec, panel: str | None = None) -> inspect.Parameter:
     default = ",".join(spec.default) if spec.kind == "multi" else spec.default
     # choices of numbers (a jet degree) keep their type
     numeric_choice = spec.kind == "choice" and not isinstance(default, str)
     default_type = type(default) if numeric_choice else _TYPES[spec.kind]
     option = typer.Option(
-        default, *spec.flag.split("/") if spec.kind != "bool" else (spec.flag,), help=_help(spec), show_default=True
+        default,
+        *spec.flag.split("/") if spec.kind != "bool" else (spec.flag,),
+        help=_help(spec),
+        show_default=True,
+        rich_help_panel=panel,
     )
     return inspect.Parameter(spec.name, inspect.Parameter.KEYWORD_ONLY, default=option, annotation=default_type)
 
@@ -81,7 +96,7 @@ def params_options(exclude: tuple[str, ...] = (), **classes) -> Callable:
         for key, cls in classes.items():
             own = tuple(e.partition(".")[2] for e in exclude if e.partition(".")[0] == key)
             specs[key] = option_specs(cls, own)
-        generated = [_option(s) for group in specs.values() for s in group]
+        generated = [_option(s, help_panel(classes[key], s.path)) for key, group in specs.items() for s in group]
         names = [p.name for p in kept]
         clash = {f for s in generated for f in s.default.param_decls} & {
             f for p in kept if isinstance(p.default, typer.models.OptionInfo) for f in p.default.param_decls or ()

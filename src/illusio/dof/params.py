@@ -44,6 +44,8 @@ class DofParams:
     accommodation: seconds the focus takes to follow a policy's choice (exponential, in dioptres).
     settings: how each view is lit."""
 
+    PANEL: ClassVar[str] = "Depth of field"  # its options' panel in --help
+
     method: str = param("gather", choices=METHODS)
     focus_distance: float = param(2.0, range=(0.05, 1000.0), unit="m", log=True, label="focus distance d_f")
     aperture_mm: float = param(

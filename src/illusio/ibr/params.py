@@ -40,6 +40,8 @@ class IbrParams:
     the set moved by this many metres (the new view is lit again from the stored normals; the
     viewer's panel drags them live). settings: exposure."""
 
+    PANEL: ClassVar[str] = "Image-based rendering"  # its options' panel in --help
+
     distance: str = param("2d", choices=DISTANCES)
     selection: str = param("single-pass", choices=SELECTIONS)
     bilinear_depth: bool = param(

@@ -68,6 +68,8 @@ class CurvatureParams:
     ``adaptive``, lower degrees on up to ``extra_rings`` more rings join under the ICI rule at
     ``confidence``. Part of the line renderer's cache key: a change re-estimates."""
 
+    PANEL: ClassVar[str] = "Curvature"  # its options' panel in --help
+
     rings: int = param(2, range=(1, 8), step=1, help="smallest neighbourhood, in edge rings")
     degree: int = param(4, choices=(2, 3, 4), help="jet degree")
     smoothing: int = param(3, range=(0, 8), step=1, help="passes of tensor averaging over the 1-ring")
@@ -94,6 +96,8 @@ class LineParams:
     surface, as Judd's length threshold prunes short object-space ridges; 0 keeps every fragment.
     colours (linear RGB) and widths (pixels, object-space lines): (line type, value) pairs.
     curvature: how the curvature is estimated (:class:`CurvatureParams`)."""
+
+    PANEL: ClassVar[str] = "Line drawing"  # its options' panel in --help
 
     lines: tuple[str, ...] = param(
         ("apparent-ridges", "silhouettes"), choices=LINE_TYPES, multiple=True, label="line types"

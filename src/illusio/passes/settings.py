@@ -29,6 +29,8 @@ class RenderSettings:
     instead of through the G-buffer (same image; faster where G-buffer bandwidth dominates, as on a
     CPU rasteriser at high resolution)."""
 
+    PANEL: ClassVar[str] = "Render settings"  # its options' panel in --help
+
     shadows: bool = param(True, help="cube shadow maps of every light")
     shadow_tile_size: int = param(
         512, range=(64, 4096), unit="px", step=64, label="shadow map size", help="pixels per cube face"

@@ -43,6 +43,8 @@ class HierarchyParams:
     the refinement's budget: past it the refinement stops with an error naming it (a scene whose links
     run away would grow until memory runs out)."""
 
+    PANEL: ClassVar[str] = "Hierarchy"  # its options' panel in --help
+
     epsilon: float = param(6e-5, range=(1e-9, 1.0), log=True, label="refinement ε (× total power)")
     min_area: float = param(0.0, range=(0.0, 100.0), unit="m²", label="minimum element area A_ε (0: automatic)")
     criterion: str = param("bf", choices=CRITERIA)
@@ -81,6 +83,8 @@ class RadiosityParams:
     element: the element whose links ``show="links"`` draws (−1: the brightest receiver's largest).
     textures: the displayed solution modulated by the surfaces' textures (radiosity.texture_modulation;
     the solve uses each surface's mean reflectance either way)."""
+
+    PANEL: ClassVar[str] = "Radiosity"  # its options' panel in --help
 
     hierarchy: HierarchyParams = param(default_factory=HierarchyParams)
     tolerance: float = param(1e-4, range=(1e-9, 0.5), log=True)

@@ -90,6 +90,8 @@ class RelightParams:
     factor on its estimated
     exitance) pairs. exposure: factor on the displayed radiance."""
 
+    PANEL: ClassVar[str] = "Relighting"  # its options' panel in --help
+
     method: str = param("loscos", choices=METHODS)
     estimate: str = param(
         "inverse",

@@ -50,6 +50,8 @@ class StereogramParams:
     seed: for every random pattern.
     """
 
+    PANEL: ClassVar[str] = "Stereogram"  # its options' panel in --help
+
     algorithm: str = param("fast", choices=ALGORITHMS, help="how the links are followed")
     strip_width: float = param(
         100.0, range=(2.0, 1000.0), unit="px", label="strip width W_s", help="separation of the nearest depth"
@@ -135,6 +137,8 @@ class MultiSceneParams:
     foreshortened and keystoned); "viewer" lays it out, its aspect kept, across the host's bounding
     rectangle on the screen, so the viewer sees the hidden scene undistorted at any angle (issue 20,
     the paper's Figure 27)."""
+
+    PANEL: ClassVar[str] = "Multi-scene"  # its options' panel in --help
 
     host: str = param("tv-screen", panel=False, cli=True, help="name or tag of the surface showing the stereogram")
     stereogram: StereogramParams = param(
