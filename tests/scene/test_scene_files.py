@@ -332,3 +332,16 @@ def test_commands_take_the_files_names(room, tmp_path):
         "no texture coordinates",
         "floor",
     )
+
+
+def test_an_obj_whose_texture_or_library_is_missing_is_one_line(tmp_path):
+    """trimesh draws such a file untextured without a word: refused, naming the file it lacks."""
+    ball = trimesh.creation.icosphere(2)
+    ball.visual = trimesh.visual.TextureVisuals(uv=(ball.vertices[:, :2] + 1) / 2, image=_checker(16, 4))
+    ball.export(tmp_path / "ball.obj")
+    (png,) = tmp_path.glob("*.png")
+    png.unlink()
+    assert_one_line_error(illusio("render", tmp_path / "ball.obj", "-o", tmp_path / "x.png"), png.name)
+    (mtl,) = tmp_path.glob("*.mtl")
+    mtl.unlink()
+    assert_one_line_error(illusio("render", tmp_path / "ball.obj", "-o", tmp_path / "x.png"), mtl.name)

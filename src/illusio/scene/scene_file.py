@@ -114,6 +114,29 @@ def _check_external_files(p: Path, gltf) -> None:
                 raise InputError(f"{p}: {kind} {k} refers to {unquote(uri)!r}, which is not in {p.parent}")
 
 
+def _check_obj_files(p: Path) -> None:
+    """InputError naming the first material library or texture map an OBJ names and its folder lacks
+    (trimesh would draw it untextured without a word)."""
+    for library in _obj_words(p.read_bytes(), b"mtllib"):
+        mtl = p.parent / library
+        if not mtl.is_file():
+            raise InputError(f"{p}: its material library {library!r} is not in {p.parent}")
+        for image in _obj_words(mtl.read_bytes(), b"map_Kd", b"map_Ke"):
+            if not (mtl.parent / image).is_file():
+                raise InputError(f"{mtl}: texture {image!r} is not in {mtl.parent}")
+
+
+def _obj_words(data: bytes, *keys: bytes) -> list[str]:
+    """The file names after each of ``keys`` (the last word of the line: options such as -s come
+    first in MTL)."""
+    out = []
+    for line in data.splitlines():
+        words = line.split()
+        if len(words) >= 2 and words[0] in keys:
+            out.append(words[-1].decode("utf-8", "replace"))
+    return out
+
+
 def load_scene_file(path: str | os.PathLike) -> Scene:
     """The scene in the glTF or OBJ file at ``path`` (see the module docstring for the rules).
     InputError naming the file on anything it cannot read; one :class:`SceneFileWarning` listing
@@ -126,6 +149,8 @@ def load_scene_file(path: str | os.PathLike) -> Scene:
     gltf = _read_gltf(p) if p.suffix.lower() != ".obj" else None
     if gltf is not None:
         _check_external_files(p, gltf)
+    else:
+        _check_obj_files(p)
     unsupported: list[str] = [] if gltf is None else _unsupported(gltf)
     try:
         scene = _scene_from_trimesh(p, _load_trimesh(p), gltf, unsupported)
