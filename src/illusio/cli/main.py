@@ -40,8 +40,15 @@ def _main(
     version: bool = typer.Option(
         False, "--version", callback=_version, is_eager=True, help="print illusio's version and exit"
     ),
+    quiet: bool = typer.Option(
+        False, "--quiet/--progress", "-q", help="no progress (bars on a terminal, a line per long phase elsewhere)"
+    ),
 ) -> None:
     """illusio: perception-driven rendering on a headless OpenGL core."""
+    from ..core.progress import install
+    from .reporter import reporter
+
+    install(reporter(quiet))
 
 
 app.command("info")(info.info)
@@ -156,6 +163,9 @@ def run(argv: list[str] | None = None) -> None:
         print("illusio: interrupted: nothing written", file=sys.stderr)
         sys.exit(130)
     finally:
+        from ..core.progress import install
+
+        install(None)  # the command's listener ends with it
         for sig, handler in previous.items():
             signal.signal(sig, handler)
 

@@ -9,6 +9,7 @@ import typer
 
 from ..core.errors import InputError
 from ..core.images import check_output_path, write_image
+from ..core.progress import phase
 from ..core.renderer import DEFAULT_SIZE
 from ..passes.scene_renderer import RenderSettings
 from .common import (
@@ -86,8 +87,9 @@ def render(
         write_image(out, render_scene(sc, base, (w, h), ctx, settings), bit_depth=bit_depth)
         typer.echo(f"wrote {out} ({w}×{h})")
         return
-    with VideoWriter(out) as video:  # frames streamed: an interrupted run leaves no file
-        for k in range(turntable):
+    with VideoWriter(out) as video, phase(f"render: {turntable} frames", total=turntable) as frame_done:
+        for k in range(turntable):  # frames streamed: an interrupted run leaves no file
+            frame_done()
             video.append(
                 render_scene(
                     sc,

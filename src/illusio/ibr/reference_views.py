@@ -18,6 +18,7 @@ from ..core.context import Context
 from ..core.errors import InputError
 from ..core.files import load_npz, read_text
 from ..core.images import atomic_output, read_image, write_image
+from ..core.progress import phase
 from ..core.renderer import Frame
 from ..passes.scene_renderer import RenderSettings, SceneRenderer
 from ..scene.camera import Camera, Pose, View
@@ -149,24 +150,29 @@ def capture(scene: Scene, views: list[View], size: tuple[int, int], ctx: Context
     renderer = SceneRenderer(ctx)
     renderer.prepare(scene)
     refs = []
-    for view in views:
-        g = renderer.gbuffer(Frame(view, size))
-        images = {k: ctx.readback(t) for k, t in g.textures.items()}
-        g.release()
-        hit = images["object_id"][..., 0] > 0.5
-        lit = renderer.render(Frame(view, size), RenderSettings(shadows=False))
-        refs.append(
-            ReferenceView(
-                view,
-                images["colour"],
-                images["normal"],
-                images["emission"][..., :3],
-                np.where(hit, images["depth"][..., 0], 0.0),
-                lit,
-            )
-        )
+    with phase(f"ibr: capture {len(views)} views", total=len(views)) as view_done:
+        for view in views:
+            view_done()
+            refs.append(_capture_view(renderer, view, size, ctx))
     renderer.release()
     return ReferenceSet(refs, list(scene.lights), tuple(scene.ambient), tuple(scene.background))
+
+
+def _capture_view(renderer, view: View, size: tuple[int, int], ctx: Context) -> ReferenceView:
+    """One reference view: the G-buffer's maps and the lit image (shadows off)."""
+    g = renderer.gbuffer(Frame(view, size))
+    images = {k: ctx.readback(t) for k, t in g.textures.items()}
+    g.release()
+    hit = images["object_id"][..., 0] > 0.5
+    lit = renderer.render(Frame(view, size), RenderSettings(shadows=False))
+    return ReferenceView(
+        view,
+        images["colour"],
+        images["normal"],
+        images["emission"][..., :3],
+        np.where(hit, images["depth"][..., 0], 0.0),
+        lit,
+    )
 
 
 def _floats(values) -> list[float]:

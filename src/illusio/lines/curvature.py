@@ -28,6 +28,7 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..core.images import atomic_output
+from ..core.progress import phase
 from ..scene.mesh import Mesh
 
 __all__ = ["Curvature", "estimate_curvature", "cache_dir", "CACHE_VERSION"]
@@ -131,22 +132,25 @@ def estimate_curvature(
                 return Curvature.load(key)
             except Exception:  # a corrupt cache file: recompute and overwrite it
                 pass
-    area_normals = _area_normals(vertices, faces)
-    offsets, neighbours = _adjacency(len(vertices), faces)
-    normals, k_min, k_max, e_min, e_max, cubic, valid = _fit_all(
-        vertices,
-        area_normals,
-        offsets,
-        neighbours,
-        rings,
-        degree,
-        extra_rings,
-        confidence if adaptive else 0.0,
-        numba.get_num_threads() * 16,
-    )
-    if smoothing:
-        _smooth_tensors(normals, k_min, k_max, e_min, e_max, valid, offsets, neighbours, smoothing)
-    dcurv = _derivatives(area_normals, e_min, e_max, cubic, valid)
+    # numba compiles the kernels on a process's first call (cached on disk after the first install)
+    first = "" if _fit_all.signatures else " (its kernels load, or compile on a first install: up to a minute)"
+    with phase(f"lines: curvature of {len(vertices):,} vertices{first}"):
+        area_normals = _area_normals(vertices, faces)
+        offsets, neighbours = _adjacency(len(vertices), faces)
+        normals, k_min, k_max, e_min, e_max, cubic, valid = _fit_all(
+            vertices,
+            area_normals,
+            offsets,
+            neighbours,
+            rings,
+            degree,
+            extra_rings,
+            confidence if adaptive else 0.0,
+            numba.get_num_threads() * 16,
+        )
+        if smoothing:
+            _smooth_tensors(normals, k_min, k_max, e_min, e_max, valid, offsets, neighbours, smoothing)
+        dcurv = _derivatives(area_normals, e_min, e_max, cubic, valid)
     result = Curvature(*(a.astype(np.float32) for a in (normals, k_min, k_max, e_min, e_max, dcurv)), valid=valid)
     if key is not None:
         with contextlib.suppress(Exception):  # a read-only home must not stop the estimate

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.errors import InputError, did_you_mean
+from ..core.progress import phase
 from .clusters import ClusteredGather, ClusterLinks, ClusterTree, refine_nodes, transfer_bound
 from .dynamic import add_lamp, add_object, move_object, remove_object
 from .hierarchy import Hierarchy
@@ -162,22 +163,38 @@ class Radiosity:
 
     def _link_from_roots(self, tolerance: float, max_iterations: int) -> None:
         h = self.hierarchy
-        t = time.perf_counter()
-        h.radiosity[:] = self._ambient_estimate()  # children inherit it as they are made
-        if self.tree is not None:
-            self._refine_nodes([self.tree.top], [self.tree.top])
-        else:
-            roots = h.roots[h.active[h.roots]]
-            recv, src = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
-            refine(
-                h, self.visibility, recv, src, self.threshold, self.min_area, self.params.criterion, links=self.links
-            )
-        self.stats.add_time("refine", time.perf_counter() - t)
-        self.solve(tolerance, max_iterations)
-        for _ in range(self.params.refinements - 1):
-            if not self.rerefine():
-                break
-            self.solve(tolerance, max_iterations)
+        rounds = self.params.refinements
+        with phase("radiosity", total=rounds) as next_round:
+            t = time.perf_counter()
+            h.radiosity[:] = self._ambient_estimate()  # children inherit it as they are made
+            with phase(f"radiosity: refine, round 1 of {rounds}"):
+                if self.tree is not None:
+                    self._refine_nodes([self.tree.top], [self.tree.top])
+                else:
+                    roots = h.roots[h.active[h.roots]]
+                    recv, src = np.repeat(roots, len(roots)), np.tile(roots, len(roots))
+                    refine(
+                        h,
+                        self.visibility,
+                        recv,
+                        src,
+                        self.threshold,
+                        self.min_area,
+                        self.params.criterion,
+                        links=self.links,
+                    )
+            self.stats.add_time("refine", time.perf_counter() - t)
+            with phase(f"radiosity: solve, round 1 of {rounds}"):
+                self.solve(tolerance, max_iterations)
+            next_round()
+            for k in range(2, rounds + 1):
+                with phase(f"radiosity: refine, round {k} of {rounds}"):
+                    refined = self.rerefine()
+                if not refined:
+                    break
+                with phase(f"radiosity: solve, round {k} of {rounds}"):
+                    self.solve(tolerance, max_iterations)
+                next_round()
 
     def relink(self, tolerance: float = 1e-4, max_iterations: int = 200) -> None:
         """Drop every link and refine again from the roots over the mesh as it is (its elements are

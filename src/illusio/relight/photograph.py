@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.progress import phase
 from ..radiosity import Polygons, scene_polygons
 from ..scene.camera import View
 from ..scene.sources import resolve_scene
@@ -143,7 +144,9 @@ def builtin_real_scene(
     polygons = scene_polygons(scene)
     view = scene.camera()  # main, or a scene file's first camera
     denoise = denoiser_available() if denoise is None else bool(denoise)
-    return RealScene(polygons, view, render_mitsuba(polygons, view, size, samples, seed, denoise=denoise))
+    with phase(f"relight: the photograph, path-traced ({samples} paths a pixel, {size[0]}×{size[1]})"):
+        photograph = render_mitsuba(polygons, view, size, samples, seed, denoise=denoise)
+    return RealScene(polygons, view, photograph)
 
 
 #: the model of a real scene, the first of these a folder holds

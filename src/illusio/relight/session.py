@@ -22,6 +22,7 @@ import numpy as np
 
 from ..core.context import Context, default_context
 from ..core.errors import InputError
+from ..core.progress import phase
 from ..radiosity import CornerGather, DisplayPass, RadiosityParams, RadiosityRenderer, leaf_mesh
 from . import corners, edits, prepare, show
 from .display import display_for
@@ -39,6 +40,10 @@ class RelightSession:
         self.ctx = ctx or default_context()
         self.strategy = display_for(params.method)
         self.times: dict[str, float] = {}
+        with phase(f"relight: prepare ({params.method})"):
+            self._prepare(real, params)
+
+    def _prepare(self, real: RealScene, params: RelightParams) -> None:
         start = time.perf_counter()
         self.model, self.mean_reflectance = prepare.estimate_model(self)
         self.renderer = RadiosityRenderer(self.ctx)

@@ -7,6 +7,7 @@ import math
 from contextlib import nullcontext
 from pathlib import Path
 
+from ...core.progress import phase
 from ..core.context import Context
 from ..core.errors import InputError
 from ..core.images import VideoWriter
@@ -49,8 +50,12 @@ def record(
     count = frame_count(path, fps, exit_after)
     viewer = Viewer(ctx or Context(), technique, source, variant, size, path)
     try:
-        with VideoWriter(output, fps) if output is not None else nullcontext() as video:
+        with (
+            VideoWriter(output, fps) if output is not None else nullcontext() as video,
+            phase(f"view: {count} frames of {technique}", total=count) as frame_done,
+        ):
             for i in range(count):
+                frame_done()
                 viewer.step(1.0 / fps)
                 if video is not None:
                     video.append(viewer.image())
