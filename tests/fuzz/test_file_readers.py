@@ -134,7 +134,8 @@ def gltf_seeds() -> dict[str, bytes]:
 def obj_scene_seeds() -> dict[str, bytes]:
     corners = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
     quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    lines = ["mtllib missing.mtl", "o Cube"] + [f"v {x} {y} {z}" for x, y, z in corners]
+    # usemtl names without a library: a scene of two materials (default colours)
+    lines = ["o Cube"] + [f"v {x} {y} {z}" for x, y, z in corners]
     lines += ["vt 0 0", "vt 1 0", "vt 1 1", "vt 0 1"]
     for k, quad in enumerate(quads):
         lines.append("usemtl " + ("wood" if k < 3 else "paint"))

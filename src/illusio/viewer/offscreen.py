@@ -7,10 +7,10 @@ import math
 from contextlib import nullcontext
 from pathlib import Path
 
-from ...core.progress import phase
 from ..core.context import Context
 from ..core.errors import InputError
 from ..core.images import VideoWriter
+from ..core.progress import phase
 from .path import CameraPath
 from .viewer import Viewer
 
