@@ -345,3 +345,31 @@ def test_an_obj_whose_texture_or_library_is_missing_is_one_line(tmp_path):
     (mtl,) = tmp_path.glob("*.mtl")
     mtl.unlink()
     assert_one_line_error(illusio("render", tmp_path / "ball.obj", "-o", tmp_path / "x.png"), mtl.name)
+
+
+def test_a_scenario_names_a_gltf_scenes_nodes(room, tmp_path):
+    """dof's scenario language takes the file's node names: focus on the green ball, then the box."""
+    (tmp_path / "focus.txt").write_text(
+        "temps 0\nnettete objet green-ball\ntemps 500\nnettete objet red-box\nenleve objet yellow-cube\n"
+    )
+    r = illusio(
+        "dof",
+        room,
+        "--scenario",
+        tmp_path / "focus.txt",
+        "--video",
+        tmp_path / "f.gif",
+        "--duration",
+        "1",
+        "--fps",
+        "4",
+        "--size",
+        "64x40",
+    )
+    assert r.returncode == 0, r.stderr
+    (tmp_path / "bad.txt").write_text("temps 0\nnettete objet blue-box\n")
+    assert_one_line_error(
+        illusio("dof", room, "--scenario", tmp_path / "bad.txt", "-o", tmp_path / "x.png", "--size", "64x40"),
+        "blue-box",
+        "green-ball",
+    )
