@@ -54,7 +54,7 @@ def batch(
     spec = load_job(job)
     if out.resolve() == job.resolve().parent and any((out / t.output).resolve() == job.resolve() for t in spec.tasks):
         raise InputError("an output of the job would replace the job file")
-    with progress(len(spec.tasks), "tasks") as advance:
+    with progress(len(spec.tasks), "batch: tasks") as advance:
         try:
             report = run_job(
                 spec, out, workers, retries, ray is not None, None if ray in (None, "local") else ray, advance

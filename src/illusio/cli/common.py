@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 from contextlib import contextmanager
 from pathlib import Path
 
@@ -55,21 +54,12 @@ def scene_inputs(source: str) -> list[str]:
 
 @contextmanager
 def progress(total: int, description: str):
-    """A rich progress bar on a terminal; nothing when output is piped. Yields advance()."""
-    if not sys.stderr.isatty():
-        yield lambda n=1: None
-        return
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+    """A counted phase of the command (core.progress: a bar on a terminal, a line in a log, nothing
+    with --quiet). Yields advance(n=1)."""
+    from ..core.progress import phase
 
-    with Progress(
-        TextColumn("{task.description}"),
-        BarColumn(),
-        TextColumn("{task.completed}/{task.total}"),
-        TimeElapsedColumn(),
-        transient=True,
-    ) as bar:
-        task = bar.add_task(description, total=total)
-        yield lambda n=1: bar.advance(task, n)
+    with phase(description, total) as advance:
+        yield advance
 
 
 def parse_eye_target(text: str) -> tuple[tuple[float, ...], tuple[float, ...]] | None:

@@ -121,7 +121,10 @@ def _play(
         raise InputError(f"--duration must be positive, got {seconds}")
     count = int(round(seconds * fps)) or 1
     conflicts = []
-    with VideoWriter(video, fps) if video is not None else _Nothing() as writer, progress(count, "frames") as advance:
+    with (
+        VideoWriter(video, fps) if video is not None else _Nothing() as writer,
+        progress(count, "dof: frames") as advance,
+    ):
         for i in range(count):
             t = i / fps
             player.apply(scene, t)

@@ -232,7 +232,7 @@ def sis_scene(
     renderer = default_context().kept(MultiSceneRenderer)  # warm between the tasks of a batch
     renderer.prepare(MultiSceneSubject(main, hidden_scene(hidden_mesh)))
     images = []
-    with progress(frames, "rendering frames") as advance:
+    with progress(frames, "sis-scene: frames") as advance:
         for f in range(frame, frame + frames):
             images.append(renderer.render(Frame(view, (w, h), f / 24, f), params))
             advance()

@@ -10,7 +10,7 @@ from ..core.errors import InputError, did_you_mean
 from ..core.images import check_output_path
 from ..core.renderer import DEFAULT_SIZE
 from ..core.technique import techniques
-from .common import parse_size, progress
+from .common import parse_size
 
 #: the registry's techniques with a viewer mode, one name per mode as viewer.modes.MODES has them (sis
 #: and sis-scene share one), read from the descriptors: nothing heavy loads
@@ -65,25 +65,12 @@ def view(
         raise InputError(f"{output.name}: the video must be an .mp4 or a .gif")
     camera_path = CameraPath.load(path) if path is not None else None
     if output is not None or (screenshot is not None and exit_after is not None and record is None and _headless()):
-        from ..viewer.offscreen import frame_count
         from ..viewer.offscreen import record as record_offscreen
 
         if record is not None:
             raise InputError("--record needs the window (it records a walk); leave out -o")
-        total = frame_count(camera_path, fps, exit_after)
-        with progress(total, "recording") as advance:
-            count = record_offscreen(
-                technique,
-                source,
-                variant,
-                (w, h),
-                camera_path,
-                fps,
-                output,
-                screenshot,
-                exit_after,
-                on_frame=lambda i, v: advance(),
-            )
+        # record() reports its frames as a phase (core.progress)
+        count = record_offscreen(technique, source, variant, (w, h), camera_path, fps, output, screenshot, exit_after)
         for out in (output, screenshot):
             if out is not None:
                 typer.echo(f"wrote {out} ({count} frames, {w}×{h})" if out == output else f"wrote {out}")
