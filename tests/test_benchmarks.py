@@ -9,16 +9,22 @@ import pytest
 from tests.conftest import REPO
 
 
-def test_quick_core_benchmark_writes_json_with_ratios(tmp_path):
+def run_quick(out, *suites: str) -> dict:
+    """``python -m benchmarks SUITES --quick --repeat 1``: each suite's JSON by name."""
     r = subprocess.run(
-        [sys.executable, "-m", "benchmarks", "core", "--quick", "--repeat", "1", "--out", str(tmp_path)],
+        [sys.executable, "-m", "benchmarks", *suites, "--quick", "--repeat", "1", "--out", str(out)],
         capture_output=True,
         text=True,
         cwd=REPO,
         timeout=600,
     )
     assert r.returncode == 0, r.stderr
-    data = json.loads((tmp_path / "core.json").read_text())
+    return {suite: json.loads((out / f"{suite}.json").read_text()) for suite in suites}
+
+
+def test_quick_core_benchmark_writes_json_with_ratios(tmp_path):
+    results = run_quick(tmp_path, "core")
+    data = results["core"]
     names = {t["name"] for t in data["timings"]}
     assert {"office/gbuffer", "office/gbuffer+shading+shadows", "mesh-1M/gbuffer"} <= names
     assert all(t["min_ms"] <= t["median_ms"] <= t["max_ms"] for t in data["timings"])
@@ -27,19 +33,12 @@ def test_quick_core_benchmark_writes_json_with_ratios(tmp_path):
 
 
 def test_quick_protocol_and_viewer_benchmarks_write_their_goals(tmp_path):
-    r = subprocess.run(
-        [sys.executable, "-m", "benchmarks", "protocol", "viewer", "--quick", "--repeat", "1", "--out", str(tmp_path)],
-        capture_output=True,
-        text=True,
-        cwd=REPO,
-        timeout=600,
-    )
-    assert r.returncode == 0, r.stderr
-    protocol = json.loads((tmp_path / "protocol.json").read_text())
+    results = run_quick(tmp_path, "protocol", "viewer")
+    protocol = results["protocol"]
     for renderer in ("plain", "sis", "multiscene", "lines"):
         assert f"{renderer}: array / texture (goal <= 1.3)" in protocol["ratios"]
         assert f"{renderer}: one-shot / kept (goal <= 1.5)" in protocol["ratios"]
-    viewer = json.loads((tmp_path / "viewer.json").read_text())
+    viewer = results["viewer"]
     names = {t["name"] for t in viewer["timings"]}
     assert {"plain/default", "sis/tv", "sis/raw", "lines/drawing"} <= names
     assert all(v > 0 for v in viewer["ratios"].values())
@@ -58,15 +57,8 @@ def test_dof_speed_is_compared_with_the_accumulation_of_equal_quality():
 
 
 def test_quick_scene_files_benchmark_times_our_load_beside_trimeshs(tmp_path):
-    r = subprocess.run(
-        [sys.executable, "-m", "benchmarks", "scene_files", "--quick", "--repeat", "1", "--out", str(tmp_path)],
-        capture_output=True,
-        text=True,
-        cwd=REPO,
-        timeout=600,
-    )
-    assert r.returncode == 0, r.stderr
-    data = json.loads((tmp_path / "scene_files.json").read_text())
+    results = run_quick(tmp_path, "scene_files")
+    data = results["scene_files"]
     names = {t["name"] for t in data["timings"]}
     assert {"scene-file/illusio load", "scene-file/trimesh load", "scene-file/trimesh load + vertex normals"} <= names
     assert data["ratios"]["illusio load peak memory (MB, tracemalloc)"] > 0
