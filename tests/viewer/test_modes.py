@@ -327,3 +327,21 @@ def test_the_sis_mode_takes_a_scene_or_a_hidden_shape_as_its_source(ctx):
     finally:
         by_scene.release()
         by_shape.release()
+
+
+def test_the_dof_mode_opens_with_the_command_lines_defaults(ctx):
+    """One source of defaults: `illusio view -t dof` opens as `illusio dof` draws (DofParams()), its
+    scenario view as README's Figure 11 line runs it."""
+    from illusio.dof.params import DofParams
+    from illusio.gallery.dof import FIGURE_11_PARAMS
+    from illusio.viewer.modes import MODES
+
+    walk = MODES["dof"](ctx, "cornell-box", "walk")
+    scenario = MODES["dof"](ctx, None, "scenario")
+    try:
+        assert walk.params == DofParams()
+        assert scenario.params.method == FIGURE_11_PARAMS.method
+        assert scenario.params.aperture_mm == FIGURE_11_PARAMS.aperture_mm
+    finally:
+        walk.release()
+        scenario.release()

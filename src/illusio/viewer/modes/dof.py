@@ -35,11 +35,13 @@ class DofMode(Mode):
         self.renderer.prepare(self.scene)
         self.show_coc = False
         self.player = None
+        # the command line's defaults (one source, the Params); the scenario as README's Figure 11 line
+        # runs it (illusio dof futuristic --scenario futuristic --method planes --aperture 500)
         if variant == "scenario":
             self.player = ScenarioPlayer(load_scenario(shipped_scenario("futuristic")), self.scene)
-            self.params = DofParams(method="planes", aperture_mm=300.0, max_coc=16.0)
+            self.params = DofParams(method="planes", aperture_mm=500.0)
         else:
-            self.params = DofParams(focus_distance=3.0, max_coc=16.0, method="planes")
+            self.params = DofParams()
 
     def home_view(self):
         return self.scene.camera()
