@@ -31,24 +31,29 @@ def material_bsdf(mi, material, textured: bool) -> dict:
     """The Mitsuba BSDF of an illusio material: reflectance = colour × texture (a linear bitmap,
     flipped: Mitsuba's v runs down the image, ours up) or, untextured, the colour; Lambert (``diffuse``)
     without a specular term, else the ``principled`` BSDF, metallic 0, specular k_s / 0.08 (its F0
-    is 0.08 × specular), roughness (2/(n + 2))^¼ from the Phong exponent n (the exporter's rule)."""
+    is 0.08 × specular), roughness (2/(n + 2))^¼ from the Phong exponent n (the exporter's rule);
+    an alpha mask wraps it in a ``mask`` BSDF, opaque where the opacity reaches the cutoff."""
     colour = np.asarray(material.colour, np.float64)
     if textured:
         image = (colour * np.asarray(material.texture, np.float64))[::-1].astype(np.float32)
         reflectance = {"type": "bitmap", "bitmap": mi.Bitmap(np.ascontiguousarray(image)), "raw": True}
     else:
-        if material.texture is not None:  # a texture without uvs: its mean
-            colour = colour * np.asarray(material.texture, np.float64).reshape(-1, 3).mean(axis=0)
-        reflectance = _rgb(colour)
+        reflectance = _rgb(material.mean_albedo())  # a texture without uvs: its mean
     if material.specular <= 0:
-        return {"type": "diffuse", "reflectance": reflectance}
-    return {
-        "type": "principled",
-        "base_color": reflectance,
-        "metallic": 0.0,
-        "specular": float(min(1.0, material.specular / 0.08)),
-        "roughness": float((2 / (material.shininess + 2)) ** 0.25),
-    }
+        bsdf = {"type": "diffuse", "reflectance": reflectance}
+    else:
+        bsdf = {
+            "type": "principled",
+            "base_color": reflectance,
+            "metallic": 0.0,
+            "specular": float(min(1.0, material.specular / 0.08)),
+            "roughness": float((2 / (material.shininess + 2)) ** 0.25),
+        }
+    if textured and material.opacity is not None:  # the alpha mask: cut (opacity 0) below the cutoff
+        cut = (np.asarray(material.opacity) >= material.alpha_cutoff)[::-1].astype(np.float32)
+        opacity = {"type": "bitmap", "bitmap": mi.Bitmap(np.ascontiguousarray(cut[:, :, None])), "raw": True}
+        bsdf = {"type": "mask", "opacity": opacity, "bsdf": bsdf}
+    return bsdf
 
 
 def _scene_dict(mi, scene: Scene, folder: Path, lights: bool = True) -> dict:

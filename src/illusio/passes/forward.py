@@ -51,6 +51,7 @@ class ForwardPass:
         self.ctx = ctx
         self.depth_prepass = depth_prepass
         self.depth_program = ctx.program("passes/shaders/depth_only.glsl")
+        self.masked_depth_program = ctx.program("passes/shaders/depth_only.glsl", ALPHA_MASK=1)
 
     def __call__(
         self,
@@ -172,17 +173,23 @@ class ForwardPass:
         gl = self.ctx.gl
         gl.enable(moderngl.DEPTH_TEST)
         gl.disable(moderngl.CULL_FACE)
-        pre = self.depth_program
-        set_uniform(pre, "view_matrix", view.view_matrix())
-        set_uniform(pre, "projection_matrix", view.projection_matrix(size[0] / size[1]))
         attachments = len(fbo.color_attachments)  # one mask per attachment when there are several
         fbo.color_mask = (False,) * 4 if attachments == 1 else ((False,) * 4,) * attachments
-        gpu_scene.draw(
-            pre,
-            lambda index, node: set_uniform(pre, "model_matrix", node.transform),
-            view.pose.position,
-            cull_to=view.view_projection(size),
-        )
+        # nodes with an alpha mask cut their depth where the shading pass cuts their colour
+        groups = gpu_scene.groups(lambda index, node: node.material.opacity is not None)
+        for masked, indices in groups.items():
+            pre = self.masked_depth_program if masked else self.depth_program
+            set_uniform(pre, "view_matrix", view.view_matrix())
+            set_uniform(pre, "projection_matrix", view.projection_matrix(size[0] / size[1]))
+            gpu_scene.draw(
+                pre,
+                (lambda index, node, pre=pre: gpu_scene.bind_surface(pre, index, node))
+                if masked
+                else (lambda index, node, pre=pre: set_uniform(pre, "model_matrix", node.transform)),
+                view.pose.position,
+                cull_to=view.view_projection(size),
+                only=indices if len(groups) > 1 else None,
+            )
         fbo.color_mask = (True,) * 4 if attachments == 1 else ((True,) * 4,) * attachments
         gl.disable(moderngl.DEPTH_TEST)
 

@@ -70,9 +70,12 @@ class GpuScene:
         tex_array = node.material.texture
         if tex_array is None:
             return None
-        key = id(tex_array)
+        opacity = node.material.opacity
+        key = (id(tex_array), id(opacity))
         tex = self._textures.get(key)
         if tex is None:
+            if opacity is not None:  # the alpha mask in the texture's alpha (surface.glsl cuts below the cutoff)
+                tex_array = np.dstack([tex_array, opacity])
             tex = self.ctx.upload(tex_array.astype(np.float32), mipmaps=True, repeat=True)
             tex.anisotropy = MAX_ANISOTROPY
             self._textures[key] = tex
@@ -127,6 +130,7 @@ class GpuScene:
         set_uniform(program, "emission", mat.emission)
         set_uniform(program, "object_id", float(index + 1))
         set_uniform(program, "albedo_texture", texture_unit)
+        set_uniform(program, "alpha_cutoff", float(mat.alpha_cutoff) if mat.opacity is not None else 0.0)
         tex = self.texture(node)
         set_uniform(program, "has_texture", tex is not None)
         if tex is not None:

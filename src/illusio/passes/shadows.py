@@ -37,6 +37,7 @@ class ShadowPass:
         self.ctx = ctx
         self.tile_size = int(tile_size)
         self.program = ctx.program(SHADER, **defines)
+        self.masked_program = ctx.program(SHADER, ALPHA_MASK=1, **defines)
 
     def __call__(
         self, gpu_scene: GpuScene, positions: np.ndarray, near: float, far: float
@@ -52,12 +53,21 @@ class ShadowPass:
         fbo.clear(1e30, 1e30, 1e30, 1e30, depth=1.0)
         gl.enable(moderngl.DEPTH_TEST)
         matrices = cube_face_matrices(near, far)
-        prog = self.program
+        # nodes with an alpha mask cast shadows only where they are drawn (shadow.glsl's ALPHA_MASK)
+        groups = gpu_scene.groups(lambda index, node: node.material.opacity is not None)
         for row, pos in enumerate(positions):
-            set_uniform(prog, "light_position", np.asarray(pos, np.float32))
             for face in range(6):
                 fbo.viewport = (face * s, row * s, s, s)
-                set_uniform(prog, "face_matrix", matrices[face])
-                gpu_scene.draw(prog, lambda i, node: set_uniform(prog, "model_matrix", node.transform))
+                for masked, indices in groups.items():
+                    prog = self.masked_program if masked else self.program
+                    set_uniform(prog, "light_position", np.asarray(pos, np.float32))
+                    set_uniform(prog, "face_matrix", matrices[face])
+                    gpu_scene.draw(
+                        prog,
+                        (lambda i, node, prog=prog: gpu_scene.bind_surface(prog, i, node))
+                        if masked
+                        else (lambda i, node, prog=prog: set_uniform(prog, "model_matrix", node.transform)),
+                        only=indices if len(groups) > 1 else None,
+                    )
         gl.disable(moderngl.DEPTH_TEST)
         return atlas, matrices

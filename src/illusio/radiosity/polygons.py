@@ -303,9 +303,7 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         if np.linalg.det(m[:3, :3]) < 0:
             faces = faces[:, ::-1]
         c, t = quads_from_triangles(world, faces)
-        colour = np.asarray(node.material.colour, np.float64)
-        if node.material.texture is not None:
-            colour = colour * np.asarray(node.material.texture, np.float64).reshape(-1, 3).mean(axis=0)
+        colour = node.material.mean_albedo()
         g = len(names)
         names.append(node.name)
         corners.append(c)

@@ -25,10 +25,7 @@ def flat_albedo(scene: Scene) -> np.ndarray:
     (the reflectance its polygons are solved with)."""
     rows = [np.zeros(3)]
     for node in scene.nodes:
-        colour = np.asarray(node.material.colour, np.float64)
-        if node.material.texture is not None:
-            colour = colour * np.asarray(node.material.texture, np.float64).reshape(-1, 3).mean(axis=0)
-        rows.append(colour)
+        rows.append(node.material.mean_albedo())
     return np.asarray(rows, np.float32)
 
 

@@ -137,9 +137,14 @@ def _trimesh(node, materials: dict):
     mesh, material = node.mesh, node.material
     name = f"{node.name}-material"
     materials[name] = material
-    texture = None
+    texture, mask = None, {}
     if material.texture is not None and mesh.uvs is not None:
-        texture = Image.fromarray(np.round(linear_to_srgb(material.texture) * 255).astype(np.uint8))
+        rgb = np.round(linear_to_srgb(material.texture) * 255).astype(np.uint8)
+        if material.opacity is not None:  # glTF's alpha mask: the texture's alpha (linear) and the cutoff
+            alpha = np.round(np.clip(material.opacity, 0, 1) * 255).astype(np.uint8)
+            rgb = np.dstack([rgb, alpha])
+            mask = {"alphaMode": "MASK", "alphaCutoff": float(material.alpha_cutoff)}
+        texture = Image.fromarray(rgb)
     emission = np.asarray(material.emission, np.float64)
     pbr = PBRMaterial(
         name=name,
@@ -148,6 +153,7 @@ def _trimesh(node, materials: dict):
         metallicFactor=0.0,
         roughnessFactor=float((2 / (material.shininess + 2)) ** 0.25),
         emissiveFactor=list(np.clip(emission, 0, 1)) if emission.any() else None,
+        **mask,
     )
     visual = trimesh.visual.TextureVisuals(uv=mesh.uvs, material=pbr)
     return trimesh.Trimesh(

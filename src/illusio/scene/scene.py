@@ -37,6 +37,8 @@ class Material:
     colour: diffuse albedo ρ_d (linear RGB). texture: optional (H, W, 3) float32 image (row 0 on
     top) multiplied with colour through the mesh's uvs. specular: Phong coefficient k_s.
     shininess: Phong exponent n. emission: emitted radiance added as is (lamp shades, screens).
+    opacity: optional (H, W) float32 in [0, 1] beside ``texture`` (glTF's alpha mask): where it is
+    below ``alpha_cutoff`` the surface is cut away (not drawn, casts no shadow).
     """
 
     colour: tuple[float, float, float] = (0.7, 0.7, 0.7)
@@ -44,6 +46,8 @@ class Material:
     specular: float = 0.0
     shininess: float = 32.0
     emission: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    opacity: np.ndarray | None = None
+    alpha_cutoff: float = 0.5
 
     def __post_init__(self):
         self.colour = _vec(self.colour, 3, "material colour")
@@ -59,6 +63,28 @@ class Material:
             if t.ndim != 3 or t.shape[2] not in (3, 4):
                 raise InputError(f"material texture must be H×W×3, got shape {t.shape}")
             self.texture = t[:, :, :3]
+        if self.opacity is not None:
+            o = np.asarray(self.opacity, dtype=np.float32)
+            if self.texture is None or o.shape != self.texture.shape[:2]:
+                raise InputError(
+                    f"material opacity must be H×W beside an H×W×3 texture, got {o.shape} and "
+                    f"{None if self.texture is None else self.texture.shape}"
+                )
+            self.opacity = o
+        if not 0 < self.alpha_cutoff <= 1:
+            raise InputError(f"material alpha cutoff must be in (0, 1], got {self.alpha_cutoff}")
+
+    def mean_albedo(self) -> np.ndarray:
+        """(3,) float64: the colour × the texture's mean over its texels left by the alpha mask (the
+        one reflectance of the surface, where a technique takes one per node)."""
+        colour = np.asarray(self.colour, np.float64)
+        if self.texture is None:
+            return colour
+        texels = np.asarray(self.texture, np.float64).reshape(-1, 3)
+        if self.opacity is not None:
+            kept = self.opacity.reshape(-1) >= self.alpha_cutoff
+            texels = texels[kept] if kept.any() else texels
+        return colour * texels.mean(axis=0)
 
 
 @dataclass

@@ -3,7 +3,8 @@
 
 trimesh reads the node graph, the transforms, the geometry with its uvs and the materials (glTF's
 PBR materials, MTL's); pygltflib reads what trimesh drops: ``KHR_lights_punctual``, cameras,
-``KHR_materials_emissive_strength``, and the features illusio does not draw, named in one warning.
+``KHR_materials_emissive_strength``, ``KHR_texture_transform`` (applied to the uvs of the base colour
+texture), the alpha cutoff, and the features illusio does not draw, named in one warning.
 
 **Scene or shape** (:func:`is_scene_file`), one rule: a file with more than one mesh node, or any
 material, light or camera, is a scene; any other mesh file is a shape that commands place on the
@@ -16,6 +17,8 @@ turntable (``--turntable`` forces that reading of a scene file).
   n = 2/α² − 2 with α = roughness² (the Blinn-Phong exponent of the same highlight width),
   clamped to [1, 10⁴]. Absent factors take glTF's defaults (metallic 1, roughness 1);
 - emission = emissive factor × emissive strength × the emissive texture's mean (linear);
+- alpha mode MASK: opacity = the base colour factor's alpha × the texture's alpha, cut below
+  ``alphaCutoff`` (default 0.5) in every rasterised pass and shadow; BLEND is drawn opaque (named);
 - MTL: Kd is the diffuse colour (linear, as Blender's importer reads it), map_Kd its texture, Ks's
   mean k_s, Ns the shininess, Ke the emission.
 
@@ -224,8 +227,13 @@ def _scene_from_trimesh(p: Path, tscene, gltf, unsupported: list[str]) -> Scene:
             vertices, faces = vertices[used], remap[faces]
             normals = None if normals is None else normals[used]
             uvs = None if uvs is None else uvs[used]
-        mesh = Mesh(vertices.astype(np.float32), faces.astype(np.int32), normals=normals, uvs=uvs, name=str(node_name))
         material = _material(geometry.visual, materials, unsupported)
+        transform_uv = _texture_transform(
+            materials.get(getattr(getattr(geometry.visual, "material", None), "name", None))
+        )
+        if uvs is not None and transform_uv is not None and material.texture is not None:
+            uvs = _transformed_uvs(uvs, transform_uv)
+        mesh = Mesh(vertices.astype(np.float32), faces.astype(np.int32), normals=normals, uvs=uvs, name=str(node_name))
         if material.texture is not None and uvs is None:
             unsupported.append(f"node {node_name!r}: a texture but no texture coordinates (drawn untextured)")
             material.texture = None
@@ -313,6 +321,14 @@ def _texture(image) -> np.ndarray | None:
     return srgb_to_linear(rgb)
 
 
+def _opacity(image, factor: float) -> np.ndarray | None:
+    """glTF's alpha: the base colour factor's alpha × the texture's (linear, not sRGB-coded)."""
+    if image is None:
+        return None
+    alpha = np.asarray(image.convert("RGBA"), np.float32)[:, :, 3] / 255
+    return alpha * np.float32(factor)
+
+
 def _pbr_material(source, gltf_material, unsupported: list[str]) -> Material:
     pbr = getattr(gltf_material, "pbrMetallicRoughness", None)
     base = _factor(getattr(pbr, "baseColorFactor", None) or source.baseColorFactor, 3, (1.0, 1.0, 1.0))
@@ -328,15 +344,55 @@ def _pbr_material(source, gltf_material, unsupported: list[str]) -> Material:
     own = _illusio_extras(gltf_material)
     mode = getattr(gltf_material, "alphaMode", None) or getattr(source, "alphaMode", None)
     name = source.name or "unnamed"
-    if mode in ("MASK", "BLEND"):
-        unsupported.append(f"material {name!r}: alpha {mode.lower()} (drawn opaque)")
+    texture = _texture(source.baseColorTexture)
+    opacity, cutoff = None, 0.5
+    if mode == "BLEND":
+        unsupported.append(f"material {name!r}: alpha blend (drawn opaque)")
+    elif mode == "MASK":
+        cutoff = float(_first(getattr(gltf_material, "alphaCutoff", None), getattr(source, "alphaCutoff", None), 0.5))
+        factor = _factor(getattr(pbr, "baseColorFactor", None) or source.baseColorFactor, 4, (1.0, 1.0, 1.0, 1.0))
+        factor_alpha = float(factor[3]) if len(factor) > 3 else 1.0
+        opacity = _opacity(source.baseColorTexture, factor_alpha)
+        if opacity is None and factor_alpha < cutoff:
+            unsupported.append(f"material {name!r}: alpha mask cuts it all away (drawn opaque)")
     return Material(
         colour=tuple(np.clip(base * (1 - metallic), 0, 1)),
-        texture=_texture(source.baseColorTexture),
+        texture=texture,
         specular=float(own.get("specular", np.clip(0.04 * (1 - metallic) + metallic * base.mean(), 0, 1))),
         shininess=float(own.get("shininess", np.clip(2 / alpha**2 - 2, 1, 1e4))),
         emission=tuple(emission * strength),
+        opacity=opacity,
+        alpha_cutoff=min(max(cutoff, 1e-6), 1.0),
     )
+
+
+def _texture_transform(gltf_material) -> np.ndarray | None:
+    """The 3×3 matrix of the base colour texture's ``KHR_texture_transform`` (glTF's uv convention,
+    origin at the top left): translation · rotation · scale, as the extension defines it."""
+    info = getattr(getattr(gltf_material, "pbrMetallicRoughness", None), "baseColorTexture", None)
+    record = (getattr(info, "extensions", None) or {}).get("KHR_texture_transform")
+    if not isinstance(record, dict):
+        return None
+    try:
+        offset = np.asarray(record.get("offset", (0.0, 0.0)), np.float64).reshape(2)
+        rotation = float(record.get("rotation", 0.0))
+        scale = np.asarray(record.get("scale", (1.0, 1.0)), np.float64).reshape(2)
+    except (TypeError, ValueError):
+        raise InputError(
+            f"material {gltf_material.name!r}: KHR_texture_transform is not offset/rotation/scale"
+        ) from None
+    if not (np.isfinite(offset).all() and np.isfinite(scale).all() and np.isfinite(rotation)):
+        raise InputError(f"material {gltf_material.name!r}: KHR_texture_transform has a non-finite value")
+    c, s = np.cos(rotation), np.sin(rotation)
+    translation = np.array([[1, 0, offset[0]], [0, 1, offset[1]], [0, 0, 1]])
+    rotate = np.array([[c, s, 0], [-s, c, 0], [0, 0, 1]])
+    return translation @ rotate @ np.diag([scale[0], scale[1], 1.0])
+
+
+def _transformed_uvs(uvs: np.ndarray, matrix: np.ndarray) -> np.ndarray:
+    """``uvs`` as trimesh gives them (v up) through a glTF-convention (v down) uv matrix."""
+    gltf_uv = np.c_[uvs[:, 0], 1.0 - uvs[:, 1], np.ones(len(uvs))] @ matrix.T
+    return np.c_[gltf_uv[:, 0], 1.0 - gltf_uv[:, 1]].astype(np.float32)
 
 
 def _first(*values):
@@ -370,7 +426,7 @@ def _unsupported(gltf) -> list[str]:
         ),
     }
     out += [f"{n} {what}" for what, n in counts.items() if n]
-    drawn = {"KHR_lights_punctual", "KHR_materials_emissive_strength"}
+    drawn = {"KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform"}
     used = sorted(set(gltf.extensionsUsed or ()) - drawn)
     if used:
         out.append("extensions " + ", ".join(used))

@@ -34,7 +34,8 @@ uniform float shininess;
 uniform vec3 emission;
 uniform float object_id;
 uniform bool has_texture;
-uniform sampler2D albedo_texture;
+uniform sampler2D albedo_texture;  // rgb: albedo; alpha: opacity (1 without an alpha mask)
+uniform float alpha_cutoff;        // glTF's alpha mask: texels less opaque are cut away (0: opaque)
 
 in vec3 world_position;
 in vec3 world_normal;
@@ -47,9 +48,13 @@ vec3 surface_normal() {
     return gl_FrontFacing ? n : -n;
 }
 
+// the albedo, discarding the fragment where the alpha mask cuts the surface away
 vec3 surface_albedo() {
 #if TEXTURED
-    return has_texture ? albedo * texture(albedo_texture, surface_uv).rgb : albedo;
+    if (!has_texture) return albedo;
+    vec4 texel = texture(albedo_texture, surface_uv);
+    if (texel.a < alpha_cutoff) discard;
+    return albedo * texel.rgb;
 #else
     return albedo;
 #endif
