@@ -112,7 +112,7 @@ def test_a_glb_keeps_its_names_colours_texture_emission_light_and_camera(room):
     assert sorted(np.unique(np.round(floor.material.texture, 3)))[:1] == [pytest.approx(0.021, abs=1e-3)]
     assert np.allclose(scene.node("panel").material.emission, (1.0, 0.9, 0.6))
     (bulb,) = scene.lights
-    assert bulb.name == "bulb" and bulb.intensity == pytest.approx(6000 / LUMENS_PER_WATT)
+    assert bulb.name == "lamp-node" and bulb.intensity  # named by its node, as cameras are == pytest.approx(6000 / LUMENS_PER_WATT)
     assert np.allclose(bulb.position, (0.5, 3.0, 1.0))
     (name,) = scene.cameras
     view = scene.camera("shot")
@@ -205,7 +205,7 @@ def test_what_is_not_drawn_is_named_in_one_warning(tmp_path):
         warnings.simplefilter("always")
         load_scene_file(path)
     said = [str(w.message) for w in caught if issubclass(w.category, SceneFileWarning)]
-    assert len(said) == 1 and "spot light 'bulb'" in said[0] and "KHR_materials_transmission" in said[0]
+    assert len(said) == 1 and "spot light 'lamp-node'" in said[0] and "KHR_materials_transmission" in said[0]
 
 
 @pytest.mark.parametrize("name", ["cornell-box", "living-room", "office", "museum", "futuristic", "turntable"])
@@ -325,7 +325,7 @@ def test_commands_take_the_files_names(room, tmp_path):
     assert "focus 5.38 m" in r.stdout  # the ball's distance along the file camera's axis
     r = illusio("sis-scene", room, "--host", "floor", "--emission", "0", "-o", tmp_path / "s.png", "--size", "96x64")
     assert r.returncode == 0, r.stderr
-    r = illusio("radiosity", room, "--set-lamp", "bulb=2", "-o", tmp_path / "r.png", "--size", "64x40")
+    r = illusio("radiosity", room, "--set-lamp", "lamp-node=2", "-o", tmp_path / "r.png", "--size", "64x40")
     assert r.returncode == 0, r.stderr
     assert_one_line_error(
         illusio("sis-scene", room, "--host", "panel", "-o", tmp_path / "x.png", "--size", "96x64"),

@@ -98,7 +98,7 @@ def export_gltf(scene: Scene, path: str | os.PathLike) -> Path:
                     name=f"{light.name} (light)",
                     translation=list(light.position),
                     extensions={"KHR_lights_punctual": {"light": k}},
-                    extras={"illusio": {"shadows": bool(light.shadows)}},
+                    extras={"illusio": {"shadows": bool(light.shadows), "name": light.name}},
                 )
             )
             gltf.scenes[0].nodes.append(len(gltf.nodes) - 1)

@@ -19,11 +19,17 @@ turntable (``--turntable`` forces that reading of a scene file).
 - emission = emissive factor × emissive strength × the emissive texture's mean (linear);
 - alpha mode MASK: opacity = the base colour factor's alpha × the texture's alpha, cut below
   ``alphaCutoff`` (default 0.5) in every rasterised pass and shadow; BLEND is drawn opaque (named);
-- MTL: Kd is the diffuse colour (linear, as Blender's importer reads it), map_Kd its texture, Ks's
-  mean k_s, Ns the shininess, Ke the emission.
+- MTL: Kd is the diffuse colour (linear, as Blender's importer reads it; absent, 1 under a map_Kd and
+  0.8 without), map_Kd its texture, Ks's mean k_s, Ns the shininess, Ke the emission. An MTL
+  Blender wrote (its first line says so) holds Principled's terms: k_s = 0.08·Ks (the specular
+  level's F0) and roughness 1 − √(Ns/1000), then the glTF rule above, so Blender's OBJ and glTF of
+  one material agree. A node per
+  ``o`` object, named after it ("object/material" for an object of several materials; a glTF mesh
+  of several primitives likewise gives "node/material").
 
 **Lights** (``KHR_lights_punctual``; photometric units converted with 683 lm/W, the luminous efficacy
-at 555 nm): a point light of I cd is a :class:`PointLight` of I/683 W/sr; a spot light is the point
+at 555 nm), named by their node (else the light's own name): a point light of I cd is a
+:class:`PointLight` of I/683 W/sr; a spot light is the point
 light at its position (its cone is not drawn: named in the warning); a directional light of E lux is
 a point light 100 scene radii away against its direction, of E/683 · d² W/sr, so its irradiance at
 the scene is the same. A file with no light and no emissive material gets the turntable's two lamps
@@ -54,6 +60,9 @@ SCENE_FILE_FORMATS = (".gltf", ".glb", ".obj")
 
 #: lm/W: the luminous efficacy of 555 nm light, the photometric → radiometric factor
 LUMENS_PER_WATT = 683.0
+
+#: trimesh's OBJ reading: a node per ``o`` object (Blender writes one per object) and material
+OBJ_OPTIONS = {"split_objects": True, "group_material": True}
 
 #: how far a directional light's stand-in point light is, in scene radii
 DIRECTIONAL_DISTANCE = 100.0
@@ -129,6 +138,57 @@ def _check_obj_files(p: Path) -> None:
                 raise InputError(f"{mtl}: texture {image!r} is not in {mtl.parent}")
 
 
+def _obj_objects(data: bytes) -> list[str]:
+    """The names of an OBJ's ``o`` objects, in file order."""
+    out = []
+    for line in data.splitlines():
+        if line.startswith(b"o ") or line.startswith(b"o\t"):
+            name = line[2:].strip().decode("utf-8", "replace")
+            if name and name not in out:
+                out.append(name)
+    return out
+
+
+def _obj_node_names(p: Path, tscene) -> dict[str, str]:
+    """Each of trimesh's OBJ geometries named after its ``o`` object (trimesh names them
+    "object_material" when the file has several materials); an object of several materials gives a
+    node per material, "object/material"."""
+    objects = set(_obj_objects(p.read_bytes()))
+    owner = {}
+    for name in tscene.graph.nodes_geometry:
+        geometry = tscene.geometry[tscene.graph[name][1]]
+        material = getattr(getattr(geometry.visual, "material", None), "name", None)
+        stem = name[: -len(material) - 1] if material and name.endswith("_" + material) else name
+        owner[name] = (stem, material) if stem in objects else (name, None)
+    count = {}
+    for stem, _ in owner.values():
+        count[stem] = count.get(stem, 0) + 1
+    return {
+        name: f"{stem}/{material}" if count[stem] > 1 and material else stem for name, (stem, material) in owner.items()
+    }
+
+
+def _gltf_node_names(tscene) -> dict[str, str]:
+    """Each of trimesh's geometry nodes named after its glTF node: a mesh of several primitives
+    (Blender writes one per material) is a child per primitive, which trimesh names with a hash;
+    those are "node/material"."""
+    parents = tscene.graph.transforms.parents
+    geometry_nodes = set(tscene.graph.nodes_geometry)
+    children: dict = {}
+    for name in geometry_nodes:
+        children[parents.get(name)] = children.get(parents.get(name), 0) + 1
+    out = {}
+    for name in tscene.graph.nodes_geometry:
+        parent = parents.get(name)
+        if parent in (None, tscene.graph.base_frame) or parent in geometry_nodes or children[parent] < 2:
+            out[name] = name
+            continue
+        geometry = tscene.geometry[tscene.graph[name][1]]
+        material = getattr(getattr(geometry.visual, "material", None), "name", None)
+        out[name] = f"{parent}/{material}" if material else name
+    return out
+
+
 def _obj_words(data: bytes, *keys: bytes) -> list[str]:
     """The file names after each of ``keys`` (the last word of the line: options such as -s come
     first in MTL)."""
@@ -184,10 +244,16 @@ def _load_trimesh(p: Path):
             if absolute is not None:  # relative indices: the spec's meaning, not trimesh's
                 resolver = trimesh.resolvers.FilePathResolver(str(p))
                 loaded = trimesh.load(
-                    io.BytesIO(absolute), file_type="obj", resolver=resolver, force="scene", process=False
+                    io.BytesIO(absolute),
+                    file_type="obj",
+                    resolver=resolver,
+                    force="scene",
+                    process=False,
+                    **OBJ_OPTIONS,
                 )
             else:
-                loaded = trimesh.load(str(p), force="scene", process=False)
+                options = OBJ_OPTIONS if p.suffix.lower() == ".obj" else {}
+                loaded = trimesh.load(str(p), force="scene", process=False, **options)
     except Exception as exc:  # trimesh raises many kinds on corrupt input
         reason = " ".join(str(exc).split())[:200] or type(exc).__name__
         raise InputError(f"{p}: cannot read scene ({reason})") from None
@@ -201,13 +267,22 @@ def _scene_from_trimesh(p: Path, tscene, gltf, unsupported: list[str]) -> Scene:
     extras = _node_extras(gltf)
     scene = Scene(p.stem)
     others = 0
-    order = {n.name: i for i, n in enumerate(gltf.nodes)} if gltf is not None else {}
-    for node_name in sorted(tscene.graph.nodes_geometry, key=lambda n: order.get(n, len(order))):
+    blender_mtl = gltf is None and _written_by_blender(p)
+    if gltf is not None:
+        names = _gltf_node_names(tscene)
+        nodes = {n.name: i for i, n in enumerate(gltf.nodes)}
+        order = {name: nodes.get(name.split("/")[0], len(nodes)) for name in names.values()}
+    else:
+        names = _obj_node_names(p, tscene)
+        objects = _obj_objects(p.read_bytes())
+        order = {n: objects.index(n.split("/")[0]) for n in names.values() if n.split("/")[0] in objects}
+    for graph_name in sorted(tscene.graph.nodes_geometry, key=lambda n: order.get(names[n], len(order))):
+        node_name = names[graph_name]
         own = extras.get(node_name, {})
         if "area_light" in own:  # illusio's own lamp, exported as a panel: read back as the lamp
             scene.lights.append(_area_light(own["area_light"], node_name))
             continue
-        transform, geometry_name = tscene.graph[node_name]
+        transform, geometry_name = tscene.graph[graph_name]
         geometry = tscene.geometry[geometry_name]
         if not isinstance(geometry, trimesh.Trimesh):
             others += 1
@@ -227,7 +302,7 @@ def _scene_from_trimesh(p: Path, tscene, gltf, unsupported: list[str]) -> Scene:
             vertices, faces = vertices[used], remap[faces]
             normals = None if normals is None else normals[used]
             uvs = None if uvs is None else uvs[used]
-        material = _material(geometry.visual, materials, unsupported)
+        material = _material(geometry.visual, materials, unsupported, blender_mtl)
         transform_uv = _texture_transform(
             materials.get(getattr(getattr(geometry.visual, "material", None), "name", None))
         )
@@ -293,14 +368,14 @@ def _gltf_materials(gltf) -> dict:
     return {m.name: m for m in gltf.materials if m.name and names.count(m.name) == 1}
 
 
-def _material(visual, gltf_materials: dict, unsupported: list[str]) -> Material:
+def _material(visual, gltf_materials: dict, unsupported: list[str], blender_mtl: bool = False) -> Material:
     from trimesh.visual.material import PBRMaterial, SimpleMaterial
 
     source = getattr(visual, "material", None)
     if isinstance(source, PBRMaterial):
         return _pbr_material(source, gltf_materials.get(source.name), unsupported)
     if isinstance(source, SimpleMaterial):
-        return _mtl_material(source)
+        return _mtl_material(source, blender_mtl)
     colours = getattr(visual, "vertex_colors", None) if getattr(visual, "kind", None) else None
     if colours is not None and len(colours):
         return Material(colour=srgb_to_linear(np.asarray(colours, np.float64)[:, :3].mean(axis=0) / 255))
@@ -334,7 +409,6 @@ def _pbr_material(source, gltf_material, unsupported: list[str]) -> Material:
     base = _factor(getattr(pbr, "baseColorFactor", None) or source.baseColorFactor, 3, (1.0, 1.0, 1.0))
     metallic = float(_first(getattr(pbr, "metallicFactor", None), source.metallicFactor, 1.0))
     roughness = float(_first(getattr(pbr, "roughnessFactor", None), source.roughnessFactor, 1.0))
-    alpha = max(roughness**2, 1e-3)
     emission = _factor(getattr(gltf_material, "emissiveFactor", None) or source.emissiveFactor, 3, (0.0, 0.0, 0.0))
     extensions = getattr(gltf_material, "extensions", None) or {}
     strength = float(extensions.get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0))
@@ -359,7 +433,7 @@ def _pbr_material(source, gltf_material, unsupported: list[str]) -> Material:
         colour=tuple(np.clip(base * (1 - metallic), 0, 1)),
         texture=texture,
         specular=float(own.get("specular", np.clip(0.04 * (1 - metallic) + metallic * base.mean(), 0, 1))),
-        shininess=float(own.get("shininess", np.clip(2 / alpha**2 - 2, 1, 1e4))),
+        shininess=float(own.get("shininess", _phong_exponent(roughness))),
         emission=tuple(emission * strength),
         opacity=opacity,
         alpha_cutoff=min(max(cutoff, 1e-6), 1.0),
@@ -399,15 +473,39 @@ def _first(*values):
     return next(v for v in values if v is not None)
 
 
-def _mtl_material(source) -> Material:
-    kwargs = getattr(source, "kwargs", {}) or {}
-    emission = kwargs.get("Ke")
-    specular = _factor(source.specular, 3, (0.0, 0.0, 0.0)) if source.specular is not None else np.zeros(3)
+def _phong_exponent(roughness: float) -> float:
+    """n = 2/α² − 2 with α = roughness², in [1, 10⁴] (the Blinn-Phong lobe of the same width)."""
+    alpha = max(roughness**2, 1e-3)
+    return float(np.clip(2 / alpha**2 - 2, 1, 1e4))
+
+
+def _written_by_blender(p: Path) -> bool:
+    """Whether the OBJ's material libraries are Blender's (their first line says so)."""
+    for library in _obj_words(p.read_bytes(), b"mtllib"):
+        with open(p.parent / library, "rb") as f:
+            if not f.readline().startswith(b"# Blender"):
+                return False
+    return bool(_obj_words(p.read_bytes(), b"mtllib"))
+
+
+def _mtl_material(source, blender: bool = False) -> Material:
+    kwargs = {str(k).lower(): v for k, v in (getattr(source, "kwargs", {}) or {}).items()}  # trimesh lowercases
+    emission = kwargs.get("ke")
+    ks = kwargs.get("ks", source.specular)  # the file's floats (trimesh rounds its own copy to bytes)
+    specular = _factor(ks, 3, (0.0, 0.0, 0.0)) if ks is not None else np.zeros(3)
+    shininess = float(np.clip(source.glossiness or 1.0, 1, 1e4))
+    if blender:  # Ks is Principled's specular level (F0 = 0.08·Ks), Ns = 1000·(1 − roughness)²
+        specular = 0.08 * specular
+        shininess = _phong_exponent(1 - np.sqrt(np.clip(float(source.glossiness or 0.0), 0, 1000) / 1000))
+    if "kd" in kwargs:
+        colour = _factor(kwargs["kd"], 3, (0.8, 0.8, 0.8))
+    else:  # no Kd: the texture alone (Blender writes no Kd where an image gives the colour), else 0.8
+        colour = np.ones(3) if source.image is not None else np.full(3, 0.8)
     return Material(
-        colour=tuple(np.clip(_factor(source.diffuse, 3, (0.8, 0.8, 0.8)), 0, 1)),
+        colour=tuple(np.clip(colour, 0, 1)),
         texture=_texture(source.image),
         specular=float(np.clip(specular.mean(), 0, 1)),
-        shininess=float(np.clip(source.glossiness or 1.0, 1, 1e4)),
+        shininess=shininess,
         emission=tuple(float(v) for v in np.asarray(emission, np.float64).reshape(-1)[:3])
         if emission is not None
         else (0.0, 0.0, 0.0),
@@ -480,7 +578,8 @@ def _lights_and_cameras(gltf, scene: Scene, unsupported: list[str]) -> None:
             index = light_ref.get("light")
             if not isinstance(index, int) or not 0 <= index < len(lights):
                 raise InputError(f"node {node.name!r}: light {index!r} is not in KHR_lights_punctual")
-            name = lights[index].get("name") or node.name or f"light-{index}"
+            # the node's name, as for cameras (what Blender's outliner shows; its light data is "Light")
+            name = _illusio_extras(node).get("name") or node.name or lights[index].get("name") or f"light-{index}"
             scene.lights.append(_light(lights[index], name, position, forward, centre, radius))
             scene.lights[-1].shadows = bool(_illusio_extras(node).get("shadows", True))
             if lights[index].get("type") == "spot":
