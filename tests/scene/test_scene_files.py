@@ -112,7 +112,8 @@ def test_a_glb_keeps_its_names_colours_texture_emission_light_and_camera(room):
     assert sorted(np.unique(np.round(floor.material.texture, 3)))[:1] == [pytest.approx(0.021, abs=1e-3)]
     assert np.allclose(scene.node("panel").material.emission, (1.0, 0.9, 0.6))
     (bulb,) = scene.lights
-    assert bulb.name == "lamp-node" and bulb.intensity  # named by its node, as cameras are == pytest.approx(6000 / LUMENS_PER_WATT)
+    # named by its node, as cameras are
+    assert bulb.name == "lamp-node" and bulb.intensity == pytest.approx(6000 / LUMENS_PER_WATT)
     assert np.allclose(bulb.position, (0.5, 3.0, 1.0))
     (name,) = scene.cameras
     view = scene.camera("shot")

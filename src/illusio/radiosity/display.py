@@ -194,6 +194,22 @@ def corner_average(h: Hierarchy, leaves: np.ndarray, values: np.ndarray) -> np.n
     return _average_at(vertex, corner_of_tri, np.repeat(np.asarray(values, np.float64)[:, None], 4, axis=1))
 
 
+def texture_factor(h: Hierarchy, leaves: np.ndarray) -> np.ndarray:
+    """(n, 4, 1) at each leaf corner: the surface's mean reflectance / ρ there for textured leaves
+    (ρ of the leaves meeting at the corner, averaged as B is), 1 for the others."""
+    polygons = h.polygons
+    group = polygons.group[h.polygon[leaves]]
+    flat = np.full((len(leaves), 3), np.nan)
+    for g, image in polygons.textures.items():
+        flat[group == g] = image.reshape(-1, 3).mean(axis=0)
+    textured = np.isfinite(flat).all(axis=1) & np.isfinite(h.uv[leaves]).all(axis=(1, 2))
+    rho = corner_average(h, leaves, h.reflectance[leaves])
+    ratio = np.where(
+        textured[:, None, None] & (rho > 1e-6), np.nan_to_num(flat)[:, None, :] / np.maximum(rho, 1e-6), 1.0
+    )
+    return ratio
+
+
 def leaf_mesh(
     h: Hierarchy,
     links: Links | None = None,
@@ -201,10 +217,14 @@ def leaf_mesh(
     smooth: bool = True,
     gather=None,
     shown: np.ndarray | None = None,
+    textured: bool = False,
 ) -> LeafMesh:
     """The leaves as a triangle mesh for display (see the module docstring). Smooth: gathered at the
     corners with ``links`` and ``exitance`` (E per element; ``gather``, ``shown``: see
-    vertex_radiosity), or averaged from the leaves without."""
+    vertex_radiosity), or averaged from the leaves without. ``textured``: the image will be
+    modulated by the textures (texture_modulation: × albedo(x) / the surface's mean), so a textured
+    leaf's corners carry B × that mean / ρ there (ρ averaged at the corners as B is): the texture
+    then shows once, not once in the elements' ρ and again in the modulation."""
     leaves = h.leaves()
     n = len(leaves)
     b = (
@@ -212,6 +232,8 @@ def leaf_mesh(
         if smooth
         else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
     )
+    if textured and h.polygons.textures:
+        b = b * texture_factor(h, leaves)
     tri = h.triangle[leaves]
     base = np.arange(n) * 4
     faces = np.concatenate([np.c_[base, base + 1, base + 2], np.c_[base[~tri], base[~tri] + 2, base[~tri] + 3]])

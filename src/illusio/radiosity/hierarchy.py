@@ -3,8 +3,9 @@ into 4 quads at its edge midpoints and centre, a triangle into 4 at its edge mid
 
 Elements live in flat arrays (structure of arrays, grown by doubling) so that refinement, gather and
 push-pull are vectorised. Children are created after their parent, four in a row: ``child[i]`` is the
-first, −1 for a leaf. Per element: corners, area A (m²), centre, unit normal, ρ, E (W/m²), B (W/m²),
-the gathered irradiance H (W/m²) and its level; the links an element receives are the rows of
+first, −1 for a leaf. Per element: corners, the uvs there (NaN untextured), area A (m²), centre, unit
+normal, ρ (a textured element's: the mean of the texture it covers, :mod:`.texture_reflectance`),
+E (W/m²), B (W/m²), the gathered irradiance H (W/m²) and its level; the links an element receives are the rows of
 :class:`illusio.radiosity.links.Links` whose receiver is that element.
 """
 
@@ -20,6 +21,7 @@ __all__ = ["Hierarchy", "FIELDS", "leaves_under"]
 # per-element arrays: name → (shape after the element axis, dtype)
 FIELDS = {
     "corners": ((4, 3), np.float64),
+    "uv": ((4, 2), np.float64),
     "triangle": ((), bool),
     "polygon": ((), np.int64),
     "parent": ((), np.int64),
@@ -49,6 +51,7 @@ class Hierarchy:
         self.roots = self._append(
             polygons.corners, polygons.triangle, np.arange(len(polygons)), np.full(len(polygons), -1), 0
         )
+        self._uv[self.roots] = polygons.corner_uv()
         self.reflectance[self.roots] = polygons.reflectance
         self.exitance[self.roots] = polygons.exitance
         self.radiosity[self.roots] = polygons.exitance
@@ -71,6 +74,8 @@ class Hierarchy:
         h.polygons = polygons
         n = len(arrays["active"])
         for name, (shape, dtype) in FIELDS.items():
+            if name == "uv" and name not in arrays:  # saved before uvs were kept: untextured
+                arrays = {**arrays, "uv": np.full((n, 4, 2), np.nan)}
             a = np.asarray(arrays[name])
             if a.shape != (n,) + shape:
                 raise InputError(f"saved hierarchy: field {name} has shape {a.shape}, expected {(n,) + shape}")
@@ -112,6 +117,7 @@ class Hierarchy:
         roots = self._append(
             polygons.corners, polygons.triangle, first_polygon + np.arange(len(polygons)), np.full(len(polygons), -1), 0
         )
+        self._uv[roots] = polygons.corner_uv()
         self.reflectance[roots] = polygons.reflectance
         self.exitance[roots] = polygons.exitance
         self.radiosity[roots] = polygons.exitance
@@ -171,36 +177,8 @@ class Hierarchy:
         elements = np.asarray(elements, np.int64)
         todo = np.unique(elements[self._child[elements] < 0])
         if len(todo):
-            c = self._corners[todo]
             tri = self._triangle[todo]
-            m01, m12, m23, m30 = ((c[:, k] + c[:, (k + 1) % 4]) / 2 for k in range(4))
-            m20 = (c[:, 2] + c[:, 0]) / 2
-            centre = c.mean(axis=1)
-            quad_children = np.stack(
-                [
-                    np.stack(q, axis=1)
-                    for q in (
-                        (c[:, 0], m01, centre, m30),
-                        (m01, c[:, 1], m12, centre),
-                        (centre, m12, c[:, 2], m23),
-                        (m30, centre, m23, c[:, 3]),
-                    )
-                ],
-                axis=1,
-            )
-            tri_children = np.stack(
-                [
-                    np.stack(q, axis=1)
-                    for q in (
-                        (c[:, 0], m01, m20, m20),
-                        (m01, c[:, 1], m12, m12),
-                        (m20, m12, c[:, 2], c[:, 2]),
-                        (m01, m12, m20, m20),
-                    )
-                ],
-                axis=1,
-            )
-            children = np.where(tri[:, None, None, None], tri_children, quad_children)  # (n, 4, 4, 3)
+            children = _split(self._corners[todo], tri)  # (n, 4, 4, 3)
             n = len(todo)
             rep = np.repeat(todo, 4)
             first = self._append(
@@ -211,9 +189,19 @@ class Hierarchy:
                 np.repeat(self._level[todo] + 1, 4),
             )[::4]
             self._child[todo] = first
+            new = np.repeat(first, 4) + np.tile(np.arange(4), n)
+            self._uv[new] = _split(self._uv[todo], tri).reshape(-1, 4, 2)
             for name in ("reflectance", "exitance", "radiosity"):
                 arr = getattr(self, "_" + name)
-                arr[np.repeat(first, 4) + np.tile(np.arange(4), n)] = arr[rep]
+                arr[new] = arr[rep]
+            textured = np.isfinite(self._uv[new]).all(axis=(1, 2))
+            if textured.any() and self.polygons.textures:  # each child its own share of the texture
+                t = new[textured]
+                rho = self.polygons.texture_reflectance()(
+                    self.polygons.group[self._polygon[t]], self._uv[t], self._triangle[t]
+                )
+                ok = np.isfinite(rho).all(axis=1)
+                self._reflectance[t[ok]] = rho[ok]
         return self._child[elements]
 
     def collapse(self, elements: np.ndarray) -> None:
@@ -293,6 +281,39 @@ def _sample_points(corners, triangle, elements, uv, out):
                         + u * v * corners[e, 2, c]
                         + (1 - u) * v * corners[e, 3, c]
                     )
+
+
+def _split(c: np.ndarray, tri: np.ndarray) -> np.ndarray:
+    """(n, 4, 4, d): the four children's corners of elements with corners ``c`` (n, 4, d) — a quad
+    at its edge midpoints and centre, a triangle at its edge midpoints (positions and uvs alike)."""
+    m01, m12, m23, m30 = ((c[:, k] + c[:, (k + 1) % 4]) / 2 for k in range(4))
+    m20 = (c[:, 2] + c[:, 0]) / 2
+    centre = c.mean(axis=1)
+    quad_children = np.stack(
+        [
+            np.stack(q, axis=1)
+            for q in (
+                (c[:, 0], m01, centre, m30),
+                (m01, c[:, 1], m12, centre),
+                (centre, m12, c[:, 2], m23),
+                (m30, centre, m23, c[:, 3]),
+            )
+        ],
+        axis=1,
+    )
+    tri_children = np.stack(
+        [
+            np.stack(q, axis=1)
+            for q in (
+                (c[:, 0], m01, m20, m20),
+                (m01, c[:, 1], m12, m12),
+                (m20, m12, c[:, 2], c[:, 2]),
+                (m01, m12, m20, m20),
+            )
+        ],
+        axis=1,
+    )
+    return np.where(tri[:, None, None, None], tri_children, quad_children)
 
 
 def leaves_under(h: Hierarchy, leaves: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -1,5 +1,6 @@
-"""Ground truth: the same polygons path-traced by Mitsuba 3 (diffuse BSDFs of reflectance ρ, area
-emitters of radiance E/π, no other light), and the score of a radiosity render against it.
+"""Ground truth: the same polygons path-traced by Mitsuba 3 (diffuse BSDFs of reflectance ρ — a
+textured polygon's the reflectance image through its uvs —, area emitters of radiance E/π, no other
+light), and the score of a radiosity render against it.
 
 Both images are radiance (W/(m²·sr)) in linear RGB for the same camera, so they compare pixel to
 pixel once written with the same exposure and sRGB encoding."""
@@ -23,7 +24,11 @@ def _scene_dict(polygons: Polygons, folder: Path) -> dict:
     import trimesh
 
     out: dict = {"type": "scene"}
-    material = np.c_[polygons.reflectance, polygons.exitance]
+    uv = polygons.corner_uv()
+    textured = np.isin(polygons.group, list(polygons.textures)) & np.isfinite(uv).all(axis=(1, 2))
+    # untextured polygons grouped by material; a textured one by its texture (its own material)
+    material = np.c_[np.where(textured[:, None], -1.0, polygons.reflectance), polygons.exitance]
+    material = np.c_[material, np.where(textured, polygons.group, -1)]
     _, group = np.unique(np.round(material, 9), axis=0, return_inverse=True)
     vertices, faces = polygons.triangles()
     face_polygon = np.r_[np.arange(len(polygons)), np.flatnonzero(~polygons.triangle)]
@@ -31,13 +36,20 @@ def _scene_dict(polygons: Polygons, folder: Path) -> dict:
         members = np.flatnonzero(group.reshape(-1) == g)
         take = np.isin(face_polygon, members)
         path = folder / f"group-{g}.ply"
-        trimesh.Trimesh(vertices.astype(np.float64), faces[take], process=False).export(path)
+        mesh = trimesh.Trimesh(vertices.astype(np.float64), faces[take], process=False)
         k = members[0]
+        reflectance = rgb(polygons.reflectance[k])
+        if textured[k]:  # the reflectance image through the uvs (Mitsuba's v runs down the image)
+            mi = load_mitsuba()
+            mesh.visual = trimesh.visual.TextureVisuals(uv=uv.reshape(-1, 2))
+            image = np.ascontiguousarray(polygons.textures[int(polygons.group[k])][::-1], np.float32)
+            reflectance = {"type": "bitmap", "bitmap": mi.Bitmap(image), "raw": True}
+        mesh.export(path)
         shape = {
             "type": "ply",
             "filename": str(path),
             "face_normals": True,
-            "bsdf": {"type": "diffuse", "reflectance": rgb(polygons.reflectance[k])},
+            "bsdf": {"type": "diffuse", "reflectance": reflectance},
         }
         if polygons.exitance[k].max() > 0:
             shape["emitter"] = {"type": "area", "radiance": rgb(polygons.exitance[k] / np.pi)}

@@ -20,6 +20,7 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..scene.scene import AreaLight, PointLight, Scene
+from .texture_reflectance import MAX_TEXEL_REFLECTANCE
 
 __all__ = ["Polygons", "scene_polygons", "quads_from_triangles", "MAX_POLYGONS"]
 
@@ -40,6 +41,9 @@ class Polygons:
     corner (corner 3 = corner 2). triangle: (n,) bool. reflectance: ρ (n, 3) in [0, 1).
     exitance: E (n, 3) W/m², ≥ 0. group: (n,) int, the index in ``names`` of the node or lamp each
     polygon comes from; ``lamps`` lists the group indices that are scene lamps (for the sliders).
+    uv: optional (n, 4, 2) texture coordinates at the corners (NaN where a polygon has none);
+    textures: group → (H, W, 3) reflectance image (colour × texture, texels < 1) that a textured
+    polygon's elements take their ρ from (:mod:`.texture_reflectance`).
     """
 
     corners: np.ndarray
@@ -49,10 +53,14 @@ class Polygons:
     group: np.ndarray
     names: list[str] = field(default_factory=list)
     lamps: list[int] = field(default_factory=list)
+    uv: np.ndarray | None = None
+    textures: dict[int, np.ndarray] = field(default_factory=dict)
 
     def __post_init__(self):
         self.corners = np.ascontiguousarray(self.corners, np.float64).reshape(-1, 4, 3)
         n = len(self.corners)
+        if self.uv is not None:
+            self.uv = np.asarray(self.uv, np.float64).reshape(n, 4, 2)
         self.triangle = np.asarray(self.triangle, bool).reshape(n)
         self.reflectance = np.asarray(self.reflectance, np.float64).reshape(n, 3)
         self.exitance = np.asarray(self.exitance, np.float64).reshape(n, 3)
@@ -88,11 +96,32 @@ class Polygons:
             k = int(np.flatnonzero(~(np.isfinite(self.exitance) & (self.exitance >= 0)).all(axis=1))[0])
             raise InputError(f"{self.where(k)} has exitance {tuple(self.exitance[k])}: it must be finite and ≥ 0")
 
+    def corner_uv(self) -> np.ndarray:
+        """(n, 4, 2) uvs at the corners, NaN where there are none."""
+        return self.uv if self.uv is not None else np.full((len(self), 4, 2), np.nan)
+
+    def without_textures(self) -> Polygons:
+        """The same polygons, each with one reflectance (its own) and no texture to refine it."""
+        return Polygons(
+            self.corners, self.triangle, self.reflectance, self.exitance, self.group, list(self.names), list(self.lamps)
+        )
+
+    def texture_reflectance(self):
+        """The :class:`~.texture_reflectance.TextureReflectance` of these polygons' textures (kept)."""
+        cached = getattr(self, "_texture_reflectance", None)
+        if cached is None:
+            from .texture_reflectance import TextureReflectance
+
+            cached = self._texture_reflectance = TextureReflectance(self.textures)
+        return cached
+
     def extended(self, other: Polygons, name: str, lamp: bool = False) -> Polygons:
-        """These polygons followed by ``other``, all of which form one new group ``name``."""
+        """These polygons followed by ``other``, all of which form one new group ``name`` (textured
+        by ``other``'s first texture, if it has one)."""
         if name in self.names:
             raise InputError(f"there is already an object or lamp named {name!r}")
         g = len(self.names)
+        textured = self.uv is not None or other.uv is not None
         return Polygons(
             np.concatenate([self.corners, other.corners]),
             np.r_[self.triangle, other.triangle],
@@ -101,6 +130,8 @@ class Polygons:
             np.r_[self.group, np.full(len(other), g)],
             self.names + [name],
             self.lamps + ([g] if lamp else []),
+            np.concatenate([self.corner_uv(), other.corner_uv()]) if textured else None,
+            {**self.textures, **({g: next(iter(other.textures.values()))} if other.textures else {})},
         )
 
     def split_slivers(self, piece_length: float) -> Polygons:
@@ -122,11 +153,14 @@ class Polygons:
         if not len(cut):
             return self
         parts = []
+        uv = self.corner_uv()
+        uv_parts = []
         for k in cut:
-            q = c[k] if first[k] >= second[k] else c[k][[1, 2, 3, 0]]  # edge 0→1 along the length
+            order = [0, 1, 2, 3] if first[k] >= second[k] else [1, 2, 3, 0]  # edge 0→1 along the length
             t = np.linspace(0.0, 1.0, pieces[k] + 1)[:, None]
-            a, b = q[0] + t * (q[1] - q[0]), q[3] + t * (q[2] - q[3])
-            parts.append(np.stack([a[:-1], a[1:], b[1:], b[:-1]], axis=1))
+            for q, out in ((c[k][order], parts), (uv[k][order], uv_parts)):
+                a, b = q[0] + t * (q[1] - q[0]), q[3] + t * (q[2] - q[3])
+                out.append(np.stack([a[:-1], a[1:], b[1:], b[:-1]], axis=1))
         index = np.r_[np.flatnonzero(pieces == 1), np.repeat(cut, pieces[cut])]
         return Polygons(
             np.concatenate([c[pieces == 1]] + parts),
@@ -136,7 +170,19 @@ class Polygons:
             self.group[index],
             list(self.names),
             list(self.lamps),
-        )
+            np.concatenate([uv[pieces == 1]] + uv_parts) if self.uv is not None else None,
+            dict(self.textures),
+        ).with_texture_reflectance()
+
+    def with_texture_reflectance(self) -> Polygons:
+        """These polygons with each textured one's ρ the mean of the texture it covers."""
+        if self.uv is None or not self.textures:
+            return self
+        rho = self.texture_reflectance()(self.group, self.uv, self.triangle)
+        ok = np.isfinite(rho).all(axis=1)
+        if ok.any():
+            self.reflectance = np.where(ok[:, None], rho, self.reflectance)
+        return self
 
     def group_of(self, name: str) -> int:
         if name not in self.names:
@@ -211,14 +257,19 @@ def polygon_areas(corners: np.ndarray, triangle: np.ndarray) -> np.ndarray:
     return np.where(triangle, tri, quad)
 
 
-def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: float = 1e-6):
+def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: float = 1e-6, uvs=None):
     """Pair triangles back into quads: two coplanar triangles sharing the longest edge of both and
     forming a convex quad. Returns (corners (n, 4, 3), triangle (n,) bool), corners in the triangles'
-    winding. Vertices are matched by position (a box's faces have their own copies of corners)."""
+    winding. Vertices are matched by position (a box's faces have their own copies of corners). With
+    ``uvs`` (per vertex), the shared edge must also agree in uv (no seam across a quad), and the
+    corners' uvs (n, 4, 2) come third."""
     v = np.asarray(vertices, np.float64)
     f = np.asarray(faces, np.int64)
     scale = max(float(np.ptp(v, axis=0).max()), 1e-9)
-    _, ids = np.unique(np.round(v / (tolerance * scale)).astype(np.int64), axis=0, return_inverse=True)
+    key = np.round(v / (tolerance * scale)).astype(np.int64)
+    if uvs is not None:
+        key = np.c_[key, np.round(np.asarray(uvs, np.float64) / 1e-6).astype(np.int64)]
+    _, ids = np.unique(key, axis=0, return_inverse=True)
     ids = ids.reshape(-1)
     p = v[f]  # (m, 3, 3)
     # the edge opposite corner k joins corners k+1 and k+2; the longest one is the diagonal
@@ -266,7 +317,15 @@ def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: flo
     tris = np.concatenate([p[singles], p[singles][:, 2:3]], axis=1)
     corners = np.concatenate([quads, tris]) if len(tris) else quads
     triangle = np.r_[np.zeros(len(quads), bool), np.ones(len(tris), bool)]
-    return corners, triangle
+    if uvs is None:
+        return corners, triangle
+    index = np.concatenate(
+        [
+            np.stack([a[first], b[first], d, c[first]], axis=1)[take],
+            np.c_[f[singles], f[singles][:, 2]],
+        ]
+    )
+    return corners, triangle, np.asarray(uvs, np.float64)[index]
 
 
 def rectangle(centre, u, v) -> np.ndarray:
@@ -290,10 +349,12 @@ def _cube(centre, side: float) -> np.ndarray:
 
 
 def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
-    """The polygons of ``scene``'s visible nodes (ρ = material colour × the texture's mean) and of its
+    """The polygons of ``scene``'s visible nodes (ρ = material colour, or for a textured one the mean
+    of colour × texture over the polygon, with its corner uvs and the image for its elements) and of its
     lamps (see the module docstring). Degenerate polygons (zero area) are dropped and counted in one
     warning; InputError on reflectances outside [0, 1)."""
-    corners, triangle, rho, exitance, group, names, lamps = [], [], [], [], [], [], []
+    corners, triangle, rho, exitance, group, names, lamps, uvs = [], [], [], [], [], [], [], []
+    textures: dict[int, np.ndarray] = {}
     for node in scene.nodes:
         if not node.visible or "lamp" in node.tags:
             continue
@@ -302,13 +363,21 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         faces = node.mesh.faces
         if np.linalg.det(m[:3, :3]) < 0:
             faces = faces[:, ::-1]
-        c, t = quads_from_triangles(world, faces)
-        colour = node.material.mean_albedo()
+        material = node.material
+        textured = material.texture is not None and node.mesh.uvs is not None
+        if textured:
+            c, t, uv = quads_from_triangles(world, faces, uvs=node.mesh.uvs)
+            textures[len(names)] = reflectance_image(material)
+        else:
+            c, t = quads_from_triangles(world, faces)
+            uv = np.full((len(c), 4, 2), np.nan)
+        colour = material.mean_albedo()
         g = len(names)
         names.append(node.name)
         corners.append(c)
         triangle.append(t)
-        rho.append(np.repeat(colour[None], len(c), axis=0))
+        uvs.append(uv)
+        rho.append(np.repeat(np.minimum(colour, MAX_TEXEL_REFLECTANCE if textured else 1.0)[None], len(c), axis=0))
         exitance.append(np.repeat(np.pi * np.asarray(node.material.emission, np.float64)[None], len(c), axis=0))
         group.append(np.full(len(c), g))
     for light in scene.lights:
@@ -324,13 +393,14 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         names.append(light.name)
         lamps.append(g)
         corners.append(c)
+        uvs.append(np.full((len(c), 4, 2), np.nan))
         triangle.append(np.zeros(len(c), bool))
         rho.append(np.zeros((len(c), 3)))
         exitance.append(np.repeat(e[None], len(c), axis=0))
         group.append(np.full(len(c), g))
     if not corners:
         raise InputError(f"scene {scene.name!r} has no visible geometry for radiosity")
-    arrays = [np.concatenate(a) for a in (corners, triangle, rho, exitance, group)]
+    arrays = [np.concatenate(a) for a in (corners, triangle, rho, exitance, group, uvs)]
     areas = polygon_areas(arrays[0], arrays[1])
     scale = max(float(np.ptp(arrays[0].reshape(-1, 3), axis=0).max()), 1e-9)
     degenerate = areas <= DEGENERATE_AREA * scale * scale
@@ -345,4 +415,15 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         arrays = [a[~degenerate] for a in arrays]
         if not len(arrays[0]):
             raise InputError(f"scene {scene.name!r}: every polygon has zero area")
-    return Polygons(*arrays, names, lamps)
+    uv = arrays.pop()
+    return Polygons(*arrays, names, lamps, uv if textures else None, textures).with_texture_reflectance()
+
+
+def reflectance_image(material) -> np.ndarray:
+    """(H, W, 3) the reflectance a textured material's texels give: colour × texture, each texel
+    capped at MAX_TEXEL_REFLECTANCE; texels its alpha mask cuts take the kept texels' mean."""
+    image = np.asarray(material.colour, np.float64) * np.asarray(material.texture, np.float64)
+    if material.opacity is not None:
+        cut = material.opacity < material.alpha_cutoff
+        image[cut] = material.mean_albedo()
+    return np.minimum(image, MAX_TEXEL_REFLECTANCE)

@@ -61,11 +61,18 @@ class RadiosityRenderer(Renderer):
     def solve(self, params: RadiosityParams) -> Radiosity:
         """The solution for ``params`` (built, re-solved or kept as they require)."""
         self._require_subject()
-        if self._solution is None or self._solution.params != params.hierarchy:
-            self._solution = Radiosity(self.polygons, params.hierarchy)
+        if (
+            self._solution is None
+            or self._solution.params != params.hierarchy
+            or bool(self._solution.polygons.textures) != (params.textures and bool(self.polygons.textures))
+        ):
+            # --no-textures: each polygon solved with its own mean (as Mitsuba of the polygons is given)
+            polygons = self.polygons if params.textures else self.polygons.without_textures()
+            self._solution = Radiosity(polygons, params.hierarchy)
             self._solution.build(params.tolerance, params.max_iterations)
             self._state = None
-        state = (params.hierarchy, params.lamp_scales, params.tolerance, params.show == "mesh")
+        modulated = params.textures and self._textures is not None and self._textures.active
+        state = (params.hierarchy, params.lamp_scales, params.tolerance, params.show == "mesh", modulated)
         if self._state != state:
             if self._state is None or self._state[1:3] != state[1:3]:
                 self._solution.set_lamps(dict(params.lamp_scales), params.tolerance, params.max_iterations)
@@ -75,6 +82,7 @@ class RadiosityRenderer(Renderer):
                     self._solution.links,
                     self._solution.display_exitance(),
                     smooth=params.show != "mesh",
+                    textured=modulated and params.show != "mesh",
                 )
             )
             self._state = state

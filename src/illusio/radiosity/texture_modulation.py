@@ -1,8 +1,9 @@
-"""Textures on the displayed radiosity: the solution is computed with each node's mean reflectance
-(colour × its texture's mean, scene_polygons), and drawn modulated by the texture — each pixel's
-radiance times albedo(x) / mean albedo of its node, the albedo from the scene's G-buffer — so a
-textured floor shows its pattern under the light the solution gives it (Loscos 1999, ch. 4, does the
-same with the photograph's textures)."""
+"""Textures on the displayed radiosity: each element is solved with the mean reflectance of the
+texture it covers (texture_reflectance), far coarser than the texture, and the image is modulated
+by the texture — each pixel's radiance times albedo(x) / the mean albedo of its node, the albedo
+from the scene's G-buffer, where the displayed mesh carries B × that mean / ρ of the elements
+(display.texture_factor) — so a textured floor shows its pattern under the light the solution gives
+it (Loscos 1999, ch. 4, does the same with the photograph's textures)."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from ..passes.gbuffer import GBufferPass
 from ..passes.gpu_scene import GpuScene
 from ..scene.camera import View
 from ..scene.scene import Scene
+from .polygons import reflectance_image
 
 __all__ = ["TextureModulation", "flat_albedo", "modulate"]
 
@@ -21,11 +23,14 @@ SHADER = "radiosity/shaders/texture_modulation.glsl"
 
 
 def flat_albedo(scene: Scene) -> np.ndarray:
-    """(nodes + 1, 3) float32: row 0 for "nothing", row i + 1 node i's colour × its texture's mean
-    (the reflectance its polygons are solved with)."""
+    """(nodes + 1, 3) float32: row 0 for "nothing", row i + 1 node i's mean reflectance (of its
+    reflectance image, polygons.reflectance_image, when textured: the mean display.texture_factor uses)."""
     rows = [np.zeros(3)]
     for node in scene.nodes:
-        rows.append(node.material.mean_albedo())
+        textured = node.material.texture is not None and node.mesh.uvs is not None
+        rows.append(
+            reflectance_image(node.material).reshape(-1, 3).mean(axis=0) if textured else node.material.mean_albedo()
+        )
     return np.asarray(rows, np.float32)
 
 

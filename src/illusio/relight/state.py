@@ -134,6 +134,8 @@ def save_session(session: SavedSession, path) -> Path:
     # where the visibility's ray sampling stands, so that edits after loading sample as they would have
     record["visibility_rng"] = sol.visibility.rng.bit_generator.state
     for name, a in sol.hierarchy.arrays().items():
+        if name == "uv":  # relighting's polygons carry no texture (the photograph is theirs): all NaN
+            continue
         arrays[f"hierarchy.{name}"] = a
     for name in ("receiver", "source", "form_factor", "visibility"):
         arrays[f"links.{name}"] = getattr(sol.links, name)

@@ -8,7 +8,9 @@ its own::
     python -m venv /tmp/bpy && /tmp/bpy/bin/pip install bpy==5.0.1
     /tmp/bpy/bin/python tests/data/blender/make_scene.py tests/data/blender
 """
+
 import sys
+
 import bpy
 import numpy as np
 
