@@ -238,3 +238,29 @@ def test_a_group_command_writing_a_folder(tmp_path):
     (out / "refs-2" / "references.json").write_text("{}")
     again = run_job(job, out)
     assert again.ran == 1 and again.skipped == 1
+
+
+def test_scene_files_from_other_tools_as_inputs(tmp_path):
+    """A job over Blender's own glTF and OBJ of one scene (tests/data/blender): each is read as a
+    scene, with its materials (the cube's red sides), not as a grey shape on the turntable."""
+    import shutil
+
+    import numpy as np
+    from PIL import Image
+
+    blender = Path(__file__).parents[1] / "data" / "blender"
+    (tmp_path / "scenes").mkdir()
+    for name in ("blender.glb", "blender.obj", "blender.mtl", "checker.png"):
+        shutil.copy(blender / name, tmp_path / "scenes" / name)
+    (tmp_path / "job.yaml").write_text(
+        "tasks:\n  - command: render\n    inputs: [scenes/*.glb, scenes/*.obj]\n"
+        "    options: {size: 96x54}\n    output: '{input_name}.png'\n"
+    )
+    job = load_job(tmp_path / "job.yaml")
+    out = tmp_path / "out"
+    assert run_job(job, out).ran == 2
+    images = {p.name: np.asarray(Image.open(p), np.float64) / 255 for p in out.glob("*.png")}
+    assert sorted(images) == ["blender.glb.png", "blender.obj.png"]
+    for image in images.values():  # the cube's red sides, as Blender made them
+        red = (image[..., 0] > 0.2) & (image[..., 0] > 2 * image[..., 1])
+        assert red.mean() > 0.005

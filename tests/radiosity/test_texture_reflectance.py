@@ -35,9 +35,9 @@ def _random_elements(rng, n):
 @pytest.mark.parametrize("kind", ["smooth", "noise"])
 def test_the_kernel_matches_its_reference_on_random_inputs(rng, kind):
     """Mean reflectance over random elements of a random 128×96 image (not a power of two: the
-    pyramid resamples it) against reference_mean's 64² full-resolution samples: within 0.025 on a
-    smooth image (a few sines), and on white noise — where 64 samples of an element are themselves a
-    noisy mean — within 0.05, 95 % within 0.02."""
+    pyramid resamples it) against reference_mean's 64² full-resolution samples: within 0.01 on a
+    smooth image (a few sines; 0.0035 at most over 12 seeds), and on white noise — where the
+    reference's own samples are a noisy mean — within 0.06, 95 % within 0.02 (0.035 and 0.011)."""
     h, w = 128, 96
     if kind == "noise":
         image = rng.random((h, w, 3)) * 0.9
@@ -50,9 +50,9 @@ def test_the_kernel_matches_its_reference_on_random_inputs(rng, kind):
     reference = np.array([reference_mean(image, uv[i], triangle[i]) for i in range(len(uv))])
     error = np.abs(got - reference).max(axis=1)
     if kind == "smooth":
-        assert error.max() < 0.025
+        assert error.max() < 0.01
     else:
-        assert error.max() < 0.05 and np.percentile(error, 95) < 0.02
+        assert error.max() < 0.06 and np.percentile(error, 95) < 0.02
 
 
 def _half_and_half(dark_left: bool, size: int = 64):

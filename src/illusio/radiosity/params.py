@@ -108,8 +108,6 @@ class RadiosityParams:
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
-        "tolerance": "a change re-solves from the solution shown, already converged: under 2/255",
-        "max_iterations": "the default solve converges well before its cap",
         "element": "only with show links",
         "hierarchy.max_links": "a budget: the default scene stays far below it (at its low end, refused)",
     }

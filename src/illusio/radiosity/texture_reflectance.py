@@ -1,7 +1,8 @@
 """An element's reflectance from the texture it covers: the mean of the surface's reflectance image
 (material colour × texture) over the element's region of the image, given by the uvs at its corners.
 
-Each element is sampled (a numba kernel) at ``SAMPLES``² points spread evenly over it — a quad at the centres of an
+Each element is sampled (a numba kernel) at ``SAMPLES``² points (``LARGE_SAMPLES``² for one over a
+sixteenth of the image) spread evenly over it — a quad at the centres of an
 ``SAMPLES``×``SAMPLES`` grid of its bilinear parameters, a triangle at the centroids of its
 ``SAMPLES``²-triangle subdivision — in the level of a box-filtered mip pyramid where one sample's
 share of the element covers about one texel, so a large element averages every texel it covers and
@@ -21,6 +22,10 @@ __all__ = ["SAMPLES", "TextureReflectance", "element_points", "reference_mean", 
 
 #: samples per side of an element (SAMPLES² in all)
 SAMPLES = 8
+
+#: an element covering more than this share of the image (uv area) takes LARGE_SAMPLES a side
+LARGE_AREA = 1 / 16
+LARGE_SAMPLES = 32
 
 #: a texel's reflectance is capped here (radiosity needs ρ < 1: MGF's rd 1 is capped the same way)
 MAX_TEXEL_REFLECTANCE = 0.98
@@ -159,17 +164,21 @@ class TextureReflectance:
             rows = np.flatnonzero(ok & (group == g))
             levels = self.levels(int(g))
             h, w = levels[0].shape[:2]
+            area = _uv_areas(uv[rows], triangle[rows])
+            # elements over a sixteenth of the image (roots, mostly) take LARGE_SAMPLES a side
+            samples = np.where(area > LARGE_AREA, LARGE_SAMPLES, SAMPLES)
             # the level where a sample's share of the element is about one texel; below that, the
             # image itself
-            footprint = np.sqrt(np.maximum(_uv_areas(uv[rows], triangle[rows]) * h * w, 1e-300)) / SAMPLES
+            footprint = np.sqrt(np.maximum(area * h * w, 1e-300)) / samples
             level = np.clip(np.floor(np.log2(np.maximum(footprint, 1.0))), 0, len(levels) - 1).astype(np.int64)
-            quad_weights, tri_weights = _weights(SAMPLES)
-            for k in np.unique(level):
-                at = rows[level == k]
-                mean = np.empty((len(at), 3))
-                image = np.ascontiguousarray(levels[k] if k else self.images[int(g)])
-                _mean_kernel(image, np.ascontiguousarray(uv[at]), triangle[at], quad_weights, tri_weights, mean)
-                out[at] = mean
+            for n in np.unique(samples):
+                quad_weights, tri_weights = _weights(int(n))
+                for k in np.unique(level[samples == n]):
+                    at = rows[(level == k) & (samples == n)]
+                    mean = np.empty((len(at), 3))
+                    image = np.ascontiguousarray(levels[k] if k else self.images[int(g)])
+                    _mean_kernel(image, np.ascontiguousarray(uv[at]), triangle[at], quad_weights, tri_weights, mean)
+                    out[at] = mean
         return out
 
 

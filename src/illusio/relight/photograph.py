@@ -141,7 +141,9 @@ def builtin_real_scene(
     from ..radiosity import render_mitsuba
 
     scene = resolve_scene(name)
-    polygons = scene_polygons(scene)
+    # each polygon one reflectance (its texture's mean over it): the photograph relighting estimates
+    # reflectance from, at the scale of its elements
+    polygons = scene_polygons(scene).without_textures()
     view = scene.camera()  # main, or a scene file's first camera
     denoise = denoiser_available() if denoise is None else bool(denoise)
     with phase(f"relight: the photograph, path-traced ({samples} paths a pixel, {size[0]}×{size[1]})"):
