@@ -81,8 +81,9 @@ class RadiosityParams:
     sliders of interactive relighting (links kept, only the solve reruns). show: one of SHOW.
     exposure: the displayed value is exposure × B/π (radiance, W/(m²·sr)) before sRGB encoding.
     element: the element whose links ``show="links"`` draws (−1: the brightest receiver's largest).
-    textures: the displayed solution modulated by the surfaces' textures (radiosity.texture_modulation;
-    the solve uses each surface's mean reflectance either way)."""
+    textures: each textured element solved with the mean of the texture it covers
+    (radiosity.texture_reflectance) and the displayed solution modulated by the textures
+    (radiosity.texture_modulation); off, each polygon is solved and drawn with its own mean."""
 
     PANEL: ClassVar[str] = "Radiosity"  # its options' panel in --help
 
@@ -94,8 +95,8 @@ class RadiosityParams:
     exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="scale on the radiance B/π before encoding")
     textures: bool = param(
         True,
-        help="draw the surfaces' textures on the solution (off: each surface at its mean reflectance, "
-        "as the solve and a path tracer of its polygons see it)",
+        help="solve each element with the texture it covers and draw the textures (off: each polygon at "
+        "its mean reflectance, as a path tracer of untextured polygons sees it)",
     )
     element: int = param(
         -1,
