@@ -41,8 +41,9 @@ _TRI_UV = np.array([[0, 0, 1], [1, 0, 1], [0, 1, 1], [0, 1, 1]], np.float32)
 @dataclass(eq=False)
 class LeafMesh:
     """Triangles of the leaves: positions (m, 3), radiance B/π (m, 3) W/(m²·sr), corner (m, 3) (see
-    the shader), element (m,) the leaf each vertex belongs to, faces (k, 3) int32 and face_element
-    (k,) the leaf each triangle belongs to."""
+    the shader), element (m,) the leaf each vertex belongs to, faces (k, 3) int32, face_element
+    (k,) the leaf each triangle belongs to and two_sided (m,) 1 where the leaf is one side of a
+    two-sided surface (seen from behind, it is not drawn: its twin is), else 0."""
 
     positions: np.ndarray
     radiance: np.ndarray
@@ -50,6 +51,7 @@ class LeafMesh:
     element: np.ndarray
     faces: np.ndarray
     face_element: np.ndarray
+    two_sided: np.ndarray | None = None
 
 
 def corner_form_factors(h: Hierarchy, leaf: np.ndarray, source: np.ndarray) -> np.ndarray:
@@ -246,6 +248,7 @@ def leaf_mesh(
         np.repeat(leaves, 4).astype(np.float32),
         faces.astype(np.int32),
         face_element,
+        np.repeat(h.polygons.sides()[h.polygon[leaves]] > 0, 4).astype(np.float32),
     )
 
 
@@ -266,15 +269,16 @@ class DisplayPass:
         if not len(mesh.faces):  # nothing shown (no leaf in view): draws nothing; GL refuses empty buffers
             return
         gl = self.ctx.gl
-        data = np.hstack([mesh.positions, mesh.radiance, mesh.corner, mesh.element[:, None]]).astype(np.float32)
-        vbo = gl.buffer(np.ascontiguousarray(data).tobytes())
+        two_sided = mesh.two_sided if mesh.two_sided is not None else np.zeros(len(mesh.positions), np.float32)
+        data = np.hstack([mesh.positions, mesh.radiance, mesh.corner, mesh.element[:, None], two_sided[:, None]])
+        vbo = gl.buffer(np.ascontiguousarray(data.astype(np.float32)).tobytes())
         ibo = gl.buffer(np.ascontiguousarray(mesh.faces).tobytes())
         self._buffers = [vbo, ibo]
         for edges, program in self.programs.items():
             layout = (
-                (vbo, "3f 3f 3f 1f", "in_position", "in_radiance", "in_corner", "in_element")
+                (vbo, "3f 3f 3f 1f 1f", "in_position", "in_radiance", "in_corner", "in_element", "in_two_sided")
                 if edges
-                else (vbo, "3f 3f 12x 1f", "in_position", "in_radiance", "in_element")
+                else (vbo, "3f 3f 12x 1f 1f", "in_position", "in_radiance", "in_element", "in_two_sided")
             )
             self._vaos[edges] = gl.vertex_array(program, [layout], ibo)
 

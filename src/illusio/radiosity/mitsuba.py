@@ -25,15 +25,18 @@ def _scene_dict(polygons: Polygons, folder: Path) -> dict:
 
     out: dict = {"type": "scene"}
     uv = polygons.corner_uv()
+    side = polygons.sides()
     textured = np.isin(polygons.group, list(polygons.textures)) & np.isfinite(uv).all(axis=(1, 2))
-    # untextured polygons grouped by material; a textured one by its texture (its own material)
+    # untextured polygons grouped by material; a textured one by its texture (its own material); a
+    # two-sided surface is its front with Mitsuba's twosided BSDF (its twin, at the same place, left out)
     material = np.c_[np.where(textured[:, None], -1.0, polygons.reflectance), polygons.exitance]
-    material = np.c_[material, np.where(textured, polygons.group, -1)]
+    material = np.c_[material, np.where(textured, polygons.group, -1), side]
     _, group = np.unique(np.round(material, 9), axis=0, return_inverse=True)
+    group = np.where(side == 2, -1, group.reshape(-1))
     vertices, faces = polygons.triangles()
     face_polygon = np.r_[np.arange(len(polygons)), np.flatnonzero(~polygons.triangle)]
-    for g in range(int(group.max()) + 1):
-        members = np.flatnonzero(group.reshape(-1) == g)
+    for g in np.unique(group[group >= 0]):
+        members = np.flatnonzero(group == g)
         take = np.isin(face_polygon, members)
         path = folder / f"group-{g}.ply"
         mesh = trimesh.Trimesh(vertices.astype(np.float64), faces[take], process=False)
@@ -45,11 +48,12 @@ def _scene_dict(polygons: Polygons, folder: Path) -> dict:
             image = np.ascontiguousarray(polygons.textures[int(polygons.group[k])][::-1], np.float32)
             reflectance = {"type": "bitmap", "bitmap": mi.Bitmap(image), "raw": True}
         mesh.export(path)
+        bsdf = {"type": "diffuse", "reflectance": reflectance}
         shape = {
             "type": "ply",
             "filename": str(path),
             "face_normals": True,
-            "bsdf": {"type": "diffuse", "reflectance": reflectance},
+            "bsdf": {"type": "twosided", "bsdf": bsdf} if side[k] == 1 else bsdf,
         }
         if polygons.exitance[k].max() > 0:
             shape["emitter"] = {"type": "area", "radiance": rgb(polygons.exitance[k] / np.pi)}

@@ -8,7 +8,9 @@ triangle. Lamps: a rectangular ``AreaLight`` of radiance L becomes an emitting q
 E = π·L (one-sided, along edge_u × edge_v); a ``PointLight`` of intensity I becomes a small emitting
 cube (side ``point_lamp_size``) of the same power 4π·I. Nodes tagged ``lamp`` are the fittings of
 those lamps and are left out (their glow is a display effect of the rasteriser); any other node whose
-material emits is an emitter of exitance π × its emission (the office's monitor screens).
+material emits is an emitter of exitance π × its emission (the office's monitor screens). A node
+tagged ``two-sided`` (MGF's default) gives each face a reversed twin at the same place, lit on its
+own side (Polygons.side); the twin of an emitting face emits nothing.
 """
 
 from __future__ import annotations
@@ -44,6 +46,9 @@ class Polygons:
     uv: optional (n, 4, 2) texture coordinates at the corners (NaN where a polygon has none);
     textures: group → (H, W, 3) reflectance image (colour × texture, texels < 1) that a textured
     polygon's elements take their ρ from (:mod:`.texture_reflectance`).
+    side: optional (n,) int8: 0 a one-sided polygon, 1 the front of a two-sided surface (as its
+    file wrote it), 2 the reversed twin scene_polygons made for its back (same place and material,
+    lit on the other side, emitting nothing).
     """
 
     corners: np.ndarray
@@ -55,12 +60,15 @@ class Polygons:
     lamps: list[int] = field(default_factory=list)
     uv: np.ndarray | None = None
     textures: dict[int, np.ndarray] = field(default_factory=dict)
+    side: np.ndarray | None = None
 
     def __post_init__(self):
         self.corners = np.ascontiguousarray(self.corners, np.float64).reshape(-1, 4, 3)
         n = len(self.corners)
         if self.uv is not None:
             self.uv = np.asarray(self.uv, np.float64).reshape(n, 4, 2)
+        if self.side is not None:
+            self.side = np.asarray(self.side, np.int8).reshape(n)
         self.triangle = np.asarray(self.triangle, bool).reshape(n)
         self.reflectance = np.asarray(self.reflectance, np.float64).reshape(n, 3)
         self.exitance = np.asarray(self.exitance, np.float64).reshape(n, 3)
@@ -96,6 +104,10 @@ class Polygons:
             k = int(np.flatnonzero(~(np.isfinite(self.exitance) & (self.exitance >= 0)).all(axis=1))[0])
             raise InputError(f"{self.where(k)} has exitance {tuple(self.exitance[k])}: it must be finite and ≥ 0")
 
+    def sides(self) -> np.ndarray:
+        """(n,) int8: :attr:`side`, 0 (one-sided) where not given."""
+        return self.side if self.side is not None else np.zeros(len(self), np.int8)
+
     def corner_uv(self) -> np.ndarray:
         """(n, 4, 2) uvs at the corners, NaN where there are none."""
         return self.uv if self.uv is not None else np.full((len(self), 4, 2), np.nan)
@@ -103,7 +115,14 @@ class Polygons:
     def without_textures(self) -> Polygons:
         """The same polygons, each with one reflectance (its own) and no texture to refine it."""
         return Polygons(
-            self.corners, self.triangle, self.reflectance, self.exitance, self.group, list(self.names), list(self.lamps)
+            self.corners,
+            self.triangle,
+            self.reflectance,
+            self.exitance,
+            self.group,
+            list(self.names),
+            list(self.lamps),
+            side=self.side,
         )
 
     def texture_reflectance(self):
@@ -132,6 +151,7 @@ class Polygons:
             self.lamps + ([g] if lamp else []),
             np.concatenate([self.corner_uv(), other.corner_uv()]) if textured else None,
             {**self.textures, **({g: next(iter(other.textures.values()))} if other.textures else {})},
+            np.r_[self.sides(), other.sides()] if self.side is not None or other.side is not None else None,
         )
 
     def split_slivers(self, piece_length: float) -> Polygons:
@@ -172,6 +192,7 @@ class Polygons:
             list(self.lamps),
             np.concatenate([uv[pieces == 1]] + uv_parts) if self.uv is not None else None,
             dict(self.textures),
+            self.side[index] if self.side is not None else None,
         ).with_texture_reflectance()
 
     def with_texture_reflectance(self) -> Polygons:
@@ -280,10 +301,14 @@ def quads_from_triangles(vertices: np.ndarray, faces: np.ndarray, tolerance: flo
     a = f[rows, apex]
     b = f[rows, (apex + 1) % 3]
     c = f[rows, (apex + 2) % 3]
-    key = np.sort(np.c_[ids[b], ids[c]], axis=1)
     normal = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
     normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
-    order = np.lexsort((key[:, 1], key[:, 0]))
+    # the diagonal, and which way the triangle faces (its normal's largest axis and sign): a
+    # two-sided surface's reversed twin shares the diagonal but faces the other way
+    axis = np.abs(normal).argmax(axis=1)
+    facing = 2 * axis + (normal[np.arange(len(normal)), axis] > 0)
+    key = np.c_[np.sort(np.c_[ids[b], ids[c]], axis=1), facing]
+    order = np.lexsort((key[:, 2], key[:, 1], key[:, 0]))
     same = (key[order[1:]] == key[order[:-1]]).all(axis=1)
     partner = np.full(m, -1)
     first, second = order[:-1][same], order[1:][same]
@@ -353,7 +378,7 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
     of colour × texture over the polygon, with its corner uvs and the image for its elements) and of its
     lamps (see the module docstring). Degenerate polygons (zero area) are dropped and counted in one
     warning; InputError on reflectances outside [0, 1)."""
-    corners, triangle, rho, exitance, group, names, lamps, uvs = [], [], [], [], [], [], [], []
+    corners, triangle, rho, exitance, group, names, lamps, uvs, sides = [], [], [], [], [], [], [], [], []
     textures: dict[int, np.ndarray] = {}
     for node in scene.nodes:
         if not node.visible or "lamp" in node.tags:
@@ -372,13 +397,23 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
             c, t = quads_from_triangles(world, faces)
             uv = np.full((len(c), 4, 2), np.nan)
         colour = material.mean_albedo()
+        emitted = np.repeat(np.pi * np.asarray(node.material.emission, np.float64)[None], len(c), axis=0)
+        side = np.zeros(len(c), np.int8)
+        if "two-sided" in node.tags:  # each face and its reversed twin, lit on its own side (RenderPark's)
+            back = np.where(t[:, None], [0, 2, 1, 1], [0, 3, 2, 1])  # a triangle repeats its last corner
+            c = np.concatenate([c, np.take_along_axis(c, back[:, :, None], axis=1)])
+            uv = np.concatenate([uv, np.take_along_axis(uv, back[:, :, None], axis=1)])
+            emitted = np.concatenate([emitted, np.zeros_like(emitted)])  # the back emits nothing
+            side = np.r_[np.ones(len(t), np.int8), np.full(len(t), 2, np.int8)]
+            t = np.r_[t, t]
         g = len(names)
         names.append(node.name)
         corners.append(c)
         triangle.append(t)
         uvs.append(uv)
+        sides.append(side)
         rho.append(np.repeat(np.minimum(colour, MAX_TEXEL_REFLECTANCE if textured else 1.0)[None], len(c), axis=0))
-        exitance.append(np.repeat(np.pi * np.asarray(node.material.emission, np.float64)[None], len(c), axis=0))
+        exitance.append(emitted)
         group.append(np.full(len(c), g))
     for light in scene.lights:
         if isinstance(light, AreaLight):
@@ -394,13 +429,14 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         lamps.append(g)
         corners.append(c)
         uvs.append(np.full((len(c), 4, 2), np.nan))
+        sides.append(np.zeros(len(c), np.int8))
         triangle.append(np.zeros(len(c), bool))
         rho.append(np.zeros((len(c), 3)))
         exitance.append(np.repeat(e[None], len(c), axis=0))
         group.append(np.full(len(c), g))
     if not corners:
         raise InputError(f"scene {scene.name!r} has no visible geometry for radiosity")
-    arrays = [np.concatenate(a) for a in (corners, triangle, rho, exitance, group, uvs)]
+    arrays = [np.concatenate(a) for a in (corners, triangle, rho, exitance, group, uvs, sides)]
     areas = polygon_areas(arrays[0], arrays[1])
     scale = max(float(np.ptp(arrays[0].reshape(-1, 3), axis=0).max()), 1e-9)
     degenerate = areas <= DEGENERATE_AREA * scale * scale
@@ -415,8 +451,11 @@ def scene_polygons(scene: Scene, point_lamp_size: float = 0.05) -> Polygons:
         arrays = [a[~degenerate] for a in arrays]
         if not len(arrays[0]):
             raise InputError(f"scene {scene.name!r}: every polygon has zero area")
+    side = arrays.pop()
     uv = arrays.pop()
-    return Polygons(*arrays, names, lamps, uv if textures else None, textures).with_texture_reflectance()
+    return Polygons(
+        *arrays, names, lamps, uv if textures else None, textures, side if side.any() else None
+    ).with_texture_reflectance()
 
 
 def reflectance_image(material) -> np.ndarray:

@@ -296,6 +296,9 @@ class Visibility:
         roots = h.roots[h.active[h.roots]]
         if exclude is not None:
             roots = np.setdiff1d(roots, exclude)
+        # a two-sided surface's back twin blocks what its front, at the same place, blocks: left out,
+        # so no ray from or to either side hits a coincident twin at its own end
+        roots = roots[h.polygons.sides()[h.polygon[roots]] != 2]
         c = h.corners[roots]
         tri = h.triangle[roots]
         tris = np.concatenate([c[:, [0, 1, 2]], c[~tri][:, [0, 2, 3]]])

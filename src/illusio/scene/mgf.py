@@ -5,7 +5,9 @@
   nested; applied to geometry where it is used, as MGF's own parser does), ``i`` includes (relative
   to the including file, with transform arguments);
 - materials: ``m`` (define with ``=``, or select), ``c`` colours with ``cxy``, ``cspec``, ``cct``;
-  ``rd`` diffuse reflectance, ``ed`` diffuse emission, ``sides``; ``rs`` (specular) is read and
+  ``rd`` diffuse reflectance, ``ed`` diffuse emission, ``sides`` (2, MGF's default: the node is
+  tagged ``two-sided`` and radiosity gives each face a reversed twin, lit on its own side, as
+  RenderPark does; 1: the face as wound); ``rs`` (specular) is read and
   ignored (radiosity is diffuse), as are ``td``/``ts``/``ir`` (transmission);
 - geometry: ``v`` with ``p`` and ``n``, ``f`` polygons (triangulated by earcut, oriented by their
   vertex normals where given), and ``sph``, ``cyl``, ``cone``, ``ring``, ``prism``, ``torus``
@@ -108,6 +110,9 @@ class _Material:
     ed: float = 0.0
     ed_colour: _Colour = field(default_factory=_Colour)
     colour: _Colour = field(default_factory=_Colour)  # the material's current colour context
+    #: MGF's sides: 2 (its default) a two-sided surface (tagged ``two-sided``: radiosity gives each
+    #: face a reversed twin, as RenderPark does); 1 the face as wound
+    sides: int = 2
 
     def material(self) -> Material:
         rho = np.clip(self.rd * self.rd_colour.rgb(), 0.0, MAX_REFLECTANCE)  # radiosity needs ρ < 1
@@ -170,7 +175,7 @@ class _State:
     vertex: _Vertex | None = None
     objects: list[str] = field(default_factory=list)
     transforms: list[np.ndarray] = field(default_factory=lambda: [np.eye(4)])
-    #: (object path, material name) -> (triangles (n, 3, 3), its Material)
+    #: (object path, material name) -> (triangles (n, 3, 3), its Material, its sides: 1 or 2)
     geometry: dict[tuple[str, str], list] = field(default_factory=dict)
     ignored: Counter = field(default_factory=Counter)
     #: lines of ``rd 1`` (read as the reflectance cap, MAX_REFLECTANCE)
@@ -194,7 +199,7 @@ class _State:
 
     def add(self, triangles: np.ndarray) -> None:
         key = ("/".join(self.objects) or "scene", self.material_name)
-        entry = self.geometry.setdefault(key, [[], self.material.material()])
+        entry = self.geometry.setdefault(key, [[], self.material.material(), self.material.sides])
         entry[0].append(np.asarray(triangles, np.float64).reshape(-1, 3, 3))
 
 
@@ -456,8 +461,7 @@ def _entity(path: Path, state: _State, kind: str, args: list[str], where: str, d
         (value,) = _numbers(args, 1, kind, where)
         if value not in (1, 2):
             raise InputError(f"{where}: sides is 1 or 2, got {value:g}")
-        if value == 2:
-            state.ignored["sides 2 (one polygon per face)"] += 1
+        state.material.sides = int(value)
     elif kind == "v":
         if len(args) < 2 or args[1] != "=":
             raise InputError(f"{where}: a vertex is defined as 'v NAME ='")
@@ -485,7 +489,7 @@ def _guess_up(state: _State, geometry: dict, points: np.ndarray) -> str:
     """The axis lamps face away from (ceiling lamps shine down), else the one along which the scene
     is thinnest (a room is wider than it is tall)."""
     facing = np.zeros(3)
-    for key, (_, mat) in state.geometry.items():
+    for key, (_, mat, _) in state.geometry.items():
         if max(mat.emission) > 0 and len(geometry[key]):
             t = geometry[key]
             facing += np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]).sum(axis=0)  # area-weighted
@@ -527,12 +531,12 @@ def load_mgf(path, segments: int = SEGMENTS, up: str = "auto") -> Scene:
         )
     scene = Scene(p.stem, ambient=(0.0, 0.0, 0.0), background=(0.0, 0.0, 0.0))
     names = Counter()
-    geometry = {key: np.concatenate(parts) for key, (parts, _) in state.geometry.items()}
+    geometry = {key: np.concatenate(parts) for key, (parts, _, _) in state.geometry.items()}
     points = np.concatenate([t.reshape(-1, 3) for t in geometry.values()]) if geometry else np.zeros((0, 3))
     if up == "auto" and len(points):
         up = _guess_up(state, geometry, points)
     turn = TO_Y_UP.get(up, TO_Y_UP["z"])
-    for (obj, material), (_, mat) in state.geometry.items():
+    for (obj, material), (_, mat, sides) in state.geometry.items():
         tris = geometry[obj, material]
         if not len(tris):
             continue
@@ -542,7 +546,8 @@ def load_mgf(path, segments: int = SEGMENTS, up: str = "auto") -> Scene:
         if names[name] > 1:
             name = f"{name}-{names[name]}"
         mesh = Mesh(world, np.arange(len(world)).reshape(-1, 3), name=name)
-        scene.add(Node(name, mesh, material=mat, tags=("emitter",) if max(mat.emission) > 0 else ()))
+        tags = (("emitter",) if max(mat.emission) > 0 else ()) + (("two-sided",) if sides == 2 else ())
+        scene.add(Node(name, mesh, material=mat, tags=tags))
     if not scene.nodes:
         raise InputError(f"{p}: no geometry (f, sph, cyl, cone, ring, prism or torus)")
     lo, hi = scene.bounds()

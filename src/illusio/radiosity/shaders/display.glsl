@@ -13,10 +13,13 @@ in vec3 in_position;
 in vec3 in_radiance;
 in vec3 in_corner;
 in float in_element;
+in float in_two_sided;
 out vec3 radiance;
 out vec3 corner;
 flat out int element;
+flat out int two_sided;
 void main() {
+    two_sided = int(in_two_sided + 0.5);
     radiance = in_radiance;
     corner = in_corner;
     element = int(in_element);
@@ -30,9 +33,13 @@ uniform vec3 edge_colour;
 in vec3 radiance;
 in vec3 corner;
 flat in int element;
+flat in int two_sided;
 layout(location = 0) out vec4 out_colour;
 layout(location = 1) out float out_element;
 void main() {
+    // one side of a two-sided surface, seen from behind: its twin, facing the other way at the same
+    // place, shows that side
+    if (two_sided == 1 && !gl_FrontFacing) discard;
     vec3 colour = exposure * radiance;
 #if EDGES
     vec2 uv = corner.xy;
