@@ -67,3 +67,31 @@ def test_two_processes_filling_one_curvature_entry_leave_one_valid_entry(tmp_pat
     cached = Curvature.load(files[0])
     fresh = estimate_curvature(torus_knot(), cache=False)
     np.testing.assert_allclose(cached.k_max, fresh.k_max, rtol=1e-5, atol=1e-6)
+
+
+def test_an_interrupted_path_traced_photograph_stops_at_once(tmp_path):
+    """Ctrl-C while Mitsuba path-traces relighting's photograph (65,536 paths a pixel: hours):
+    Mitsuba keeps the signal to itself while it renders, and took minutes to wind down; the render
+    runs in a worker thread (passes.mitsuba.render), so the command says its one line and exits 130
+    within seconds, writing nothing."""
+    out = tmp_path / "relit.png"
+    proc = subprocess.Popen(
+        ILLUSIO + ["relight", "office", "--samples", "65536", "--size", "160x120", "-o", str(out)],
+        env=environment(tmp_path),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    try:
+        time.sleep(20.0)  # past the imports and the scene: in the path tracer (it has hours to go)
+        assert proc.poll() is None, proc.communicate()[1].decode()
+        sent = time.monotonic()
+        proc.send_signal(signal.SIGINT)
+        _, err = proc.communicate(timeout=60)
+        took = time.monotonic() - sent
+    finally:
+        proc.kill()
+    assert proc.returncode == 130, err.decode()
+    # one line: Mitsuba's own red "Received interrupt signal" is kept quiet
+    assert err.decode().strip().splitlines() == ["illusio: interrupted: nothing written"], err.decode()
+    assert took < 10, took
+    assert not out.exists()

@@ -7,6 +7,7 @@ traceback; mesh repair warnings print one line each.
 from __future__ import annotations
 
 import inspect
+import os
 import signal
 import sys
 import threading
@@ -161,6 +162,10 @@ def run(argv: list[str] | None = None) -> None:
         sys.exit(2)
     except (Interrupted, KeyboardInterrupt):
         print("illusio: interrupted: nothing written", file=sys.stderr)
+        if "mitsuba" in sys.modules:  # its render threads, wound down or not, crash a normal exit
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(130)
         sys.exit(130)
     finally:
         from ..core.progress import install

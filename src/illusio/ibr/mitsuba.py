@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from ..passes.mitsuba import load_mitsuba as _mitsuba
-from ..passes.mitsuba import load_scene, mitsuba_available
+from ..passes.mitsuba import load_scene, mitsuba_available, render
 from ..passes.mitsuba import rgb as _rgb
 from ..passes.mitsuba import sensor as _sensor
 from ..scene.camera import View
@@ -120,10 +120,11 @@ def capture_mitsuba(
                 "aovs": "dd:depth,nn:sh_normal,al:albedo",
                 "img": {"type": "path", "max_depth": 6},
             }
-            image = np.array(mi.render(load_scene(mi, doc), seed=int(seed)), np.float32)
+            image = np.array(render(mi, load_scene(mi, doc), seed=int(seed)), np.float32)
             colour, distance, normal, albedo = image[..., :3], image[..., 3], image[..., 4:7], image[..., 7:10]
             emission = np.array(
-                mi.render(
+                render(
+                    mi,
                     load_scene(mi, dict(glowing, sensor=sensor, integrator={"type": "path", "max_depth": 1})),
                     seed=int(seed),
                 ),

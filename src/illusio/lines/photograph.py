@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..passes.mitsuba import load_mitsuba, load_scene, rgb, sensor
+from ..passes.mitsuba import load_mitsuba, load_scene, render, rgb, sensor
 from ..scene.camera import Pose, View
 from ..scene.mesh import Mesh
 
@@ -117,7 +117,7 @@ def photograph(
             },
             "sky": {"type": "constant", "radiance": rgb((0.25, 0.25, 0.25))},
         }
-        image = np.asarray(mi.render(load_scene(mi, scene)), np.float32)
+        image = np.asarray(render(mi, load_scene(mi, scene)), np.float32)
     return np.ascontiguousarray(image[..., :3])
 
 

@@ -5,11 +5,12 @@ of our views. Used by the path-traced references of ibr and the ground truth of 
 from __future__ import annotations
 
 import importlib.util
+import threading
 
 from ..core.errors import InputError
 from ..scene.camera import View
 
-__all__ = ["mitsuba_available", "load_mitsuba", "rgb", "sensor"]
+__all__ = ["mitsuba_available", "load_mitsuba", "rgb", "sensor", "render"]
 
 
 def mitsuba_available() -> bool:
@@ -23,6 +24,9 @@ def load_mitsuba():
     except ImportError:
         raise InputError("path tracing needs the mitsuba package: pip install mitsuba") from None
     mi.set_variant("scalar_rgb")
+    # errors only: its warnings are for its own command line ("Received interrupt signal, winding
+    # down.." in red on Ctrl-C, which the command line answers in its own one line)
+    mi.set_log_level(mi.LogLevel.Error)
     return mi
 
 
@@ -32,6 +36,30 @@ def load_scene(mi, doc: dict):
     the same seed gave another image about one run in six (a render of the relit office's edits,
     hashed over twelve runs: 2 differed; 12 of 12 alike without the pass)."""
     return mi.load_dict(doc, optimize=False)
+
+
+def render(mi, scene, **kwargs):
+    """``mi.render(scene, **kwargs)``, interruptible: Mitsuba holds Ctrl-C for itself while it renders
+    ("winding down" its blocks, which at thousands of paths a pixel took minutes) and Python's
+    handlers run only when the call returns, so the render runs in a worker thread while this one
+    waits in short joins, where Ctrl-C and SIGTERM raise at once. The worker's exception, if any, is
+    raised here. A render left running by an interrupt ends with the process (the command line
+    leaves with os._exit once Mitsuba is loaded: its threads crash the interpreter's own exit)."""
+    out: dict = {}
+
+    def work():
+        try:
+            out["image"] = mi.render(scene, **kwargs)
+        except BaseException as exc:  # handed to the waiting thread
+            out["error"] = exc
+
+    thread = threading.Thread(target=work, name="mitsuba-render", daemon=True)
+    thread.start()
+    while thread.is_alive():
+        thread.join(0.1)
+    if "error" in out:
+        raise out["error"]
+    return out["image"]
 
 
 def rgb(values) -> dict:

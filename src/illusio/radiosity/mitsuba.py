@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..passes.mitsuba import load_mitsuba, load_scene, rgb, sensor
+from ..passes.mitsuba import load_mitsuba, load_scene, render, rgb, sensor
 from ..scene.camera import View
 from .polygons import Polygons
 
@@ -82,7 +82,7 @@ def render_mitsuba(
         doc = _scene_dict(polygons, Path(tmp))
         doc["sensor"] = sensor(mi, view, size, samples, seed)
         doc["integrator"] = integrator
-        image = np.array(mi.render(load_scene(mi, doc), seed=int(seed)), np.float32)
+        image = np.array(render(mi, load_scene(mi, doc), seed=int(seed)), np.float32)
     if denoise:  # channels: the path tracer's RGB, then albedo, then normal
         from ..passes.denoise import denoise as oidn
 
