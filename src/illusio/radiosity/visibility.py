@@ -155,12 +155,14 @@ def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: i
 
 
 @numba.njit(cache=True)
-def _exposed(probe_prim, probe_distance, probe_normal, up, contact):
-    """Per sample: its probe met nothing within ``contact`` nor the back of a face."""
+def _exposed(probe_prim, probe_distance, probe_normal, up, contact, two_sided):
+    """Per sample: its probe met nothing within ``contact`` nor the back of a face (a two-sided
+    surface, ``two_sided`` per triangle of the scene, has no back: its twin is there)."""
     out = np.ones(len(probe_prim), np.bool_)
     for i in range(len(probe_prim)):
         if probe_prim[i] >= 0:
             back = probe_normal[i, 0] * up[i, 0] + probe_normal[i, 1] * up[i, 1] + probe_normal[i, 2] * up[i, 2] > 0
+            back = back and not two_sided[probe_prim[i]]
             if probe_distance[i] < contact or back:
                 out[i] = False
     return out
@@ -302,6 +304,8 @@ class Visibility:
         c = h.corners[roots]
         tri = h.triangle[roots]
         tris = np.concatenate([c[:, [0, 1, 2]], c[~tri][:, [0, 2, 3]]])
+        sided = h.polygons.sides()[h.polygon[roots]] == 1
+        self.two_sided = np.r_[sided, sided[~tri]]  # per triangle of the scene, in its order
         extent = np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max() if len(h.roots) else 1.0
         self.offset = 1e-5 * max(float(extent), 1e-6)
         self.contact = 2e-3 * max(float(extent), 1e-6)
@@ -335,7 +339,12 @@ class Visibility:
         probe = self.scene.run(origins, up, output=1)
         self.rays += 2 * n * k
         exposed = _exposed(
-            np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact
+            np.asarray(probe["primID"]),
+            np.asarray(probe["tfar"]),
+            np.asarray(probe["Ng"]),
+            up,
+            self.contact,
+            self.two_sided,
         )
         facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
         visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False, facing)
@@ -351,7 +360,12 @@ class Visibility:
         probe = self.scene.run(np.ascontiguousarray(origins, np.float32), up, output=1)
         self.rays += len(origins)
         return _exposed(
-            np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, self.contact
+            np.asarray(probe["primID"]),
+            np.asarray(probe["tfar"]),
+            np.asarray(probe["Ng"]),
+            up,
+            self.contact,
+            self.two_sided,
         )
 
     def recast(
@@ -400,6 +414,7 @@ class Visibility:
                     np.asarray(probe["Ng"]),
                     up[cast],
                     self.contact,
+                    self.two_sided,
                 )
             self.rays += int(cast_ray.sum() + cast_probe.sum())
         else:
