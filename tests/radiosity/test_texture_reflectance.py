@@ -10,12 +10,12 @@ import dataclasses
 import numpy as np
 import pytest
 
-from illusio.core.renderer import Frame
 from illusio.radiosity import RadiosityParams, RadiosityRenderer
 from illusio.radiosity.hierarchy import Hierarchy
 from illusio.radiosity.polygons import scene_polygons
 from illusio.radiosity.texture_reflectance import TextureReflectance, reference_mean
 from illusio.scene import builtin_scene
+from tests.radiosity.against_mitsuba import radiosity_and_mitsuba
 
 
 def _random_elements(rng, n):
@@ -130,20 +130,12 @@ def test_a_textured_floor_against_mitsuba_of_the_same_texture(ctx):
     """The Cornell box with a coarse checker on its floor, solved with per-element reflectance and
     drawn modulated by the texture, against Mitsuba path-tracing the same reflectance image through
     the same uvs: within the radiosity goal (5 % over 4×4 blocks)."""
-    pytest.importorskip("mitsuba", reason="the photo extra (pip install mitsuba)")
-    from illusio.radiosity.mitsuba import render_mitsuba, score
     from illusio.scene.builtin import textures
 
     box = _box_with_floor_texture(textures.checker(64, 4, (0.85, 0.85, 0.85), (0.1, 0.1, 0.1)))
-    view, size = box.camera("main"), (48, 48)
-    renderer = RadiosityRenderer(ctx)
-    try:
-        renderer.prepare(box)
-        image, emitter = renderer.radiance(Frame(view, size), RadiosityParams(), 4)
-        polygons = renderer.polygons
-    finally:
-        renderer.release()
-    reference = render_mitsuba(polygons, view, size, 128, seed=5)
-    s = score(image, reference, ~emitter, block=4)
+    image, reference, lit = radiosity_and_mitsuba(ctx, box, (48, 48), 4, 128, seed=5)
+    from illusio.radiosity.mitsuba import score
+
+    s = score(image, reference, lit, block=4)
     print(f"textured floor against Mitsuba: {s.mean_relative_error:.4f}")
     assert s.mean_relative_error < 0.05

@@ -14,12 +14,8 @@ source node's mean cosine is taken as
     c(d) = max(N̄·d, 0) + (1 − |N̄|)/4
 
 exact for a flat cluster (and for an element, c = max(n·d, 0)) and for a sphere (1/4, the mean of
-max(cos, 0) over all directions). At each gather a source cluster's c(d)·P is taken with its power's
-own direction, M = Σ A_k B_k n_k per channel: max(M·d, 0) + (P − |M|)/4 — the same for a uniform
-B, and right for a two-sided surface, whose lit front and dark back twin cancel in N̄ (the isotropic
-reading sent half the front's light behind it: the Graz office 2.5× too dark against Mitsuba).
-
-A link from node j to node i with centres r apart, d the unit vector from i toward j, carries the irradiance normal to d
+max(cos, 0) over all directions). A link from node j to node i with centres r apart, d the unit
+vector from i toward j, carries the irradiance normal to d
 
     E_ij = G_ij · V_ij · P_j,   G_ij = c_j(−d) / (π r² + A_j),   P_j = Σ_{k ∈ j} A_k B_k
 
@@ -327,13 +323,7 @@ class ClusteredGather:
         vector Σ E·d and second moment Σ E·d dᵀ (xx, yy, zz, xy, xz, yz) that :meth:`ClusterTree.push`
         turns into each member's irradiance."""
         L, tree = self.links, self.tree
-        power = self.area[:, None] * np.asarray(b, np.float64)
-        if len(tree):
-            power_cluster = tree.member_sums(power)
-            # per channel, Σ A_k B_k n_k: where the power goes (the source cosine of power_cosine)
-            power_normal = np.stack([tree.member_sums(power * self.normal[:, [x]]) for x in range(3)], axis=-1)
-        else:
-            power_cluster, power_normal = np.zeros((0, 3)), np.zeros((0, 3, 3))
+        power_cluster = tree.member_sums(self.area[:, None] * b) if len(tree) else np.zeros((0, 3))
         element = np.zeros((len(self.area), 3))
         moments = np.zeros((len(tree), 3, 10))
         _cluster_gather(
@@ -344,8 +334,6 @@ class ClusteredGather:
             self.area,
             np.ascontiguousarray(b, np.float64),
             power_cluster,
-            np.ascontiguousarray(power_normal),
-            np.ascontiguousarray(tree.normal if len(tree) else np.zeros((0, 3)), np.float64),
             element,
             moments,
         )
@@ -362,33 +350,14 @@ class ClusteredGather:
 
 
 @numba.njit(cache=True)
-def _cluster_gather(
-    receiver, source, weight, direction, area, b, power_cluster, power_normal, mean_normal, element, moments
-):
+def _cluster_gather(receiver, source, weight, direction, area, b, power_cluster, element, moments):
     """Each link's G·V·P_source goes to its receiver: an element's row, or a cluster's moments
-    (one pass, where NumPy's gathers and bincounts cost 20× the element gather). A source cluster's
-    c_j(−d)·P_j is taken with its power-weighted normal (power_cosine), G's area-weighted one divided
-    out."""
+    (one pass, where NumPy's gathers and bincounts cost 20× the element gather)."""
     for k in range(len(receiver)):
         j, i, w = source[k], receiver[k], weight[k]
         d0, d1, d2 = direction[k, 0], direction[k, 1], direction[k, 2]
-        static = 1.0
-        if j < 0:  # the area-weighted c_j(−d) the kernel was made with
-            q = -1 - j
-            n0, n1, n2 = mean_normal[q, 0], mean_normal[q, 1], mean_normal[q, 2]
-            length = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
-            static = max(-(n0 * d0 + n1 * d1 + n2 * d2), 0.0) + max(1.0 - length, 0.0) / 4.0
         for c in range(3):
-            if j >= 0:
-                flow = w * area[j] * b[j, c]
-            elif static > 0.0:
-                q = -1 - j
-                m0, m1, m2 = power_normal[q, c, 0], power_normal[q, c, 1], power_normal[q, c, 2]
-                p = power_cluster[q, c]
-                m = np.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
-                flow = w / static * (max(-(m0 * d0 + m1 * d1 + m2 * d2), 0.0) + max(p - m, 0.0) / 4.0)
-            else:
-                flow = 0.0
+            flow = w * (area[j] * b[j, c] if j >= 0 else power_cluster[-1 - j, c])
             if i >= 0:
                 element[i, c] += flow
             else:

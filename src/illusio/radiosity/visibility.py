@@ -338,7 +338,14 @@ class Visibility:
         # stands on the wall, the points are inside the door)
         probe = self.scene.run(origins, up, output=1)
         self.rays += 2 * n * k
-        exposed = _exposed(
+        exposed = self._exposed_by(probe, up)
+        facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
+        visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False, facing)
+        return form_factor, visibility
+
+    def _exposed_by(self, probe, up: np.ndarray) -> np.ndarray:
+        """:func:`_exposed` of the hits of probes cast along ``up``."""
+        return _exposed(
             np.asarray(probe["primID"]),
             np.asarray(probe["tfar"]),
             np.asarray(probe["Ng"]),
@@ -346,9 +353,6 @@ class Visibility:
             self.contact,
             self.two_sided,
         )
-        facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
-        visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False, facing)
-        return form_factor, visibility
 
     def exposed(self, origins: np.ndarray, normals: np.ndarray) -> np.ndarray:
         """Per point (lifted off its surface) with its unit normal: does a probe along the normal meet
@@ -359,14 +363,7 @@ class Visibility:
         up = np.ascontiguousarray(normals, np.float32)
         probe = self.scene.run(np.ascontiguousarray(origins, np.float32), up, output=1)
         self.rays += len(origins)
-        return _exposed(
-            np.asarray(probe["primID"]),
-            np.asarray(probe["tfar"]),
-            np.asarray(probe["Ng"]),
-            up,
-            self.contact,
-            self.two_sided,
-        )
+        return self._exposed_by(probe, up)
 
     def recast(
         self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list
@@ -408,14 +405,7 @@ class Visibility:
             cast = np.flatnonzero(cast_probe)
             if len(cast):
                 probe = self.scene.run(origins[cast], up[cast], output=1)
-                exposed[cast] = _exposed(
-                    np.asarray(probe["primID"]),
-                    np.asarray(probe["tfar"]),
-                    np.asarray(probe["Ng"]),
-                    up[cast],
-                    self.contact,
-                    self.two_sided,
-                )
+                exposed[cast] = self._exposed_by(probe, up[cast])
             self.rays += int(cast_ray.sum() + cast_probe.sum())
         else:
             clear[:], exposed[:] = True, True
