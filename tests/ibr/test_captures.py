@@ -294,3 +294,20 @@ def test_a_camera_keeps_its_pixel_aspect_through_a_references_file(tmp_path, ctx
     refs = capture(scene, [View(scene.camera().pose, lens)], (32, 24), ctx)
     again = load_references(save_references(refs, tmp_path / "refs")).views[0].view.camera
     assert again == lens
+
+
+def test_an_import_reports_its_reading_and_each_reference_view(tmp_path, office_capture):
+    """An import says what it is doing: the capture's reading, then one step per reference view
+    made from it (core.progress, as a Python caller or the command line's bar hears it)."""
+    from illusio.core.progress import reporting
+
+    src = tmp_path / "capture"
+    _write_rgbd(src, office_capture, open3d_matrix=True)
+    heard = []
+    with reporting(heard.append):
+        frames = captures.read_capture("rgbd", src)
+        captures.frames_to_references(frames, [0, 2, 4])
+    finished = [(p.phase, p.done, p.total) for p in heard if p.finished]
+    assert finished == [("ibr: reading the rgbd capture", 0, None), ("ibr: 3 reference views from the capture", 3, 3)]
+    steps = [p.done for p in heard if p.phase.startswith("ibr: 3 reference") and not p.finished]
+    assert steps == [0, 1, 2, 3] or steps[-3:] == [1, 2, 3], steps

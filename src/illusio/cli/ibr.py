@@ -104,12 +104,7 @@ def import_command(
         raise InputError(f"{output}: the references would be written over the capture; choose another folder")
     if frames is not None and every is not None:
         raise InputError("give --frames or --every, not both")
-    if kind == "rgbd":
-        read = captures.read_rgbd_folder(source, intrinsics, poses, 1000.0 if depth_scale is None else depth_scale)
-    elif kind == "tum":
-        read = captures.read_tum(source, intrinsics, depth_scale=5000.0 if depth_scale is None else depth_scale)
-    else:
-        read = captures.read_colmap(source)
+    read = captures.read_capture(kind, source, intrinsics, poses, depth_scale)
     count = len(read)
     if frames is not None:
         try:

@@ -23,6 +23,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.files import read_text
 from ..core.images import read_image
+from ..core.progress import phase
 from ..scene.camera import Pose, View
 from ..scene.intrinsics import Intrinsics, undistort_image
 from .reference_views import ReferenceSet, ReferenceView
@@ -30,6 +31,7 @@ from .reference_views import ReferenceSet, ReferenceView
 __all__ = [
     "Intrinsics",
     "CaptureFrame",
+    "read_capture",
     "read_rgbd_folder",
     "read_tum",
     "read_colmap",
@@ -423,6 +425,19 @@ def normals_from_depth(depth: np.ndarray, intrinsics: Intrinsics, max_jump: floa
     return n.astype(np.float32)
 
 
+def read_capture(kind: str, source, intrinsics=None, poses=None, depth_scale: float | None = None):
+    """The frames of a capture folder of ``kind`` ("rgbd", "tum" or "colmap"; depth_scale None: the
+    kind's own, 1000 or 5000 units a metre), read inside one reported phase."""
+    with phase(f"ibr: reading the {kind} capture"):
+        if kind == "rgbd":
+            return read_rgbd_folder(source, intrinsics, poses, 1000.0 if depth_scale is None else depth_scale)
+        if kind == "tum":
+            return read_tum(source, intrinsics, depth_scale=5000.0 if depth_scale is None else depth_scale)
+        if kind == "colmap":
+            return read_colmap(source)
+    raise InputError(f"a capture is rgbd, tum or colmap, got {kind!r}")
+
+
 def frames_to_references(frames: list[CaptureFrame], chosen: list[int], max_depth: float | None = None) -> ReferenceSet:
     """The ``chosen`` frames as reference views; every frame's camera (chosen or not) kept in
     ``ReferenceSet.frames`` with its photo, for ``--camera frame:K`` and ``--compare-photo K``."""
@@ -431,16 +446,18 @@ def frames_to_references(frames: list[CaptureFrame], chosen: list[int], max_dept
     deepest = max(float(f.depth.max()) for f in frames)
     far = max(1.0, 1.5 * (min(deepest, max_depth) if max_depth else deepest))
     views = []
-    for k in chosen:
-        f = frames[k]
-        depth = np.where(f.depth <= max_depth, f.depth, 0.0) if max_depth else f.depth
-        normal_cv = normals_from_depth(depth, f.intrinsics)
-        world = (normal_cv.reshape(-1, 3) @ f.pose[:3, :3].T).reshape(normal_cv.shape)  # camera → world
-        albedo = np.dstack([f.colour, np.zeros(depth.shape, np.float32)])  # k_s = 0: matte
-        normal = np.dstack([world, np.full(depth.shape, 32.0, np.float32)])
-        views.append(
-            ReferenceView(f.view(far), albedo, normal, np.zeros_like(f.colour), depth.astype(np.float32), f.colour)
-        )
+    with phase(f"ibr: {len(chosen)} reference views from the capture", total=len(chosen)) as view_done:
+        for k in chosen:
+            f = frames[k]
+            depth = np.where(f.depth <= max_depth, f.depth, 0.0) if max_depth else f.depth
+            normal_cv = normals_from_depth(depth, f.intrinsics)
+            world = (normal_cv.reshape(-1, 3) @ f.pose[:3, :3].T).reshape(normal_cv.shape)  # camera → world
+            albedo = np.dstack([f.colour, np.zeros(depth.shape, np.float32)])  # k_s = 0: matte
+            normal = np.dstack([world, np.full(depth.shape, 32.0, np.float32)])
+            views.append(
+                ReferenceView(f.view(far), albedo, normal, np.zeros_like(f.colour), depth.astype(np.float32), f.colour)
+            )
+            view_done()
     return ReferenceSet(
         views, [], (0.0, 0.0, 0.0), (0.0, 0.0, 0.0), [(f.view(far), f.colour) for f in frames], albedo_from_photo=True
     )
