@@ -335,12 +335,16 @@ def test_virtual_object_and_lamp(ctx, photograph, tmp_path):
     """A virtual crate casts its shadow on the floor of the photograph (the floor around its foot gets
     darker) and is drawn with its own radiosity; a virtual lamp brightens the room; moving the crate
     moves the shadow. The per-pixel method refuses them (not yet)."""
+    from illusio.core.progress import reporting
     from illusio.scene.builtin import shapes
 
     s = prepared(ctx, photograph, "baseline")
     before = s.image({})
     crate = shapes.box((0.6, 0.6, 0.6))
-    after = s.add_object(crate, "crate", at=(0.6, 0.3, 1.2))
+    heard = []
+    with reporting(heard.append):  # each edit is a reported phase (a bar on a terminal, a log line)
+        after = s.add_object(crate, "crate", at=(0.6, 0.3, 1.2))
+    assert [p.phase for p in heard if p.finished] == ["relight: add the object crate"]
     changed = np.abs(after - before).mean(axis=-1) > 1e-3
     assert changed.mean() > 0.01
     darker = after.mean(axis=-1) < before.mean(axis=-1) - 1e-3

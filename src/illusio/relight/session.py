@@ -97,16 +97,19 @@ class RelightSession:
     ) -> np.ndarray:
         """A virtual rectangular lamp (size × size m, facing down, exitance W/m² RGB) linked at the
         leaves (Loscos 4.4.1); returns the new image."""
-        return edits.add_lamp(self, centre, size, exitance, name)
+        with phase(f"relight: add the lamp {name}"):
+            return edits.add_lamp(self, centre, size, exitance, name)
 
     def add_object(self, mesh, name: str, at=(0.0, 0.0, 0.0), reflectance=(0.6, 0.6, 0.6)) -> np.ndarray:
         """A virtual object (a Mesh, its triangles paired into quads where they can be) placed at
         ``at`` (metres); it casts shadows and is shown by its own radiosity; returns the new image."""
-        return edits.add_object(self, mesh, name, at, reflectance)
+        with phase(f"relight: add the object {name}"):
+            return edits.add_object(self, mesh, name, at, reflectance)
 
     def move_object(self, name: str, offset) -> np.ndarray:
         """Move a virtual object by ``offset`` (metres); returns the new image."""
-        return edits.move_object(self, name, offset)
+        with phase(f"relight: move the object {name}"):
+            return edits.move_object(self, name, offset)
 
     def show(self, what: str = "image", scale: int = 1) -> np.ndarray:
         """One of SHOW under the session's lamps (relight.show.show)."""
