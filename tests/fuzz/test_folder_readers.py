@@ -64,6 +64,18 @@ def write_set(folder: Path, files: dict[str, bytes]) -> Path:
     return folder
 
 
+def read_mutated_folder(read, check, files, target, mutations, drop, folder: Path) -> None:
+    """``files`` written to ``folder`` with ``target`` mutated (removed, with ``drop``), then read:
+    a result ``check`` accepts, or one line (must_refuse_or_succeed)."""
+    files = dict(files)
+    if drop:
+        del files[target]
+    else:
+        files[target] = mutate(files[target], mutations)
+    must_refuse_or_succeed(read, write_set(folder, files), check)
+    shutil.rmtree(folder)
+
+
 def test_seed_set_reads(seeds, tmp_path):
     assert must_refuse_or_succeed(load_references, write_set(tmp_path / "refs", seeds), valid_references)
 
@@ -73,14 +85,9 @@ def test_seed_set_reads(seeds, tmp_path):
 @given(target=st.sampled_from(["references.json", "view-0.npz", "view-1.npz"]), mutations=MUTATIONS, drop=st.booleans())
 def test_mutated_reference_sets_are_read_or_refused(seeds, target, mutations, drop, tmp_path_factory):
     """One file of the set mutated (or, with ``drop``, removed)."""
-    files = dict(seeds)
-    if drop and target != "references.json":
-        del files[target]
-    else:
-        files[target] = mutate(files[target], mutations)
-    folder = write_set(tmp_path_factory.mktemp("refs"), files)
-    must_refuse_or_succeed(load_references, folder, valid_references)
-    shutil.rmtree(folder)
+    drop = drop and target != "references.json"
+    folder = tmp_path_factory.mktemp("refs")
+    read_mutated_folder(load_references, valid_references, seeds, target, mutations, drop, folder)
 
 
 @pytest.mark.parametrize("case", corpus_cases("references"), ids=lambda p: p.name)
@@ -143,14 +150,7 @@ def test_mutated_tum_sequences_are_read_or_refused(tum_seeds, target, mutations,
     """One file of the sequence mutated (or, with ``drop``, removed): frames read, or one line."""
     from illusio.ibr.captures import read_tum
 
-    files = dict(tum_seeds)
-    if drop:
-        del files[target]
-    else:
-        files[target] = mutate(files[target], mutations)
-    folder = write_set(tmp_path_factory.mktemp("tum"), files)
-    must_refuse_or_succeed(read_tum, folder, valid_frames)
-    shutil.rmtree(folder)
+    read_mutated_folder(read_tum, valid_frames, tum_seeds, target, mutations, drop, tmp_path_factory.mktemp("tum"))
 
 
 # --- a relighting folder (a model as Blender writes it, its photograph and camera.json) ---
@@ -204,11 +204,5 @@ def test_seed_relighting_folder_reads(tmp_path):
 )
 def test_mutated_relighting_folders_are_read_or_refused(target, mutations, drop, tmp_path_factory):
     """One file of the folder mutated (or, with ``drop``, removed): the real scene, or one line."""
-    files = dict(relight_files())
-    if drop:
-        del files[target]
-    else:
-        files[target] = mutate(files[target], mutations)
-    folder = write_set(tmp_path_factory.mktemp("real"), files)
-    must_refuse_or_succeed(_load_real, folder, valid_real_scene)
-    shutil.rmtree(folder)
+    folder = tmp_path_factory.mktemp("real")
+    read_mutated_folder(_load_real, valid_real_scene, relight_files(), target, mutations, drop, folder)
