@@ -23,29 +23,40 @@ def environment(tmp_path):
     return env
 
 
+def interrupt(args, tmp_path, signum, wait):
+    """Run ``illusio args``, ``wait(proc)`` until it is where the test wants it (still running), send
+    ``signum``: (return code, stderr text, seconds from the signal to the exit)."""
+    proc = subprocess.Popen(
+        ILLUSIO + list(args), env=environment(tmp_path), stdout=subprocess.PIPE, stderr=subprocess.PIPE
+    )
+    try:
+        wait(proc)
+        assert proc.poll() is None, proc.communicate()[1].decode()
+        sent = time.monotonic()
+        proc.send_signal(signum)
+        _, err = proc.communicate(timeout=60)
+        took = time.monotonic() - sent
+    finally:
+        proc.kill()
+    return proc.returncode, err.decode(), took
+
+
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
 def test_an_interrupted_video_leaves_nothing_behind(tmp_path, signum):
     """A turntable video interrupted while its frames are being written: the command says so in one
     line and exits 130, the video does not exist and its temporary file is gone."""
     out = tmp_path / "spin.mp4"
-    proc = subprocess.Popen(
-        ILLUSIO + ["render", "living-room", "--turntable", "3600", "--size", "96x72", "-o", str(out)],
-        env=environment(tmp_path),
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-    )
-    try:
+
+    def encoding(proc):
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and proc.poll() is None and not list(tmp_path.glob(".spin.tmp-*")):
             time.sleep(0.05)
         time.sleep(2.0)  # frames are being drawn and encoded
-        assert proc.poll() is None, proc.communicate()[1].decode()
-        proc.send_signal(signum)
-        _, err = proc.communicate(timeout=60)
-    finally:
-        proc.kill()
-    assert proc.returncode == 130, err.decode()
-    assert err.decode().strip().splitlines() == ["illusio: interrupted: nothing written"], err.decode()
+
+    args = ["render", "living-room", "--turntable", "3600", "--size", "96x72", "-o", str(out)]
+    returncode, err, _ = interrupt(args, tmp_path, signum, encoding)
+    assert returncode == 130, err
+    assert err.strip().splitlines() == ["illusio: interrupted: nothing written"], err
     assert not out.exists()
     assert not list(tmp_path.glob(".spin.tmp-*")), "a temporary file was left"
 
@@ -75,23 +86,11 @@ def test_an_interrupted_path_traced_photograph_stops_at_once(tmp_path):
     runs in a worker thread (passes.mitsuba.render), so the command says its one line and exits 130
     within seconds, writing nothing."""
     out = tmp_path / "relit.png"
-    proc = subprocess.Popen(
-        ILLUSIO + ["relight", "office", "--samples", "65536", "--size", "160x120", "-o", str(out)],
-        env=environment(tmp_path),
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-    )
-    try:
-        time.sleep(20.0)  # past the imports and the scene: in the path tracer (it has hours to go)
-        assert proc.poll() is None, proc.communicate()[1].decode()
-        sent = time.monotonic()
-        proc.send_signal(signal.SIGINT)
-        _, err = proc.communicate(timeout=60)
-        took = time.monotonic() - sent
-    finally:
-        proc.kill()
-    assert proc.returncode == 130, err.decode()
+    args = ["relight", "office", "--samples", "65536", "--size", "160x120", "-o", str(out)]
+    # 20 s: past the imports and the scene, in the path tracer (it has hours to go)
+    returncode, err, took = interrupt(args, tmp_path, signal.SIGINT, lambda proc: time.sleep(20.0))
+    assert returncode == 130, err
     # one line: Mitsuba's own red "Received interrupt signal" is kept quiet
-    assert err.decode().strip().splitlines() == ["illusio: interrupted: nothing written"], err.decode()
+    assert err.strip().splitlines() == ["illusio: interrupted: nothing written"], err
     assert took < 10, took
     assert not out.exists()
