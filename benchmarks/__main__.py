@@ -18,7 +18,8 @@ from .runner import print_table, write_results
 #: the whole package (the protocol's overheads, the viewer, batch jobs)
 SUITES = list(
     dict.fromkeys(
-        [s for t in techniques().values() for s in t.benchmarks] + ["protocol", "viewer", "batch", "scene_files"]
+        [s for t in techniques().values() for s in t.benchmarks]
+        + ["protocol", "viewer", "batch", "scene_files", "mgf_scenes"]
     )
 )
 

@@ -62,3 +62,12 @@ def test_quick_scene_files_benchmark_times_our_load_beside_trimeshs(tmp_path):
     names = {t["name"] for t in data["timings"]}
     assert {"scene-file/illusio load", "scene-file/trimesh load", "scene-file/trimesh load + vertex normals"} <= names
     assert data["ratios"]["illusio load peak memory (MB, tracemalloc)"] > 0
+
+
+def test_quick_mgf_benchmark_scores_renderparks_scenes_against_mitsuba(tmp_path, mgf_scenes):
+    pytest.importorskip("mitsuba", reason="the photo extra (pip install mitsuba)")
+    ratios = run_quick(tmp_path, "mgf_scenes")["mgf_scenes"]["ratios"]
+    assert ratios["cube: elements"] > 0 and ratios["office2: links"] > 0
+    # the cube is RenderPark's Cornell-like box: within the radiosity goal at 48×36, 64 paths
+    assert ratios["cube: error against Mitsuba, 4×4 blocks"] < 0.05
+    assert 0.9 < ratios["office2: mean radiance / Mitsuba's"] < 1.1
