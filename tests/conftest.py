@@ -57,12 +57,21 @@ TOLERANCES = {
     "dof gain planes": {"min_db": 1.2},
 }
 
-# Fresh random inputs each session; ILLUSIO_TEST_SEED=N replays a failing run.
-SESSION_SEED = int(os.environ.get("ILLUSIO_TEST_SEED", secrets.randbelow(2**31)))
+# Fresh random inputs each session; ILLUSIO_TEST_SEED=N replays a failing run. The first process to
+# import this file (pytest's, or xdist's controller) draws the seed and puts it in the environment, so
+# the xdist workers it starts draw the same inputs as the seed it prints.
+os.environ.setdefault("ILLUSIO_TEST_SEED", str(secrets.randbelow(2**31)))
+SESSION_SEED = int(os.environ["ILLUSIO_TEST_SEED"])
 
 
 def pytest_report_header(config):
     return f"illusio test seed: {SESSION_SEED} (set ILLUSIO_TEST_SEED to replay)"
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    # again at the end: a log cut to its tail still shows how to replay a failure
+    if exitstatus:
+        terminalreporter.write_line(f"illusio test seed: {SESSION_SEED} (ILLUSIO_TEST_SEED={SESSION_SEED} replays it)")
 
 
 @pytest.fixture

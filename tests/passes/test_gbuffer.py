@@ -1,4 +1,5 @@
 import numpy as np
+from scipy import ndimage
 
 from illusio.core.renderer import Frame
 from illusio.passes import SceneRenderer, reference
@@ -91,7 +92,10 @@ def test_gbuffer_matches_ray_cast_reference_on_random_triangles(ctx, rng):
     # normals: interpolated in both, flipped towards the viewer on back faces in both (signed)
     alignment = (gpu.normal[both] * ref.normal[both]).sum(axis=1)
     assert (alignment > 1 - 5e-3).mean() > 0.99
-    # a sign error flips whole triangles (dozens of pixels each); one or two pixels of opposite sign are
-    # where two crossing triangles of one node meet at nearly one depth (seen once in a CI run, seed
-    # 1382924269 under xdist: 1 pixel)
-    assert (alignment <= 0).sum() <= 2, (alignment <= 0).sum()
+    # A sign error on one triangle flips a patch of it (blocks of 3×3 pixels). Pixels of opposite sign
+    # in thin lines are where two crossing triangles of one node meet at nearly one depth: up to 4 seen
+    # in CI, at most 2 and never a 2×2 block over 600 seeds here.
+    flipped = np.zeros(gpu.depth.shape, bool)
+    flipped[both] = alignment <= 0
+    assert not ndimage.binary_erosion(flipped, np.ones((3, 3))).any(), np.argwhere(flipped)
+    assert flipped.sum() <= 0.005 * both.sum(), flipped.sum()
