@@ -1,5 +1,6 @@
 """Fuzzing the readers of folders: a reference-view set (references.json beside one .npz per view), a
-TUM RGB-D sequence, and a relighting folder (model, photograph, camera.json)."""
+TUM RGB-D sequence, an RGB-D folder (Redwood/Open3D layout), a COLMAP workspace, and a relighting
+folder (model, photograph, camera.json)."""
 
 from __future__ import annotations
 
@@ -151,6 +152,124 @@ def test_mutated_tum_sequences_are_read_or_refused(tum_seeds, target, mutations,
     from illusio.ibr.captures import read_tum
 
     read_mutated_folder(read_tum, valid_frames, tum_seeds, target, mutations, drop, tmp_path_factory.mktemp("tum"))
+
+
+# --- an RGB-D folder as Open3D's and Redwood's tools write it (color/, depth/, intrinsic.json, .log) ---
+
+
+def _images(out: Path, colour_dir: str, depth_dir: str, names: list[str], rng, depth_file) -> None:
+    from illusio.core.images import write_image
+
+    (out / colour_dir).mkdir(parents=True, exist_ok=True)
+    (out / depth_dir).mkdir(parents=True, exist_ok=True)
+    for name in names:
+        write_image(out / colour_dir / name, rng.random((6, 8, 3)).astype(np.float32))
+        depth_file(out / depth_dir, name)
+
+
+def _tree(out: Path) -> dict[str, bytes]:
+    return {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*") if p.is_file()}
+
+
+@cache
+def rgbd_files(folder: str) -> dict[str, bytes]:
+    """Two frames: colour PNGs, 16-bit depth PNGs in millimetres, intrinsic.json, trajectory.log."""
+    from illusio.core.images import write_image
+
+    out = Path(folder)
+    names = ["000000.png", "000001.png"]
+    depth = np.full((6, 8), 1500 / 65535, np.float32)  # 1.5 m at 1000 units per metre
+    _images(
+        out,
+        "color",
+        "depth",
+        names,
+        np.random.default_rng(4),
+        lambda d, n: write_image(d / n, depth, bit_depth=16, srgb=False),
+    )
+    (out / "intrinsic.json").write_text('{"width": 8, "height": 6, "fx": 7.0, "fy": 7.0, "cx": 4.0, "cy": 3.0}\n')
+    log = []
+    for k in range(2):
+        log += [f"{k} {k} {k + 1}", f"1 0 0 {0.1 * k}", "0 1 0 0", "0 0 1 1.5", "0 0 0 1"]
+    (out / "trajectory.log").write_text("\n".join(log) + "\n")
+    return _tree(out)
+
+
+RGBD_TARGETS = ["intrinsic.json", "trajectory.log", "color/000000.png", "depth/000001.png"]
+
+
+def test_seed_rgbd_folder_reads(tmp_path):
+    from illusio.ibr.captures import read_rgbd_folder
+
+    files = rgbd_files(str(tmp_path / "seed"))
+    assert must_refuse_or_succeed(read_rgbd_folder, write_set(tmp_path / "rgbd", files), valid_frames)
+
+
+@seed(SESSION_SEED)
+@FUZZ
+@given(target=st.sampled_from(RGBD_TARGETS), mutations=MUTATIONS, drop=st.booleans())
+def test_mutated_rgbd_folders_are_read_or_refused(target, mutations, drop, tmp_path_factory):
+    """One file of the folder mutated (or, with ``drop``, removed): frames read, or one line."""
+    from illusio.ibr.captures import read_rgbd_folder
+
+    files = rgbd_files(str(tmp_path_factory.getbasetemp() / "rgbd-seed"))
+    read_mutated_folder(read_rgbd_folder, valid_frames, files, target, mutations, drop, tmp_path_factory.mktemp("rgbd"))
+
+
+# --- a COLMAP workspace (sparse/ text model, images/, stereo/depth_maps/*.geometric.bin) ---
+
+
+def colmap_array(depth: np.ndarray) -> bytes:
+    """COLMAP's dense map format: ``width&height&channels&`` then float32, column-major."""
+    h, w = depth.shape
+    return f"{w}&{h}&1&".encode() + np.asarray(depth, "<f4").reshape(-1, order="F").tobytes()
+
+
+@cache
+def colmap_files(folder: str) -> dict[str, bytes]:
+    """Two photos of a PINHOLE camera, as ``colmap model_converter --output_type TXT`` and
+    ``colmap patch_match_stereo`` leave a workspace."""
+    out = Path(folder)
+    names = ["a.png", "b.png"]
+    depth = np.linspace(1.0, 2.0, 48, dtype=np.float32).reshape(6, 8)
+    _images(
+        out, "images", "stereo/depth_maps", names, np.random.default_rng(5),
+        lambda d, n: (d / f"{n}.geometric.bin").write_bytes(colmap_array(depth)),
+    )  # fmt: skip
+    (out / "sparse").mkdir()
+    (out / "sparse" / "cameras.txt").write_text(
+        "# Camera list with one line of data per camera:\n#   CAMERA_ID, MODEL, WIDTH, HEIGHT, PARAMS[]\n"
+        "# Number of cameras: 1\n1 PINHOLE 8 6 7.0 7.0 4.0 3.0\n"
+    )
+    (out / "sparse" / "images.txt").write_text(
+        "# Image list with two lines of data per image:\n"
+        "#   IMAGE_ID, QW, QX, QY, QZ, TX, TY, TZ, CAMERA_ID, NAME\n#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
+        "1 1 0 0 0 0 0 1.5 1 a.png\n1.5 2.5 -1\n"
+        "2 0.9998 0 0.02 0 -0.1 0 1.5 1 b.png\n\n"
+    )
+    return _tree(out)
+
+
+COLMAP_TARGETS = ["sparse/cameras.txt", "sparse/images.txt", "images/a.png", "stereo/depth_maps/b.png.geometric.bin"]
+
+
+def test_seed_colmap_workspace_reads(tmp_path):
+    from illusio.ibr.captures import read_colmap
+
+    files = colmap_files(str(tmp_path / "seed"))
+    frames = must_refuse_or_succeed(read_colmap, write_set(tmp_path / "colmap", files), valid_frames)
+    assert [f.name for f in frames] == ["a.png", "b.png"]
+
+
+@seed(SESSION_SEED)
+@FUZZ
+@given(target=st.sampled_from(COLMAP_TARGETS), mutations=MUTATIONS, drop=st.booleans())
+def test_mutated_colmap_workspaces_are_read_or_refused(target, mutations, drop, tmp_path_factory):
+    """One file of the workspace mutated (or, with ``drop``, removed): frames read, or one line."""
+    from illusio.ibr.captures import read_colmap
+
+    files = colmap_files(str(tmp_path_factory.getbasetemp() / "colmap-seed"))
+    read_mutated_folder(read_colmap, valid_frames, files, target, mutations, drop, tmp_path_factory.mktemp("colmap"))
 
 
 # --- a relighting folder (a model as Blender writes it, its photograph and camera.json) ---
