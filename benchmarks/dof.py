@@ -1,7 +1,9 @@
 """Depth of field (issues 13, 32) at equal quality: each method's PSNR and SSIM against a converged
 accumulation (256 lens positions; 128 against 256 shows it has converged), and the accumulation of
 the fewest positions that reaches the same PSNR, with its time: the speed-up that counts. 1024×768
-per eye, both eyes, on two views with strong blur (the museum and the living room)."""
+per eye, both eyes, on two views with strong blur (the museum and the living room). Scores are of
+the displayed sRGB image (core.scores, the literature's convention), LPIPS beside them where the
+``lpips`` package is installed."""
 
 from __future__ import annotations
 
@@ -9,10 +11,10 @@ from dataclasses import replace
 
 import numpy as np
 from scipy import ndimage
-from skimage.metrics import structural_similarity
 
 from illusio.core.context import Context
 from illusio.core.renderer import Frame
+from illusio.core.scores import image_scores, psnr
 from illusio.dof.focus import object_distance
 from illusio.dof.params import DofParams
 from illusio.dof.renderer import DofRenderer
@@ -29,12 +31,6 @@ CASES = (("museum", 3.0, 150.0, 24.0), ("living-room", "coffee-table-top", 500.0
 METHODS = ("gather", "gather-exact", "mipmap", "planes", "sharp")
 #: lens positions of the accumulation ladder: the baseline at each quality
 LADDER = (1, 2, 4, 8, 16, 32, 64, 128)
-
-
-def psnr(image, reference, mask=None) -> float:
-    diff = (np.asarray(image, np.float64) - reference) ** 2
-    mse = float(diff[mask].mean() if mask is not None else diff.mean())
-    return float("inf") if mse == 0 else 10 * np.log10(1.0 / mse)
 
 
 def edge_mask(depth: np.ndarray, width: int = 4) -> np.ndarray:
@@ -89,7 +85,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             reference_params = replace(base, method="accumulation", samples=samples, stereo=eye)
             reference = renderer.render(frame, reference_params)
             half = renderer.render(frame, replace(reference_params, samples=samples // 2, seed=1))
-            ratios[f"{key}: reference {samples // 2} vs {samples} positions, PSNR dB (converged)"] = psnr(
+            ratios[f"{key}: reference {samples // 2} vs {samples} positions, PSNR dB, sRGB (converged)"] = psnr(
                 half, reference
             )
             renderer.render(frame, replace(base, stereo=eye))  # the gather's depth map of this eye
@@ -107,16 +103,17 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
                 )
                 timings.append(t)
                 ladder[n] = (psnr(image, reference), t.median_ms)
-                ratios[f"{key}: accumulation-{n} PSNR dB"] = ladder[n][0]
+                ratios[f"{key}: accumulation-{n} PSNR dB, sRGB"] = ladder[n][0]
             for name in METHODS:
                 params = replace(variants[name], stereo=eye)
                 image = renderer.render(frame, params)
                 quality = psnr(image, reference)
-                ratios[f"{key}: {name} PSNR dB"] = quality
-                ratios[f"{key}: {name} PSNR dB within 4 px of depth edges"] = psnr(image, reference, edges)
-                ratios[f"{key}: {name} SSIM"] = float(
-                    structural_similarity(image, reference, channel_axis=2, data_range=1.0)
-                )
+                ratios[f"{key}: {name} PSNR dB, sRGB"] = quality
+                ratios[f"{key}: {name} PSNR dB, sRGB, within 4 px of depth edges"] = psnr(image, reference, edges)
+                scores = image_scores(image, reference)
+                ratios[f"{key}: {name} SSIM, sRGB"] = scores.ssim
+                if scores.lpips is not None:
+                    ratios[f"{key}: {name} LPIPS"] = scores.lpips
                 t = time_case(
                     f"{key}/{name}",
                     lambda p=params: renderer.render(frame, p),

@@ -16,17 +16,20 @@ baselines: a plain z-buffered point splat of the same references (every referenc
 to its nearest target pixel, the nearest depth kept) and the photo of the nearest reference.
 
 Growth (issue 30): the frame time of IBR (camera moving) and of rasterising the scene itself as the
-scene grows to 1M, 4M and 16M triangles, the references captured once per scene."""
+scene grows to 1M, 4M and 16M triangles, the references captured once per scene.
+
+Scores are of the displayed sRGB image (core.scores, as the view-synthesis literature states them),
+LPIPS beside them where the ``lpips`` package is installed."""
 
 from __future__ import annotations
 
 from dataclasses import replace
 
 import numpy as np
-from skimage.metrics import structural_similarity
 
 from illusio.core.context import Context
 from illusio.core.renderer import Frame
+from illusio.core.scores import image_scores, psnr
 from illusio.gallery.ibr import showcase_path
 from illusio.ibr.captures import CaptureFrame, Intrinsics, frames_to_references
 from illusio.ibr.params import IbrParams
@@ -48,10 +51,6 @@ def speed_params(scale: int) -> IbrParams:
     reconstruction, the mesh every 8 output pixels (the text's first pass is an approximate depth
     buffer; the selection corrects the depth), and its holes filled 2 pixels deep."""
     return IbrParams(mesh_step=8 * scale, fill_radius=2)
-
-
-def psnr(a, b) -> float:
-    return float(10 * np.log10(1 / max(float(np.mean((np.asarray(a, np.float64) - b) ** 2)), 1e-12)))
 
 
 def seam_errors(images, truths, sources, depths) -> tuple[float, float]:
@@ -109,10 +108,6 @@ def point_splat(references, view, size) -> np.ndarray:
     return colour.reshape(h, w, 3)
 
 
-def _masked_psnr(image, photo, mask) -> float:
-    return 10 * np.log10(1.0 / max(float(np.mean((image[mask] - photo[mask]) ** 2)), 1e-12))
-
-
 def rgbd_quality(ctx: Context, quick: bool, ratios: dict) -> None:
     """The real-capture rows of the module docstring."""
     size = (160, 120) if quick else (320, 240)
@@ -150,13 +145,13 @@ def rgbd_quality(ctx: Context, quick: bool, ratios: dict) -> None:
         view, photo = refs.frames[k]
         mask = frames[k].depth > 0
         image = renderer.render(Frame(view, size), IbrParams(relight=False))[..., :3]  # drawn as recorded
-        scores["ibr"].append(_masked_psnr(image, photo, mask))
-        scores["point splat"].append(_masked_psnr(point_splat(refs, view, size), photo, mask))
+        scores["ibr"].append(psnr(image, photo, mask))
+        scores["point splat"].append(psnr(point_splat(refs, view, size), photo, mask))
         nearest = min(chosen, key=lambda j: abs(j - k))  # along the path, the nearest camera
-        scores["nearest reference's photo"].append(_masked_psnr(frames[nearest].colour, photo, mask))
+        scores["nearest reference's photo"].append(psnr(frames[nearest].colour, photo, mask))
     renderer.release()
     for label, values in scores.items():
-        ratios[f"rgbd capture, held-out frames: {label}: PSNR dB (mean of 6)"] = float(np.mean(values))
+        ratios[f"rgbd capture, held-out frames: {label}: PSNR dB, sRGB (mean of 6)"] = float(np.mean(values))
     ibr = float(np.mean(scores["ibr"]))
     ratios["rgbd capture: ibr - point splat, dB (goal >= 3)"] = ibr - float(np.mean(scores["point splat"]))
     ratios["rgbd capture: ibr - nearest reference's photo, dB (goal >= 8)"] = ibr - float(
@@ -263,12 +258,13 @@ def _office_and_speed(ctx: Context, repeat: int, quick: bool = False) -> tuple[l
                 ratios[
                     "office, 3 references: error at view boundaries on flat surfaces, 1/255 steps: 99th percentile"
                 ] = p99
-            ratios[f"office, {count} references{label}: PSNR dB (mean over the path)"] = float(
-                np.mean([psnr(i, t) for i, t in zip(images, truths)])
+            scores = [image_scores(i, t) for i, t in zip(images, truths)]
+            ratios[f"office, {count} references{label}: PSNR dB, sRGB (mean over the path)"] = float(
+                np.mean([s.psnr for s in scores])
             )
-            ratios[f"office, {count} references{label}: SSIM"] = float(
-                np.mean([structural_similarity(i, t, channel_axis=2, data_range=1.0) for i, t in zip(images, truths)])
-            )
+            ratios[f"office, {count} references{label}: SSIM, sRGB"] = float(np.mean([s.ssim for s in scores]))
+            if scores[0].lpips is not None:
+                ratios[f"office, {count} references{label}: LPIPS"] = float(np.mean([s.lpips for s in scores]))
     renderer.release()
     truth.release()
 

@@ -112,7 +112,7 @@ def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
             ratios[f"{name}, {label}: mean relative error vs Mitsuba over 4x4 blocks (goal <= 0.05)"] = score(
                 image, reference, mask, block=4
             ).mean_relative_error
-            ratios[f"{name}, {label}: PSNR dB vs Mitsuba"] = s.psnr
+            ratios[f"{name}, {label}: PSNR dB vs Mitsuba, linear radiance (peak: its 99th percentile)"] = s.psnr
         noise = score(halves[0], halves[1], mask).mean_relative_error / 2
         ratios[f"{name}: the reference's own noise, mean relative ({spp} paths per pixel, {size[0]}x{size[1]})"] = noise
         ratios[f"{name}: the reference's own noise over 4x4 blocks"] = (

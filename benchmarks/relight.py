@@ -188,7 +188,7 @@ def reflectance_error(session) -> float:
 def record(ratios, key, image, truth, geometry, shadow) -> None:
     whole = score(image, truth, geometry)
     ratios[f"{key}: mean relative error"] = whole.mean_relative_error
-    ratios[f"{key}: PSNR dB"] = whole.psnr
+    ratios[f"{key}: PSNR dB, linear radiance (peak: the truth's 99th percentile)"] = whole.psnr
     ratios[f"{key}: mean relative error in the original shadows"] = score(image, truth, shadow).mean_relative_error
     toned = fit_tone(image, truth, geometry).apply(image)
     ratios[f"{key}: mean relative error in the original shadows, after the tone step"] = score(

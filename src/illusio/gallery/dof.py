@@ -14,6 +14,7 @@ import numpy as np
 from ..core.context import Context
 from ..core.images import write_image
 from ..core.renderer import Frame
+from ..core.scores import psnr
 from ..dof.focus import object_distance
 from ..dof.params import DofParams
 from ..dof.reference import plane_index
@@ -64,9 +65,7 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
         t0 = time.perf_counter()
         image = renderer.render(frame, params)
         ms = (time.perf_counter() - t0) * 1000
-        error = float(np.sqrt(np.mean((image - reference) ** 2)))
-        psnr = 10 * np.log10(1 / max(error**2, 1e-12))
-        rows.append((method, f"{psnr:.1f} dB", f"{ms:.0f} ms"))
+        rows.append((method, f"{psnr(image, reference):.1f} dB", f"{ms:.0f} ms"))
         write_image(out_dir / f"dof/museum-{method}.png", image)
         section.items.append(
             Item(
@@ -83,7 +82,7 @@ def dof_showcase(ctx: Context, out_dir: Path, size: tuple[int, int]) -> Section:
     section.tables.append(
         Table(
             f"Against the accumulation reference, {size[0]}×{size[1]}, {ctx.info()['renderer']}",
-            ["method", "PSNR", "time"],
+            ["method", "PSNR (sRGB)", "time"],
             [list(r) for r in rows],
         )
     )
@@ -143,7 +142,9 @@ def _table(path: Path, rows, note: str) -> Item:
 
     fig, ax = plt.subplots(figsize=(5.0, 0.5 + 0.35 * len(rows)), dpi=120)
     ax.axis("off")
-    table = ax.table(cellText=[list(r) for r in rows], colLabels=["method", "PSNR vs reference", "time"], loc="center")
+    table = ax.table(
+        cellText=[list(r) for r in rows], colLabels=["method", "PSNR vs reference (sRGB)", "time"], loc="center"
+    )
     table.scale(1, 1.4)
     save_figure(fig, path, tight=True)
     return Item(f"dof/{path.name}", "every method against the accumulation reference", note)
