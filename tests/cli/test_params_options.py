@@ -189,24 +189,45 @@ def test_view_names_the_viewer_modes_the_registry_gives():
     assert list(MODES) == _VIEWABLE
 
 
-def test_help_groups_each_commands_options_by_the_params_they_set():
+def test_help_groups_each_commands_options_by_the_params_they_set_and_their_group():
     """--help lists the command's own options apart from its Params' (issue 46: 36 options in one
-    panel): every generated option sits in its Params' panel, a nested field's under "title › field"."""
+    panel): every generated option sits in its Params' panel for its group (param(group=)), the
+    panels in GROUPS' order (method, the paper's parameters, output, advanced), and a nested Params'
+    fields take the group of the field that nests them unless they declare their own."""
     from illusio.cli.params_options import help_panel
+    from illusio.core.params import GROUPS
 
     for name, click_command, callback in _technique_commands():
         specs = getattr(callback, "option_specs", None)
         if not specs:
             continue
         opts = {o: p for p in click_command.params for o in getattr(p, "opts", ())}
-        panels = set()
+        panels = []
         for key, group in specs.items():
             for spec in group:
                 panel = opts[spec.long].rich_help_panel
-                assert panel == help_panel(callback.params_classes[key], spec.path), (name, spec.long)
-                panels.add(panel)
+                assert panel == help_panel(callback.params_classes[key], spec.info.group), (name, spec.long)
+            order = [
+                p.rich_help_panel
+                for p in click_command.params
+                if p.rich_help_panel in {help_panel(callback.params_classes[key], g) for g in GROUPS}
+            ]
+            groups = [next(g for g in GROUPS if help_panel(callback.params_classes[key], g) == p) for p in order]
+            assert groups == sorted(groups, key=list(GROUPS).index), (name, key, groups)
+            panels += order
         own = [p for p in click_command.params if getattr(p, "rich_help_panel", None) is None]
         assert own and panels, name
+    from illusio.core.options import option_specs
     from illusio.radiosity.params import RadiosityParams
 
-    assert help_panel(RadiosityParams, "hierarchy.epsilon") == "Radiosity › hierarchy"
+    specs = {s.path: s.info.group for s in option_specs(RadiosityParams)}
+    assert specs["hierarchy.epsilon"] == "paper" and specs["hierarchy.criterion"] == "method"
+    assert specs["tolerance"] == "advanced" and specs["exposure"] == "output"
+    assert help_panel(RadiosityParams, "method") == "Radiosity: method"
+    from illusio.lines.params import CurvatureParams, LineParams
+
+    nested = {s.path: s.info.group for s in option_specs(LineParams)}
+    assert nested["curvature.rings"] == "advanced"  # LineParams files its curvature under advanced
+    assert {s.path: s.info.group for s in option_specs(CurvatureParams)}["rings"] == "paper"
+    with pytest.raises(ValueError, match="group"):
+        param(1.0, group="misc")

@@ -15,6 +15,10 @@ class FakeImgui:
         class logarithmic:
             value = 32
 
+    class TreeNodeFlags_:
+        class default_open:
+            value = 32
+
     def __init__(self, edits=None):
         self.calls = []
         self.edits = edits or {}
@@ -56,6 +60,20 @@ class FakeImgui:
     def text(self, text):
         self.calls.append(("text", text))
 
+    def collapsing_header(self, title, flags):
+        self.calls.append(("header", title, flags))
+        return bool(flags)  # as at first: open where it opens by default
+
+    def tree_node(self, label):
+        self.calls.append(("tree", label))
+        return True
+
+    def tree_pop(self):
+        pass
+
+    def is_item_hovered(self):
+        return False
+
 
 def test_widgets_follow_the_metadata():
     infos = {i.name: i for i in describe(LineParams())}
@@ -91,3 +109,16 @@ def test_choice_combo_picks_a_declared_choice():
     info = next(i for i in describe(LineParams()) if i.name == "method")
     changed, value = widget_value(info, FakeImgui({"method": "object-space"}))
     assert changed and value == "object-space"
+
+
+def test_fields_are_drawn_by_group_the_advanced_ones_under_a_closed_header():
+    from illusio.dof.params import DofParams
+    from illusio.viewer.panel import draw_fields
+
+    imgui = FakeImgui()
+    draw_fields(type("Viewer", (), {"set_param": lambda *a: None})(), describe(DofParams()), imgui)
+    labels = [c[1].split("##")[-1] for c in imgui.calls if c[0] != "header"]
+    headers = [c[1:] for c in imgui.calls if c[0] == "header"]
+    assert headers == [("output", 32), ("advanced", 0)]
+    assert labels[0] == "method" and labels.index("method") < labels.index("aperture_mm") < labels.index("stereo")
+    assert "seed" not in labels and "shadows" not in labels  # advanced: under the closed header

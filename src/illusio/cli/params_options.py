@@ -11,9 +11,11 @@ Every field a command shows (``cli`` metadata, by default the panel's) becomes a
 name with ``-`` for ``_`` unless its ``flag`` says otherwise, nested Params flattened (their fields'
 own names; a clash between two fields is an error at import, caught by the tests); switches as
 ``--x/--no-x``; a tuple of choices as one comma-separated value. The help says the unit, range
-and choices. A value is checked against its field's metadata and refused by its flag
-(``--aperture = 600 mm is out of range [0, 500]``) before the Params is made, so batch jobs (which
-run commands by their options) and the panel (which reads the same metadata) see the same fields.
+and choices; --help lists them in panels by the fields' groups (core.params.GROUPS: the method,
+the paper's parameters, the output, advanced), after the command's own options. A value is
+checked against its field's metadata and refused by its flag (``--aperture = 600 mm is out of
+range [0, 500]``) before the Params is made, so batch jobs (which run commands by their options)
+and the panel (which reads the same metadata) see the same fields.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from collections.abc import Callable
 import typer
 
 from ..core.options import OptionSpec, option_specs, params_from_options
+from ..core.params import GROUPS
 
 __all__ = ["OptionSpec", "option_specs", "params_options"]
 
@@ -55,14 +58,13 @@ def _number(value: float) -> str:
     return str(int(value)) if float(value).is_integer() and abs(value) >= 1e5 else f"{value:g}"
 
 
-def help_panel(params_class, path: str) -> str:
+def help_panel(params_class, group: str) -> str:
     """The --help panel an option is listed under: the Params' own title (its ``PANEL``, else its
-    class name), and a nested field's options under "title › field" (``Radiosity › hierarchy``)."""
+    class name) and the field's group (core.params.GROUPS): "Radiosity: the paper's parameters"."""
     title = getattr(params_class, "PANEL", None) or re.sub(r"(?<!^)(?=[A-Z])", " ", params_class.__name__).removesuffix(
         " Params"
     )
-    head, _, _ = path.rpartition(".")
-    return f"{title} › {head.replace('.', ' › ').replace('_', ' ')}" if head else title
+    return f"{title}: {GROUPS[group]}"
 
 
 def _option(spec: OptionSpec, panel: str | None = None) -> inspect.Parameter:
@@ -96,7 +98,12 @@ def params_options(exclude: tuple[str, ...] = (), **classes) -> Callable:
         for key, cls in classes.items():
             own = tuple(e.partition(".")[2] for e in exclude if e.partition(".")[0] == key)
             specs[key] = option_specs(cls, own)
-        generated = [_option(s, help_panel(classes[key], s.path)) for key, group in specs.items() for s in group]
+        # each Params' options by group, most used first (typer shows panels in order of appearance)
+        generated = [
+            _option(s, help_panel(classes[key], s.info.group))
+            for key, group in specs.items()
+            for s in sorted(group, key=lambda s: list(GROUPS).index(s.info.group))
+        ]
         names = [p.name for p in kept]
         clash = {f for s in generated for f in s.default.param_decls} & {
             f for p in kept if isinstance(p.default, typer.models.OptionInfo) for f in p.default.param_decls or ()

@@ -55,14 +55,14 @@ def option_specs(params_class, exclude: tuple[str, ...] = ()) -> list[OptionSpec
     return out
 
 
-def _walk(instance, prefix: str, exclude: set[str], out: list[OptionSpec]) -> None:
+def _walk(instance, prefix: str, exclude: set[str], out: list[OptionSpec], group: str = "") -> None:
     metas = {f.name: f.metadata for f in dataclasses.fields(instance)}
-    for info in describe(instance, "cli"):
+    for info in describe(instance, "cli", group):
         path = prefix + info.name
         if path in exclude:
             continue
         if info.kind == "params":
-            _walk(info.value, path + ".", exclude, out)
+            _walk(info.value, path + ".", exclude, out, info.group)
             continue
         if info.kind == "other":
             continue  # nothing a command line can spell (colour tables, poses)

@@ -8,6 +8,10 @@ value is checked against its declared range in one place (:func:`check_ranges`):
     class BlurParams:
         radius: float = param(4.0, range=(0.0, 32.0), unit="px", help="blur radius")
         __post_init__ = check_ranges
+
+A field's ``group`` (:data:`GROUPS`) files it with its kind in a command's --help and a window's
+panel: the method first, then the paper's parameters, then what the output shows, then the
+advanced settings most users leave alone.
 """
 
 from __future__ import annotations
@@ -19,7 +23,16 @@ from typing import Any
 
 from .errors import InputError, did_you_mean
 
-__all__ = ["param", "ParamInfo", "describe", "is_params", "check_ranges", "check_value", "with_values"]
+__all__ = ["GROUPS", "param", "ParamInfo", "describe", "is_params", "check_ranges", "check_value", "with_values"]
+
+
+#: a field's group → its panel's title, in the order panels are shown (most used first)
+GROUPS = {
+    "method": "method",
+    "paper": "the paper's parameters",
+    "output": "output",
+    "advanced": "advanced",
+}
 
 
 def param(
@@ -37,6 +50,7 @@ def param(
     default_factory: Any = dataclasses.MISSING,
     flag: str = "",
     cli: bool | None = None,
+    group: str = "",
 ):
     """A dataclass field with its description in metadata.
 
@@ -46,7 +60,10 @@ def param(
     panel: False for fields a panel should not show (paths, nested colour tables);
     flag: the command-line name where it is not the field's (``aperture_mm`` → ``"aperture"``; a
     switch may name its off side: ``"relative/raw"``); cli: whether commands offer it as an option
-    (default: as ``panel``)."""
+    (default: as ``panel``); group: one of :data:`GROUPS` (default: the group of the field that
+    nests this Params, else "paper"; a nested Params' field gives its fields their default)."""
+    if group and group not in GROUPS:
+        raise ValueError(f"group {group!r} is not one of {', '.join(GROUPS)}")
     meta = {
         "range": range,
         "unit": unit,
@@ -59,6 +76,7 @@ def param(
         "log": log,
         "flag": flag,
         "cli": panel if cli is None else cli,
+        "group": group,
     }
     if default_factory is not dataclasses.MISSING:
         return field(default_factory=default_factory, metadata=meta)
@@ -83,6 +101,7 @@ class ParamInfo:
     log: bool = False
     children: tuple[ParamInfo, ...] = ()
     flag: str = ""
+    group: str = "paper"
 
     @property
     def title(self) -> str:
@@ -99,9 +118,10 @@ def is_params(value) -> bool:
     )
 
 
-def describe(params, audience: str = "panel") -> tuple[ParamInfo, ...]:
+def describe(params, audience: str = "panel", group: str = "") -> tuple[ParamInfo, ...]:
     """One ParamInfo per field ``audience`` ("panel": a window's panel; "cli": a command's options)
-    is shown, in declaration order; nested Params as kind "params" with their own fields."""
+    is shown, in declaration order; nested Params as kind "params" with their own fields. ``group``:
+    the default group of the fields (that of the field nesting ``params``; else "paper")."""
     out = []
     for f in dataclasses.fields(params):
         meta = f.metadata
@@ -116,12 +136,15 @@ def describe(params, audience: str = "panel") -> tuple[ParamInfo, ...]:
             help=meta.get("help", ""),
             log=meta.get("log", False),
             flag=meta.get("flag", ""),
+            group=meta.get("group") or group or "paper",
         )
         if meta.get("choices") is not None:
             kind = "multi" if meta.get("multiple") else "choice"
             out.append(ParamInfo(f.name, kind, value, choices=tuple(meta["choices"]), **common))
         elif is_params(value):
-            out.append(ParamInfo(f.name, "params", value, children=describe(value, audience), **common))
+            out.append(
+                ParamInfo(f.name, "params", value, children=describe(value, audience, common["group"]), **common)
+            )
         elif isinstance(value, bool):
             out.append(ParamInfo(f.name, "bool", value, **common))
         elif isinstance(value, int) and f.type not in ("float", float):

@@ -46,7 +46,7 @@ class DofParams:
 
     PANEL: ClassVar[str] = "Depth of field"  # its options' panel in --help
 
-    method: str = param("gather", choices=METHODS)
+    method: str = param("gather", choices=METHODS, group="method")
     focus_distance: float = param(2.0, range=(0.05, 1000.0), unit="m", log=True, label="focus distance d_f")
     aperture_mm: float = param(
         50.0, range=(0.0, 500.0), unit="mm", label="aperture A", flag="aperture", help="lens diameter"
@@ -59,7 +59,7 @@ class DofParams:
         flag="focal-length",
         help="on a 24 mm frame; 0 keeps the camera's field of view",
     )
-    samples: int = param(32, range=(1, 1024), step=1, help="lens positions of the accumulation method")
+    samples: int = param(32, range=(1, 1024), step=1, help="lens positions of the accumulation method", group="method")
     planes_behind: int = param(6, range=(1, 64), step=1, label="planes behind (m)")
     planes_front: int = param(4, range=(0, 64), step=1, label="planes in front (n)")
     distribution: str = param("exponential", choices=("exponential", "linear"), help="how the planes are spread")
@@ -77,10 +77,11 @@ class DofParams:
         label="gather points",
         help="points per pixel of the gather's disk (each read at the mipmap level of its "
         "share); 0: every pixel of the kernel's square, exact and slow",
+        group="method",
     )
     max_coc: float = param(24.0, range=(1.0, 64.0), unit="px", label="largest circle of confusion")
-    stereo: str = param("none", choices=STEREO_OUTPUTS)
-    eye_separation: float = param(0.065, range=(0.0, 1.0), unit="m")
+    stereo: str = param("none", choices=STEREO_OUTPUTS, group="output")
+    eye_separation: float = param(0.065, range=(0.0, 1.0), unit="m", group="output")
     screen_distance: float = param(
         Screen().viewing_distance_cm / 100,
         range=(0.0, 1000.0),
@@ -88,15 +89,16 @@ class DofParams:
         help="zero parallax: the screen the eyes converge on, whatever the focus "
         "(the viewer's distance of the physical screen model, 1:1 with the scene); "
         "0: at the focus",
+        group="output",
     )
-    seed: int = param(0, range=(0, 2**31 - 1), step=1)
+    seed: int = param(0, range=(0, 2**31 - 1), step=1, group="advanced")
     policy: str = param(
         "none",
         choices=("none", "gaze", "largest", "speed", "nearest-exhibit"),
         help="how each frame's focus is chosen (section 4.2); none: focus distance",
     )
     accommodation: float = param(0.3, range=(0.0, 5.0), unit="s", help="time constant of the focus following a policy")
-    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False), group="advanced")
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {

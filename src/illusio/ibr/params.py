@@ -42,24 +42,39 @@ class IbrParams:
 
     PANEL: ClassVar[str] = "Image-based rendering"  # its options' panel in --help
 
-    distance: str = param("2d", choices=DISTANCES)
-    selection: str = param("single-pass", choices=SELECTIONS)
+    distance: str = param("2d", choices=DISTANCES, group="method")
+    selection: str = param("single-pass", choices=SELECTIONS, group="method")
     bilinear_depth: bool = param(
         True,
         label="bilinear depth",
         flag="bilinear-depth/nearest-depth",
         help="bilinear reference depth, or the nearest texel's",
+        group="method",
     )
     max_distance: float = param(3.0, range=(0.01, 1000.0), log=True, help="beyond it a pixel is a hole")
-    mesh_step: int = param(2, range=(1, 16), step=1, unit="px", label="reconstruction mesh step")
-    grazing: float = param(85.0, range=(1.0, 90.0), unit="°", help="mesh triangles seen more obliquely are cut")
+    mesh_step: int = param(2, range=(1, 16), step=1, unit="px", label="reconstruction mesh step", group="advanced")
+    grazing: float = param(
+        85.0, range=(1.0, 90.0), unit="°", help="mesh triangles seen more obliquely are cut", group="advanced"
+    )
     fill_radius: int = param(
-        4, range=(0, 64), step=1, unit="px", help="holes of the reconstructed depth this wide are filled"
+        4,
+        range=(0, 64),
+        step=1,
+        unit="px",
+        help="holes of the reconstructed depth this wide are filled",
+        group="advanced",
     )
     fill_disocclusions: int = param(
-        16, range=(0, 256), step=1, unit="px", help="disocclusions no reference sees are filled this far"
+        16,
+        range=(0, 256),
+        step=1,
+        unit="px",
+        help="disocclusions no reference sees are filled this far",
+        group="advanced",
     )
-    show_sources: bool = param(False, label="show source views", help="colour by source view, holes magenta")
+    show_sources: bool = param(
+        False, label="show source views", help="colour by source view, holes magenta", group="output"
+    )
     relight: bool = param(
         True,
         help="light from the stored normals; photographic: the references' recorded colour",
@@ -69,7 +84,7 @@ class IbrParams:
     light_y: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights y")
     light_z: float = param(0.0, range=(-10.0, 10.0), unit="m", label="move lights z")
 
-    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
+    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False), group="advanced")
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {

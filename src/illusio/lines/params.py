@@ -74,8 +74,8 @@ class CurvatureParams:
     degree: int = param(4, choices=(2, 3, 4), help="jet degree")
     smoothing: int = param(3, range=(0, 8), step=1, help="passes of tensor averaging over the 1-ring")
     adaptive: bool = param(False, help="ICI choice among lower degrees and more rings")
-    extra_rings: int = param(1, range=(0, 8), step=1, help="rings beyond the start for adaptive fits")
-    confidence: float = param(2.0, range=(0.1, 10.0), help="ICI confidence factor")
+    extra_rings: int = param(1, range=(0, 8), step=1, help="rings beyond the start for adaptive fits", group="advanced")
+    confidence: float = param(2.0, range=(0.1, 10.0), help="ICI confidence factor", group="advanced")
 
     __post_init__ = check_ranges
 
@@ -100,9 +100,9 @@ class LineParams:
     PANEL: ClassVar[str] = "Line drawing"  # its options' panel in --help
 
     lines: tuple[str, ...] = param(
-        ("apparent-ridges", "silhouettes"), choices=LINE_TYPES, multiple=True, label="line types"
+        ("apparent-ridges", "silhouettes"), choices=LINE_TYPES, multiple=True, label="line types", group="method"
     )
-    method: str = param("hybrid", choices=METHODS, help="apparent ridges: hybrid GPU or object space")
+    method: str = param("hybrid", choices=METHODS, help="apparent ridges: hybrid GPU or object space", group="method")
     tau: float = param(-2.0, range=(-12.0, 12.0), label="τ", help="q = 2^τ q1")
     lam: float = param(
         0.5, range=(0.0, 16.0), label="λ", help="direction weight of the adaptive Laplacian", flag="lambda"
@@ -127,12 +127,15 @@ class LineParams:
         choices=SILHOUETTE_SPACES,
         flag="silhouettes",
         help="object: n·v = 0 zero crossings; image: depth edges",
+        group="advanced",
     )
-    depth_jump: float = param(0.05, range=(0.0, 10.0), help="image silhouettes: relative depth jump")
-    min_ridge_pixels: int = param(24, range=(0, 100000), step=1, unit="px", help="drop shorter ridge fragments")
-    colours: tuple = param(DEFAULT_COLOURS, panel=False)
-    widths: tuple = param(DEFAULT_WIDTHS, panel=False)
-    curvature: CurvatureParams = param(default_factory=CurvatureParams)
+    depth_jump: float = param(0.05, range=(0.0, 10.0), help="image silhouettes: relative depth jump", group="advanced")
+    min_ridge_pixels: int = param(
+        24, range=(0, 100000), step=1, unit="px", help="drop shorter ridge fragments", group="advanced"
+    )
+    colours: tuple = param(DEFAULT_COLOURS, panel=False, group="output")
+    widths: tuple = param(DEFAULT_WIDTHS, panel=False, group="output")
+    curvature: CurvatureParams = param(default_factory=CurvatureParams, group="advanced")
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {

@@ -32,12 +32,16 @@ class LineStyle:
     type's own). transparent: RGBA output, alpha = coverage. fade: hybrid ridges lighter where weak.
     supersample: the factor the drawing was rendered at (it is reduced by it)."""
 
-    width: float = param(1.0, range=(0.5, 32.0), unit="px", flag="line-width", help="line width of the output")
-    colour: tuple | None = param(None, panel=False)
-    transparent: bool = param(False, help="a PNG with the paper transparent (alpha = ink)")
-    fade: bool = param(False, help="apparent ridges lighter where weak (|q| under the median ridge's), as rtsc does")
+    width: float = param(
+        1.0, range=(0.5, 32.0), unit="px", flag="line-width", help="line width of the output", group="output"
+    )
+    colour: tuple | None = param(None, panel=False, group="output")
+    transparent: bool = param(False, help="a PNG with the paper transparent (alpha = ink)", group="output")
+    fade: bool = param(
+        False, help="apparent ridges lighter where weak (|q| under the median ridge's), as rtsc does", group="output"
+    )
     # what the drawing was made at, set by whoever made it (the lines command's --antialias)
-    supersample: int = param(1, range=(1, 4), step=1, cli=False)
+    supersample: int = param(1, range=(1, 4), step=1, cli=False, group="advanced")
 
     def __post_init__(self):
         check_ranges(self)

@@ -31,12 +31,20 @@ class RenderSettings:
 
     PANEL: ClassVar[str] = "Render settings"  # its options' panel in --help
 
-    shadows: bool = param(True, help="cube shadow maps of every light")
+    shadows: bool = param(True, help="cube shadow maps of every light", group="advanced")
     shadow_tile_size: int = param(
-        512, range=(64, 4096), unit="px", step=64, label="shadow map size", help="pixels per cube face"
+        512,
+        range=(64, 4096),
+        unit="px",
+        step=64,
+        label="shadow map size",
+        help="pixels per cube face",
+        group="advanced",
     )
-    exposure: float = param(1.0, range=(0.01, 16.0), log=True, help="scale on the linear radiance")
-    forward: bool = param(False, label="forward shading", help="light in the pass that draws (same image)")
+    exposure: float = param(1.0, range=(0.01, 16.0), log=True, help="scale on the linear radiance", group="output")
+    forward: bool = param(
+        False, label="forward shading", help="light in the pass that draws (same image)", group="advanced"
+    )
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {

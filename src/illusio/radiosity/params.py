@@ -47,26 +47,32 @@ class HierarchyParams:
 
     epsilon: float = param(6e-5, range=(1e-9, 1.0), log=True, label="refinement ε (× total power)")
     min_area: float = param(0.0, range=(0.0, 100.0), unit="m²", label="minimum element area A_ε (0: automatic)")
-    criterion: str = param("bf", choices=CRITERIA)
+    criterion: str = param("bf", choices=CRITERIA, group="method")
     visibility_samples: int = param(16, range=(1, 256), step=1, help="rays per link for the visibility V_ij")
     lights_to_leaves: bool = param(
-        False, help="links from lamps pushed to the receivers' leaves (Loscos 1999, Figure 4.6b)"
+        False, help="links from lamps pushed to the receivers' leaves (Loscos 1999, Figure 4.6b)", group="advanced"
     )
-    refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds")
-    seed: int = param(0, range=(0, 2**31 - 1), step=1, help="visibility rays (and the path tracer of a reference)")
-    clusters: bool = param(True, help="link through clusters of polygons (off: every pair of input polygons)")
+    refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds", group="advanced")
+    seed: int = param(
+        0, range=(0, 2**31 - 1), step=1, help="visibility rays (and the path tracer of a reference)", group="advanced"
+    )
+    clusters: bool = param(
+        True, help="link through clusters of polygons (off: every pair of input polygons)", group="advanced"
+    )
     max_links: int = param(
         50_000_000,
         range=(1_000, 2**31 - 1),
         step=1_000,
         label="link budget",
         help="refinement stops with an error past this many links (memory: about 100 bytes a link)",
+        group="advanced",
     )
     sliver_piece: float = param(
         1.0,
         range=(0.0, 100.0),
         label="sliver pieces (× √A_ε, 0: uncut)",
         help="quads longer than 4× their width are cut into pieces this long (× √A_ε)",
+        group="advanced",
     )
 
     __post_init__ = check_ranges
@@ -88,15 +94,18 @@ class RadiosityParams:
     PANEL: ClassVar[str] = "Radiosity"  # its options' panel in --help
 
     hierarchy: HierarchyParams = param(default_factory=HierarchyParams)
-    tolerance: float = param(1e-4, range=(1e-9, 0.5), log=True)
-    max_iterations: int = param(200, range=(1, 10000), step=1)
+    tolerance: float = param(1e-4, range=(1e-9, 0.5), log=True, group="advanced")
+    max_iterations: int = param(200, range=(1, 10000), step=1, group="advanced")
     lamp_scales: tuple = param((), panel=False)
-    show: str = param("radiosity", choices=SHOW)
-    exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="scale on the radiance B/π before encoding")
+    show: str = param("radiosity", choices=SHOW, group="output")
+    exposure: float = param(
+        1.0, range=(1e-6, 1e6), log=True, help="scale on the radiance B/π before encoding", group="output"
+    )
     textures: bool = param(
         True,
         help="solve each element with the texture it covers and draw the textures (off: each polygon at "
         "its mean reflectance, as a path tracer of untextured polygons sees it)",
+        group="output",
     )
     element: int = param(
         -1,
@@ -105,6 +114,7 @@ class RadiosityParams:
         panel=False,
         cli=True,
         help="show links: the receiving element (-1: the most linked)",
+        group="output",
     )
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)

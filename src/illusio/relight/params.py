@@ -92,11 +92,12 @@ class RelightParams:
 
     PANEL: ClassVar[str] = "Relighting"  # its options' panel in --help
 
-    method: str = param("loscos", choices=METHODS)
+    method: str = param("loscos", choices=METHODS, group="method")
     estimate: str = param(
         "inverse",
         choices=ESTIMATES,
         help="brightness: Loscos eqs. 4.1/4.2 as the chapter; inverse: ρ = πB̂/H, lamps from their own pixels",
+        group="method",
     )
     mean_reflectance: float = param(0.5, range=(0.01, 0.95), label="mean reflectance ρ̂ (first guess)")
     colour_threshold: float = param(20.0, range=(0.0, 200.0), label="colour similarity ε (CIE L*a*b*, Fig. 4.7, 4.11)")
@@ -113,14 +114,18 @@ class RelightParams:
         help="loscos: how much of Loscos eq. 4.9's correction a shadowed leaf takes — "
         "in proportion to the share of its direct light blocked, or in full (the chapter)",
     )
-    min_pixels: int = param(4, range=(1, 10000), step=1, help="4.3.1 splits only leaves covering this many pixels")
+    min_pixels: int = param(
+        4, range=(1, 10000), step=1, help="4.3.1 splits only leaves covering this many pixels", group="advanced"
+    )
     hierarchy: HierarchyParams = param(
         default_factory=lambda: INITIAL_HIERARCHY, help="the initial radiosity solution (BF at a coarse ε)"
     )
-    fresh_solution: bool = param(False, help="loscos: end with a fresh BFV solution over the final textures (4.3.3)")
-    final_hierarchy: HierarchyParams = param(default_factory=lambda: FINAL_HIERARCHY, panel=False)
+    fresh_solution: bool = param(
+        False, help="loscos: end with a fresh BFV solution over the final textures (4.3.3)", group="advanced"
+    )
+    final_hierarchy: HierarchyParams = param(default_factory=lambda: FINAL_HIERARCHY, panel=False, group="advanced")
     lamp_scales: tuple = param((), panel=False)
-    exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="factor on the displayed radiance")
+    exposure: float = param(1.0, range=(1e-6, 1e6), log=True, help="factor on the displayed radiance", group="output")
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {

@@ -52,7 +52,7 @@ class StereogramParams:
 
     PANEL: ClassVar[str] = "Stereogram"  # its options' panel in --help
 
-    algorithm: str = param("fast", choices=ALGORITHMS, help="how the links are followed")
+    algorithm: str = param("fast", choices=ALGORITHMS, help="how the links are followed", group="method")
     strip_width: float = param(
         100.0, range=(2.0, 1000.0), unit="px", label="strip width W_s", help="separation of the nearest depth"
     )
@@ -61,13 +61,15 @@ class StereogramParams:
     )
     exact: bool = param(False, help="equation (3) of the physical screen (Dehos et al. 2014) instead of W_s + β·D")
     screen: Screen = param(default_factory=Screen, panel=False, cli=True)
-    pattern: str = param("random-dot", panel=False, cli=True, help=f"{', '.join(PATTERNS)}, or an image file")
-    dot_size: int = param(1, range=(1, 64), unit="px", step=1, help="pixels per random dot")
-    guides: bool = param(False, help="two guide dots W_s + β apart")
-    cross_eyed: bool = param(False, help="for crossed eyes (default: wall-eyed)")
-    invert: bool = param(False, help="D → 1 − D (black = near)")
-    oversample: int = param(1, range=(1, 8), step=1, help="compute at N times the width")
-    seed: int = param(0, range=(0, 2**31 - 1), step=1, help="seed of every random pattern")
+    pattern: str = param(
+        "random-dot", panel=False, cli=True, help=f"{', '.join(PATTERNS)}, or an image file", group="output"
+    )
+    dot_size: int = param(1, range=(1, 64), unit="px", step=1, help="pixels per random dot", group="output")
+    guides: bool = param(False, help="two guide dots W_s + β apart", group="output")
+    cross_eyed: bool = param(False, help="for crossed eyes (default: wall-eyed)", group="output")
+    invert: bool = param(False, help="D → 1 − D (black = near)", group="output")
+    oversample: int = param(1, range=(1, 8), step=1, help="compute at N times the width", group="advanced")
+    seed: int = param(0, range=(0, 2**31 - 1), step=1, help="seed of every random pattern", group="advanced")
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
@@ -146,20 +148,23 @@ class MultiSceneParams:
     )
     reference_width: int = param(1920, range=(16, 8192), unit="px", panel=False)
     hidden_size: int = param(512, range=(16, 4096), unit="px", step=16, label="hidden depth size")
-    emission: float = param(0.9, range=(0.0, 4.0), help="host glow (a TV); 0 for a lit wall")
-    pattern_repeat: tuple[float, float] = param((1.0, 1.0), panel=False)
+    emission: float = param(0.9, range=(0.0, 4.0), help="host glow (a TV); 0 for a lit wall", group="output")
+    pattern_repeat: tuple[float, float] = param((1.0, 1.0), panel=False, group="output")
     interactive: bool = param(
         False, help="orient the hidden scene by where the viewer stands (Dehos et al. 2014, Figure 25)"
     )
     spin: float = param(0.0, range=(-30.0, 30.0), unit="°/frame", help="the hidden scene turns")
-    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False))
-    host_shadows: bool = param(False, help="shadows fall on the host too (they break the stereogram's fusion)")
+    settings: RenderSettings = param(default_factory=lambda: RenderSettings(shadows=False), group="advanced")
+    host_shadows: bool = param(
+        False, help="shadows fall on the host too (they break the stereogram's fusion)", group="advanced"
+    )
     host_layout: str = param(
         "uv",
         choices=HOST_LAYOUTS,
         help="the hidden scene through the host's uvs, or laid out upright in the viewer's image of it",
+        group="advanced",
     )
-    reuse_static: bool = param(True, help="a still camera shades only the host again")
+    reuse_static: bool = param(True, help="a still camera shades only the host again", group="advanced")
 
     #: fields that leave the default view's image unchanged, and why (tests/core/test_technique_contract.py)
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {

@@ -1,15 +1,20 @@
 """The imgui panel: technique, variant and camera controls, the frame-time readout, and a widget for
 every field of the mode's Params, generated from its field metadata (illusio.core.params): sliders
 with the declared ranges, check boxes for flags and for each choice of a multiple choice, combos for
-single choices, a tree node per nested Params. A change goes through ``Viewer.set_param``."""
+single choices, a tree node per nested Params, the fields in their groups (core.params.GROUPS: the
+method and the paper's parameters shown, the output under an open header, advanced settings under a
+closed one). A change goes through ``Viewer.set_param``."""
 
 from __future__ import annotations
 
-from ..core.params import ParamInfo, describe
+from ..core.params import GROUPS, ParamInfo, describe
 from .modes import MODES
 from .viewer import Viewer
 
-__all__ = ["draw_panel", "widget_value"]
+__all__ = ["draw_fields", "draw_panel", "widget_value"]
+
+#: groups drawn under a header (open or closed at first); the others are drawn as they are
+_HEADERS = {"output": True, "advanced": False}
 
 
 def widget_value(info: ParamInfo, imgui):
@@ -65,6 +70,19 @@ def _fields(viewer: Viewer, infos, imgui, prefix: str = "") -> None:
             imgui.set_tooltip(info.help)
 
 
+def draw_fields(viewer: Viewer, infos, imgui) -> None:
+    """The widgets of ``infos`` (describe's) by group, in GROUPS' order."""
+    for group, title in GROUPS.items():
+        members = [info for info in infos if info.group == group]
+        if not members:
+            continue
+        if group in _HEADERS:
+            flags = imgui.TreeNodeFlags_.default_open.value if _HEADERS[group] else 0
+            if not imgui.collapsing_header(title, flags):
+                continue
+        _fields(viewer, members, imgui)
+
+
 def draw_panel(viewer: Viewer, imgui, actions: dict, state: dict | None = None) -> None:
     """The panel for the viewer's current mode. ``actions``: callbacks the window provides
     ("screenshot"); ``state``: what the panel keeps between frames (the file field's text)."""
@@ -102,7 +120,7 @@ def draw_panel(viewer: Viewer, imgui, actions: dict, state: dict | None = None) 
     imgui.text(f"navigation: {viewer.navigation.kind}; Tab technique, V view")
     imgui.separator()
     viewer.mode.panel(imgui, viewer)
-    _fields(viewer, describe(viewer.mode.params), imgui)
+    draw_fields(viewer, describe(viewer.mode.params), imgui)
     if viewer.last_error:
         imgui.text_colored((1.0, 0.4, 0.3, 1.0), viewer.last_error)
     imgui.end()
