@@ -3,6 +3,8 @@
 plain reference, and whole solves with clusters against solves without (every pair of polygons) and
 against a fresh build after a move."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -15,6 +17,7 @@ from illusio.radiosity.clusters import (
     cluster_node,
     mean_cosine,
     transfer_bound,
+    twins,
 )
 from illusio.radiosity.formfactor import point_polygon
 from illusio.radiosity.hierarchy import Hierarchy
@@ -106,11 +109,12 @@ def test_cluster_kernel_matches_element_form_factors_far_away():
     for recv, src in ((floor, cluster_node(0)), (cluster_node(0), floor)):
         g, d = cluster_kernel(h, tree, np.array([recv]), np.array([src]))
         p_src = h.area[ball].sum() if src < 0 else h.area[src]
+        assert g[0, 1] == 0  # one-sided: nothing from twins
         if recv >= 0:
-            model = g[0] * p_src * h.area[recv]
+            model = g[0, 0] * p_src * h.area[recv]
         else:  # each member by its own orientation (the push)
             cosine = np.maximum(h.normal[ball] @ d[0], 0)
-            model = g[0] * p_src * (h.area[ball] * cosine).sum()
+            model = g[0, 0] * p_src * (h.area[ball] * cosine).sum()
         exact = _exact_transfer(h, ball if recv < 0 else [recv], ball if src < 0 else [src], b)
         assert model == pytest.approx(exact, rel=0.15), (recv, src)
 
@@ -137,24 +141,31 @@ def test_transfer_bound_is_conservative():
     assert checked >= 20
 
 
-def test_clustered_gather_equals_the_plain_reference():
+@pytest.mark.parametrize("two_sided", [False, True])
+def test_clustered_gather_equals_the_plain_reference(two_sided):
     """ClusteredGather (numba, pulls and pushes by runs) against reference.cluster_gather (one link
-    at a time) on random links between random nodes, with an excluded member."""
-    h = Hierarchy(scene_polygons(room_with_sphere(10)))
+    at a time) on random links between random nodes, with an excluded member; with two-sided
+    surfaces, each source cluster's fronts and twins sending by their own kernel."""
+    scene = room_with_sphere(10)
+    if two_sided:  # the walls two-sided, as MGF's are (each face and its reversed twin)
+        scene.nodes[:] = [replace(n, tags=(*n.tags, "two-sided")) if "ball" not in n.name else n for n in scene.nodes]
+    h = Hierarchy(scene_polygons(scene))
     tree = ClusterTree.build(h)
     tree.exclude(tree.order[:3])
     rng = np.random.default_rng(5)
     n, k = len(h), 300
     nodes = np.r_[cluster_node(np.arange(len(tree))), h.roots]
     recv, src = rng.choice(nodes, k), rng.choice(nodes, k)
-    kernel, vis = rng.random(k), rng.random(k)
+    kernel, vis = rng.random((k, 2)), rng.random(k)
+    kernel[src >= 0, 1] = 0.0
     direction = rng.normal(size=(k, 3))
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
     b = rng.random((n, 3))
     gather = ClusteredGather(Links().gather_operator(n), ClusterLinks(recv, src, kernel, vis, direction), tree, h)
     plain = reference.cluster_gather(
-        [tree.members(c) for c in range(len(tree))], recv, src, kernel, vis, direction, h.area, h.normal, b, n
+        [tree.members(c) for c in range(len(tree))], recv, src, kernel, vis, direction, h.area, h.normal, b, n, twins(h)
     )
+    assert twins(h).any() == two_sided
     assert np.allclose(gather @ b, plain, rtol=1e-10, atol=1e-12)
 
 

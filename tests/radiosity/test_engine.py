@@ -237,10 +237,10 @@ def test_gather_and_push_pull_match_the_loops(rng):
 
 def test_hierarchical_solve_equals_the_dense_solve(rng):
     """With every link at the leaves the hierarchy is a flat system: the iterative gather + push-pull
-    converges to the exact solution of (I − ρK) B = E."""
+    converges to the exact solution of (I − ρK) B = E (K as the links have it: no reach scale)."""
     p = closed_cube(0.7, 0.0)
     p.exitance[2] = [5.0, 3.0, 1.0]
-    sol = Radiosity(p, HierarchyParams(epsilon=1.0, min_area=1e-3))
+    sol = Radiosity(p, HierarchyParams(epsilon=1.0, min_area=1e-3, reach_rays=0))
     h = sol.hierarchy
     h.subdivide(h.roots)
     leaves = h.leaves()

@@ -61,3 +61,22 @@ def test_neighbours_cross_the_diagonal_of_a_split_quad():
     first = [e for e in leaves if h.polygon[e] == halves[0]]
     crossing = [e for e in first if any(h.polygon[leaves[n]] == halves[1] for n in near[row[int(e)]])]
     assert len(crossing) >= 2  # the leaves along the cut
+
+
+def test_a_two_sided_walls_faces_join_as_do_their_twins_but_not_across_materials(tmp_path):
+    """An MGF wall of two quads (two-sided: each quad with its reversed twin, so each edge has four
+    owners) is two surfaces, its front and its back; a quad of another material in the same plane
+    sharing an edge with them stays apart."""
+    from illusio.scene.mgf import load_mgf
+
+    points = "".join(f"v p{k} =\n\tp {x} 0 {z}\n" for k, (x, z) in enumerate([(0, 0), (1, 0), (2, 0), (3, 0)]))
+    points += "".join(f"v q{k} =\n\tp {x} 0 1\n" for k, x in enumerate(range(4)))
+    text = points + "m white =\n\tc\n\trd 0.8\nf p0 p1 q1 q0\nf p1 p2 q2 q1\nm black =\nf p2 p3 q3 q2\n"
+    (tmp_path / "wall.mgf").write_text(text)
+    polygons = scene_polygons(load_mgf(tmp_path / "wall.mgf", up="z"))
+    surface = polygons.surfaces()
+    white = polygons.group == polygons.names.index("scene/white")
+    fronts, twins = white & (polygons.side == 1), white & (polygons.side == 2)
+    assert len(set(surface[fronts])) == 1 and len(set(surface[twins])) == 1
+    assert set(surface[fronts]) != set(surface[twins])
+    assert not set(surface[~white]) & set(surface[white])

@@ -14,13 +14,19 @@ source node's mean cosine is taken as
     c(d) = max(N̄·d, 0) + (1 − |N̄|)/4
 
 exact for a flat cluster (and for an element, c = max(n·d, 0)) and for a sphere (1/4, the mean of
-max(cos, 0) over all directions). A link from node j to node i with centres r apart, d the unit
-vector from i toward j, carries the irradiance normal to d
+max(cos, 0) over all directions). A source cluster is read as two parts, each with its own mean
+normal and power: its *fronts* (one-sided faces and the fronts of two-sided surfaces) and its
+*twins* (the reversed twins of two-sided surfaces, Polygons.side 2). Read as one, a two-sided wall
+and its twin would have N̄ = 0 and send half of the lit side's light out of its back; read as two,
+the wall is exact (c = max(n·d, 0) for each side, with its own side's power). A link from node j to
+node i with centres r apart, d the unit vector from i toward j, carries the irradiance normal to d
 
-    E_ij = G_ij · V_ij · P_j,   G_ij = c_j(−d) / (π r² + A_j),   P_j = Σ_{k ∈ j} A_k B_k
+    E_ij = V_ij · (G_ij P_j + G'_ij P'_j),   G_ij = c_j(−d) / (π r² + A_j),   P_j = Σ_{k ∈ fronts of j} A_k B_k
 
-(W/m²; j's power P_j radiating c_j/π per unit area and solid angle: the point-to-disk factor of
-formfactor.point_to_disk with A_j·cos θ_j replaced by A_j·c_j). An element receiver gains
+and G', P' the same over its twins (W/m²; each part radiating c/π per unit area and solid angle:
+the point-to-disk factor of formfactor.point_to_disk with A_j·cos θ_j replaced by A_j·c_j; an
+element source is one part, P_j = A_j B_j; the two powers are sums of B, so B stays linear in the
+lamps' exitances). An element receiver gains
 max(n_i·d, 0)·E_ij (folded into its G). A cluster receiver keeps, per channel, the moments of what
 arrives — Σ E, Σ E·d, Σ E·d dᵀ — and each member k gains Σ E_l·f(n_k·d_l) over the links of every
 cluster above it, f(x) = 3/32 + x/2 + 15/32·x² the clamped cosine to order 2 (exact for light from
@@ -107,7 +113,10 @@ class ClusterTree:
     """The clusters over a hierarchy's roots (the module docstring). Per cluster c: ``start[c]``,
     ``end[c]`` (its run of ``order``), ``left[c]``, ``right[c]`` (child nodes), ``lo``/``hi`` (box,
     m), ``centre`` (m), ``area`` (m²), ``normal`` (N̄). ``included``: per position of ``order``,
-    whether that root still counts as a member (False once its object moved or went)."""
+    whether that root still counts as a member (False once its object moved or went). ``twin``: per
+    position, whether the root is a two-sided surface's reversed twin; ``front_normal`` and
+    ``twin_normal`` (C, 3): N̄ over the cluster's fronts and over its twins (0 where it has none);
+    ``twin_area`` (C,): its twins' area."""
 
     order: np.ndarray
     start: np.ndarray
@@ -120,6 +129,10 @@ class ClusterTree:
     area: np.ndarray
     normal: np.ndarray
     included: np.ndarray
+    twin: np.ndarray | None = None
+    front_normal: np.ndarray | None = None
+    twin_normal: np.ndarray | None = None
+    twin_area: np.ndarray | None = None
 
     @classmethod
     def build(cls, h: Hierarchy, roots: np.ndarray | None = None) -> ClusterTree:
@@ -146,6 +159,7 @@ class ClusterTree:
             np.zeros(clusters),
             np.zeros((clusters, 3)),
             np.ones(n, bool),
+            twins(h)[order],
         )
         tree._summarise(h)
         return tree
@@ -181,6 +195,19 @@ class ClusterTree:
             self.area[k] = areas[0] + areas[1]
             self.normal[k] = (normals[0] + normals[1]) / max(self.area[k], 1e-300)
         self.centre[:] = (self.lo + self.hi) / 2
+        twin = np.zeros(len(self.order), bool) if self.twin is None else self.twin
+        self.front_normal, _ = _mean_over(self, np.where(twin[:, None], 0.0, weighted), np.where(twin, 0.0, area))
+        self.twin_normal, self.twin_area = _mean_over(
+            self, np.where(twin[:, None], weighted, 0.0), np.where(twin, area, 0.0)
+        )
+
+    def powers(self, area_b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(P over the fronts, P' over the twins) per cluster (C, 3) from A·B per element (n, 3)."""
+        total = self.member_sums(area_b)
+        if self.twin is None or not self.twin.any():
+            return total, np.zeros_like(total)
+        twin = self.member_sums(area_b * _per_element(self, len(area_b))[:, None])
+        return total - twin, twin
 
     def exclude(self, roots: np.ndarray) -> None:
         """``roots`` stop counting as members of their clusters (their object moved or went)."""
@@ -233,6 +260,28 @@ class ClusterTree:
         return roots
 
 
+def twins(h: Hierarchy) -> np.ndarray:
+    """Per element: is it (on) the reversed twin of a two-sided surface (Polygons.side 2)?"""
+    side = h.polygons.side
+    return np.zeros(len(h), bool) if side is None else side[h.polygon] == 2
+
+
+def _per_element(tree: ClusterTree, n: int) -> np.ndarray:
+    """The tree's per-position twin flags as a per-element array of length ``n``."""
+    out = np.zeros(n, bool)
+    out[tree.order] = tree.twin
+    return out
+
+
+def _mean_over(tree: ClusterTree, weighted: np.ndarray, area: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(Σ weighted / Σ area, Σ area) over each cluster's run of positions (all members; 0 where
+    the area is)."""
+    cum_w = np.concatenate([np.zeros((1, 3)), np.cumsum(weighted, axis=0)])
+    cum_a = np.r_[0.0, np.cumsum(area)]
+    total = cum_a[tree.end] - cum_a[tree.start]
+    return (cum_w[tree.end] - cum_w[tree.start]) / np.maximum(total, 1e-300)[:, None], total
+
+
 @numba.njit(cache=True)
 def _push(order, start, end, included, moments, normal, out):
     """A running sum over the positions of the moments the runs start and end with gives each
@@ -265,16 +314,17 @@ def _range_max(values, start, end):
 
 
 class ClusterLinks:
-    """Links with a cluster at one end or both: ``receiver`` and ``source`` nodes, ``kernel`` G_ij
-    (1/m², the module docstring), ``visibility`` V_ij and ``direction`` (n, 3), the unit vector from
-    the receiver's centre toward the source's (what a receiving cluster's push orients by)."""
+    """Links with a cluster at one end or both: ``receiver`` and ``source`` nodes, ``kernel`` (n, 2)
+    G_ij and G'_ij (1/m², the module docstring: what the source's fronts and its twins send;
+    G' = 0 for an element source), ``visibility`` V_ij and ``direction`` (n, 3), the unit vector
+    from the receiver's centre toward the source's (what a receiving cluster's push orients by)."""
 
     _FIELDS = ("receiver", "source", "kernel", "visibility", "direction")
 
     def __init__(self, receiver=(), source=(), kernel=(), visibility=(), direction=None):
         self.receiver = np.asarray(receiver, np.int64).reshape(-1)
         self.source = np.asarray(source, np.int64).reshape(-1)
-        self.kernel = np.asarray(kernel, np.float64).reshape(-1)
+        self.kernel = np.asarray(kernel, np.float64).reshape(-1, 2)
         self.visibility = np.asarray(visibility, np.float64).reshape(-1)
         self.direction = (
             np.zeros((len(self.receiver), 3)) if direction is None else np.asarray(direction, np.float64).reshape(-1, 3)
@@ -315,7 +365,7 @@ class ClusteredGather:
         self.area = h.area.copy()
         self.normal = h.normal.copy()
         self.shape = (len(self.area), len(self.area))
-        self.weight = links.kernel * links.visibility
+        self.weight = links.kernel * links.visibility[:, None]
 
     def cluster_irradiance(self, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(element rows (n, 3), cluster moments (C, 3, 10)) of what the cluster links bring: an
@@ -323,7 +373,7 @@ class ClusteredGather:
         vector Σ E·d and second moment Σ E·d dᵀ (xx, yy, zz, xy, xz, yz) that :meth:`ClusterTree.push`
         turns into each member's irradiance."""
         L, tree = self.links, self.tree
-        power_cluster = tree.member_sums(self.area[:, None] * b) if len(tree) else np.zeros((0, 3))
+        fronts, twins = tree.powers(self.area[:, None] * b) if len(tree) else (np.zeros((0, 3)),) * 2
         element = np.zeros((len(self.area), 3))
         moments = np.zeros((len(tree), 3, 10))
         _cluster_gather(
@@ -333,7 +383,8 @@ class ClusteredGather:
             L.direction,
             self.area,
             np.ascontiguousarray(b, np.float64),
-            power_cluster,
+            fronts,
+            twins,
             element,
             moments,
         )
@@ -350,14 +401,14 @@ class ClusteredGather:
 
 
 @numba.njit(cache=True)
-def _cluster_gather(receiver, source, weight, direction, area, b, power_cluster, element, moments):
-    """Each link's G·V·P_source goes to its receiver: an element's row, or a cluster's moments
+def _cluster_gather(receiver, source, weight, direction, area, b, fronts, twins, element, moments):
+    """Each link's V·(G·P + G'·P') goes to its receiver: an element's row, or a cluster's moments
     (one pass, where NumPy's gathers and bincounts cost 20× the element gather)."""
     for k in range(len(receiver)):
-        j, i, w = source[k], receiver[k], weight[k]
+        j, i, w, w_twin = source[k], receiver[k], weight[k, 0], weight[k, 1]
         d0, d1, d2 = direction[k, 0], direction[k, 1], direction[k, 2]
         for c in range(3):
-            flow = w * (area[j] * b[j, c] if j >= 0 else power_cluster[-1 - j, c])
+            flow = w * area[j] * b[j, c] if j >= 0 else w * fronts[-1 - j, c] + w_twin * twins[-1 - j, c]
             if i >= 0:
                 element[i, c] += flow
             else:
@@ -496,16 +547,26 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
 
 
 def cluster_kernel(h, tree, receivers, sources) -> tuple[np.ndarray, np.ndarray]:
-    """(G_ij (1/m²), the unit direction d from receiver to source) per pair: G = c_i(d)·c_j(−d)/(π r²
-    + A_j) for an element receiver; for a cluster receiver c_i is left out (the push orients by
-    each member's own normal)."""
+    """(G_ij and G'_ij (n, 2) (1/m²), the unit direction d from receiver to source) per pair:
+    G = c_i(d)·c_j(−d)/(π r² + A_j) with c_j over the source's fronts, G' with c_j over its twins
+    (0 for an element source), for an element receiver; for a cluster receiver c_i is left out (the
+    push orients by each member's own normal)."""
     _, _, centre_r, _, normal_r = _node_boxes(h, tree, receivers)
     _, _, centre_s, area_s, normal_s = _node_boxes(h, tree, sources)
     d = centre_s - centre_r
     r2 = (d * d).sum(axis=1)
     unit = d / np.sqrt(np.maximum(r2, 1e-300))[:, None]
     c_i = np.where(receivers >= 0, mean_cosine(normal_r, unit), 1.0)
-    return c_i * mean_cosine(normal_s, -unit) / (np.pi * r2 + area_s), unit
+    scale = c_i / (np.pi * r2 + area_s)
+    cl = sources < 0
+    fronts, twin_normal, has_twins = normal_s.copy(), np.zeros_like(normal_s), np.zeros(len(sources), bool)
+    if cl.any():
+        c = -1 - sources[cl]
+        fronts[cl], twin_normal[cl], has_twins[cl] = tree.front_normal[c], tree.twin_normal[c], tree.twin_area[c] > 0
+    kernel = np.c_[
+        scale * mean_cosine(fronts, -unit), np.where(has_twins, scale * mean_cosine(twin_normal, -unit), 0.0)
+    ]
+    return kernel, unit
 
 
 def _children(h, tree, nodes, position):
@@ -598,7 +659,7 @@ def refine_nodes(
             vis, seen = cluster_visibility(h, tree, visibility, r, s, counted_rays=True)
             # no sampled ray leaves a front toward a front: the two face away from each other (as
             # refine drops a pair of elements that do not face)
-            faces = (seen > 0) & (kernel > 0)
+            faces = (seen > 0) & (kernel.max(axis=1) > 0)
             cluster_links.extend(r[faces], s[faces], kernel[faces], vis[faces], direction[faces])
         recv, src = recv[~accept], src[~accept]
         if not len(recv):

@@ -5,8 +5,8 @@ and the links an element receives as lines (shaders/links.glsl). The reference i
 Smooth display (the chapter's, radiosity interpolated from the vertices): the radiosity at each leaf
 corner is gathered at that point, B(x) = E + ρ·Σ F_x→j·V_ij·B_j over the links the leaf and its
 ancestors receive, with the exact point-to-polygon form factor at x and the link's visibility; the
-values of the leaves of one surface (Polygons.surfaces: polygons sharing edges in one plane) meeting at a point are
-averaged, leaves that see nothing (under a
+values of the leaves of one surface (Polygons.surfaces: polygons of one material sharing edges in
+one plane) meeting at a point are averaged, leaves that see nothing (under a
 block, behind a door) all but left out so their black does not bleed out. (The usual mean of the
 neighbouring elements' B flattens every gradient toward a polygon's border: on the Cornell box's
 back wall it renders the direct light 2.8 % too dark where the element values themselves are within

@@ -312,9 +312,28 @@ class Radiosity:
             element[level] += element[h.parent[level]]
         return exitance + h.reflectance * element
 
+    def reach(self) -> np.ndarray | None:
+        """Each leaf's reach (Visibility.reach; NaN off the leaves), None with ``reach_rays`` 0; kept
+        until the leaves or the ray-casting scene change."""
+        rays = self.params.reach_rays
+        if not rays:
+            return None
+        h = self.hierarchy
+        leaves = h.leaves()
+        key = (len(h), len(leaves), self.visibility.version)
+        if getattr(self, "_reach", None) is None or self._reach[0] != key:
+            t = time.perf_counter()
+            reach = np.full(len(h), np.nan)
+            reach[leaves] = self.visibility.reach(leaves, rays)
+            self._reach = (key, reach)
+            self.stats.add_time("reach", time.perf_counter() - t)
+        return self._reach[1]
+
     def solve(self, tolerance: float = 1e-4, max_iterations: int = 200) -> SolveResult:
         t = time.perf_counter()
-        self.result = solve(self.hierarchy, self.matrix(), self.exitance(), tolerance, max_iterations)
+        self.result = solve(
+            self.hierarchy, self.matrix(), self.exitance(), tolerance, max_iterations, reach=self.reach()
+        )
         self.stats.add_time("solve", time.perf_counter() - t)
         self._update_stats()
         if self.result.dark:

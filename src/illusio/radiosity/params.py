@@ -41,7 +41,11 @@ class HierarchyParams:
     sliver_piece·√A_ε) is cut along its length into pieces that long (Polygons.split_slivers; 0: never),
     since an element narrower than √A_ε is never split however the light varies along it. max_links:
     the refinement's budget: past it the refinement stops with an error naming it (a scene whose links
-    run away would grow until memory runs out)."""
+    run away would grow until memory runs out). reach_rays: rays per leaf measuring its reach
+    (Visibility.reach: Σ_j F_ij V_ij as rays see it, 1 in a closed room); the solve scales each
+    leaf's gathered light so its links' Σ F·V equals it (solve.form_factor_scale), since the links'
+    estimates (±35 % at a room's corners) do not sum to it, and in a bright room (ρ near 1) the
+    error of that sum is multiplied by every bounce; 0 leaves the sums as the links have them."""
 
     PANEL: ClassVar[str] = "Hierarchy"  # its options' panel in --help
 
@@ -72,6 +76,15 @@ class HierarchyParams:
         range=(0.0, 100.0),
         label="sliver pieces (× √A_ε, 0: uncut)",
         help="quads longer than 4× their width are cut into pieces this long (× √A_ε)",
+        group="advanced",
+    )
+    reach_rays: int = param(
+        64,
+        range=(0, 1024),
+        step=1,
+        label="reach rays",
+        help="cosine-weighted rays per leaf measuring the share of its hemisphere that meets a surface; "
+        "each leaf's gathered form factors are scaled to it (0: not measured, only a gain over 0.98 is cut)",
         group="advanced",
     )
 

@@ -225,12 +225,13 @@ class Polygons:
         return n / np.linalg.norm(n, axis=1, keepdims=True)
 
     def surfaces(self, degrees: float = 1.0) -> np.ndarray:
-        """A surface id per polygon (n,) int: polygons joined by a shared edge (both end points equal
-        within 10⁻⁷ of the scene's extent) whose normals agree within ``degrees`` are one surface — a
-        wall cut into triangles, a quad split in two. What relighting calls neighbours and the display
-        smooths over is a surface, so a triangulated model behaves as its quads would. (A T-junction, an edge meeting
-        another's
-        middle, does not join.) Kept once computed: the polygons do not change."""
+        """A surface id per polygon (n,) int: polygons of one group (one node: one material) joined by
+        a shared edge (both end points equal within 10⁻⁷ of the scene's extent) whose normals agree
+        within ``degrees`` are one surface — a wall cut into triangles, a quad split in two. What
+        relighting calls neighbours and the display smooths over is a surface, so a triangulated model
+        behaves as its quads would, and a black window pane set in a white frame of the same plane
+        keeps its black (B is not averaged across a change of material). (A T-junction, an edge
+        meeting another's middle, does not join.) Kept once computed: the polygons do not change."""
         cached = getattr(self, "_surfaces", None)
         if cached is not None and cached[0] == degrees:
             return cached[1]
@@ -252,11 +253,20 @@ class Polygons:
         edges, owner = np.concatenate(edges), np.concatenate(owner)
         order = np.lexsort(edges.T[::-1])
         edges, owner = edges[order], owner[order]
-        same = np.all(edges[1:] == edges[:-1], axis=1)
-        a, b = owner[:-1][same], owner[1:][same]
+        # every pair of owners of one edge, not only neighbours in the sort: a two-sided wall's edge
+        # has four (two faces and their twins), and its two fronts need not sort side by side
+        pairs, gap = [], 1
+        while gap < len(edges):
+            same = np.all(edges[gap:] == edges[:-gap], axis=1)
+            if not same.any():
+                break
+            pairs.append(np.c_[owner[:-gap][same], owner[gap:][same]])
+            gap += 1
+        a, b = np.concatenate(pairs, axis=0).T if pairs else (np.zeros(0, np.int64),) * 2
         normal = self.normals()
         # sharing an edge, two polygons whose normals agree lie in one plane (the edge is in both)
         flat = np.einsum("ij,ij->i", normal[a], normal[b]) > np.cos(np.radians(degrees))
+        flat &= self.group[a] == self.group[b]
         graph = coo_matrix((np.ones(int(flat.sum())), (a[flat], b[flat])), shape=(n, n))
         surface = connected_components(graph, directed=False)[1] if n else np.zeros(0, np.int64)
         self._surfaces = (degrees, surface)

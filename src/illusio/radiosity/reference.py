@@ -54,20 +54,23 @@ def gather(receivers, sources, form_factors, visibilities, radiosity, n: int) ->
 
 
 def cluster_gather(
-    members, receivers, sources, kernels, visibilities, directions, area, normal, radiosity, n: int
+    members, receivers, sources, kernels, visibilities, directions, area, normal, radiosity, n: int, twin=None
 ) -> np.ndarray:
     """The irradiance cluster links bring (radiosity.clusters): ``members[c]`` lists the roots of
-    cluster c, a node is an element (≥ 0) or cluster −1 − c. A link carries E = G_ij·V_ij·P_j, the
-    source's power P_j = Σ A_k B_k over its members (A_j B_j for an element). An element receiver
-    gains E. A member k of receiving clusters gains Σ E_l·f(n_k·d_l) over every link l to a cluster
-    holding it, f(x) = 3/32 + x/2 + 15/32·x² (the clamped cosine to order 2). One link, one member
-    at a time."""
+    cluster c, a node is an element (≥ 0) or cluster −1 − c. A link carries E = V_ij·(G_ij·P_j +
+    G'_ij·P'_j) (``kernels`` rows (G, G')): P_j = Σ A_k B_k over the source's members that are not
+    ``twin`` (per element; default none is), P'_j over those that are (A_j B_j and 0 for an
+    element). An element receiver gains E. A member k of receiving clusters gains Σ E_l·f(n_k·d_l)
+    over every link l to a cluster holding it, f(x) = 3/32 + x/2 + 15/32·x² (the clamped cosine to
+    order 2). One link, one member at a time."""
+    twin = np.zeros(n, bool) if twin is None else np.asarray(twin, bool)
     h = np.zeros((n, 3))
     for i, j, g, v, d in zip(receivers, sources, kernels, visibilities, directions):
-        power = (
-            area[j] * radiosity[j] if j >= 0 else sum((area[k] * radiosity[k] for k in members[-1 - j]), np.zeros(3))
-        )
-        e = g * v * np.asarray(power, float)
+        if j >= 0:
+            power = g[0] * area[j] * radiosity[j]
+        else:
+            power = sum((g[1 if twin[k] else 0] * area[k] * radiosity[k] for k in members[-1 - j]), np.zeros(3))
+        e = v * np.asarray(power, float)
         if i >= 0:
             h[i] += e
             continue

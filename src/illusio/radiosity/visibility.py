@@ -154,6 +154,19 @@ def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: i
     return out_receiver, out_source
 
 
+def _cosine_directions(normal: np.ndarray, uv: np.ndarray) -> np.ndarray:
+    """(n, k, 3) unit directions about each ``normal`` (n, 3), cosine-distributed (Malley's method:
+    a uniform point ``uv`` (n, k, 2) on the unit disk, lifted to the hemisphere)."""
+    t = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    u = np.cross(normal, t)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(normal, u)
+    r, phi = np.sqrt(uv[..., 0]), 2 * np.pi * uv[..., 1]
+    x, y = r * np.cos(phi), r * np.sin(phi)
+    z = np.sqrt(np.maximum(1 - uv[..., 0], 0.0))
+    return x[..., None] * u[:, None] + y[..., None] * v[:, None] + z[..., None] * normal[:, None]
+
+
 @numba.njit(cache=True)
 def _exposed(probe_prim, probe_distance, probe_normal, up, contact, two_sided):
     """Per sample: its probe met nothing within ``contact`` nor the back of a face (a two-sided
@@ -285,6 +298,8 @@ class Visibility:
         self.rng = np.random.default_rng(seed)
         self.rays = 0
         self.epoch, self._lifts = 0, None
+        #: counts the rebuilds: what was measured against the scene before (reach) is stale after
+        self.version = 0
         self.rebuild()
 
     def rebuild(self, exclude: np.ndarray | None = None) -> None:
@@ -311,6 +326,7 @@ class Visibility:
         self.contact = 2e-3 * max(float(extent), 1e-6)
         if self._lifts != (self.offset, self.contact):  # the rays a link kept were cast otherwise
             self._lifts, self.epoch = (self.offset, self.contact), self.epoch + 1
+        self.version += 1
         self.scene = rtcore_scene.EmbreeScene()
         if len(tris):
             TriangleMesh(self.scene, tris.astype(np.float32))
@@ -364,6 +380,30 @@ class Visibility:
         probe = self.scene.run(np.ascontiguousarray(origins, np.float32), up, output=1)
         self.rays += len(origins)
         return self._exposed_by(probe, up)
+
+    def reach(self, elements: np.ndarray, rays: int = 64) -> np.ndarray:
+        """Per element (n,): Σ_j F_ej V_ej as rays measure it — the share of cosine-weighted rays
+        from jittered points of the element that meet the front of a face (or a two-sided face),
+        the geometry any light it gathers can come from; 1 in a closed room, less where its
+        hemisphere opens onto nothing. (The seed's generator draws the points: deterministic.)"""
+        n = len(elements)
+        if n == 0:
+            return np.zeros(0)
+        if self.empty:
+            return np.zeros(n)
+        h = self.hierarchy
+        elements = np.asarray(elements, np.int64)
+        points = h.sample_points(elements, jittered_grid(n, rays, self.rng))
+        normal = h.normal[elements]
+        directions = _cosine_directions(normal, jittered_grid(n, rays, self.rng))
+        origins = (points + self.offset * normal[:, None]).reshape(-1, 3).astype(np.float32)
+        directions = directions.reshape(-1, 3).astype(np.float32)
+        hit = self.scene.run(origins, directions, output=1)
+        self.rays += n * rays
+        prim = np.asarray(hit["primID"])
+        facing = (np.asarray(hit["Ng"]) * directions).sum(axis=1) < 0
+        seen = (prim >= 0) & (facing | self.two_sided[np.maximum(prim, 0)])
+        return seen.reshape(n, rays).mean(axis=1)
 
     def recast(
         self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list

@@ -58,11 +58,11 @@ INVERSE_TOLERANCE, INVERSE_MAX_ITERATIONS = 0.01, 40
 
 #: the initial solution of 4.2.1: "la subdivision initiale, obtenue avec un critère de raffinement BF,
 #: est grossière" (Figure 4.6a) — BF, at a coarser ε than a radiosity frame's default
-INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3, clusters=False)
+INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3, clusters=False, reach_rays=0)
 #: the fresh solution of 4.3.3 is the chapter's BFV one ("un critère de raffinement BFV": coarser in
 #: the shadows, fewer links). Relighting reads element links (a lamp's shadow masks, the frontier,
 #: the corner gather): its solutions link every pair of polygons, without clusters
-FINAL_HIERARCHY = HierarchyParams(criterion="bfv", clusters=False)
+FINAL_HIERARCHY = HierarchyParams(criterion="bfv", clusters=False, reach_rays=0)
 
 
 #: metres on a side of a virtual lamp added by the CLI, the viewer or ``RelightSession.add_lamp``

@@ -1,0 +1,87 @@
+"""Each leaf's reach (Visibility.reach: Σ_j F_ij V_ij as cosine-weighted rays measure it), the
+solve's scale of each leaf's gathered light to it (solve.form_factor_scale), and GMRES before the
+gather iterations (solve.solve) against the iterations alone."""
+
+import numpy as np
+import pytest
+
+from illusio.radiosity import HierarchyParams, Polygons, Radiosity
+from illusio.radiosity.formfactor import point_polygon
+from illusio.radiosity.hierarchy import Hierarchy
+from illusio.radiosity.polygons import _cube
+from illusio.radiosity.solve import MAX_GAIN, form_factor_scale, solve
+from illusio.radiosity.visibility import Visibility
+
+
+def _polygons(corners, reflectance=0.5, exitance=None) -> Polygons:
+    corners = np.asarray(corners, float)
+    n = len(corners)
+    emit = np.zeros((n, 3)) if exitance is None else np.asarray(exitance, float)
+    return Polygons(
+        corners, np.zeros(n, bool), np.full((n, 3), reflectance), emit, np.arange(n), [f"p{k}" for k in range(n)]
+    )
+
+
+def test_reach_is_one_inside_a_closed_room_and_the_form_factor_to_what_is_there_outside():
+    """Inside a closed cube every ray meets a wall (reach 1); a floor patch under one square
+    ceiling panel reaches the exact form factor to it (point_polygon over the patch), within the
+    noise of 1,024 rays."""
+    inside = Hierarchy(_polygons(_cube((0, 0, 0), 1.0)[:, ::-1]))
+    inside.subdivide(inside.roots)
+    leaves = inside.leaves()
+    assert np.array_equal(Visibility(inside).reach(leaves, 64), np.ones(len(leaves)))
+
+    floor = [[-0.1, 0, 0.1], [0.1, 0, 0.1], [0.1, 0, -0.1], [-0.1, 0, -0.1]]  # facing +y
+    panel = [[-1, 1, -1], [1, 1, -1], [1, 1, 1], [-1, 1, 1]]  # facing -y, 1 m above
+    h = Hierarchy(_polygons([floor, panel]))
+    reach = Visibility(h, seed=3).reach(np.array([0]), 1024)[0]
+    points = h.sample_points(np.array([0]), np.random.default_rng(0).random((1, 256, 2)))
+    exact = point_polygon(points, h.normal[[0]], h.corners[[1]], h.triangle[[1]])[0]
+    assert 0.3 < exact < 0.9 and reach == pytest.approx(exact, abs=0.04)
+    assert Visibility(Hierarchy(_polygons([floor]))).reach(np.array([0]), 64)[0] == 0  # nothing above
+
+
+def test_a_leafs_gathered_form_factors_are_scaled_to_its_reach_and_never_to_a_gain_over_the_cap(rng):
+    """form_factor_scale: Σ F·V (K·1 pushed down) × the scale equals the reach at each leaf, and
+    ρ·Σ F·V × the scale stays at most MAX_GAIN where the reach would pass it."""
+    sol = Radiosity(
+        _polygons(_cube((0, 0, 0), 1.0)[:, ::-1], 0.99, np.r_[[[4.0] * 3], np.zeros((5, 3))]),
+        HierarchyParams(epsilon=1e-2),
+    )
+    sol.build()
+    h = sol.hierarchy
+    levels = h.by_level()
+    total = np.asarray(sol.matrix() @ np.ones((len(h), 3)))[:, 0].copy()
+    for level in levels[1:]:
+        total[level] += total[h.parent[level]]
+    leaves = h.leaves()
+    reach = np.full(len(h), np.nan)
+    reach[leaves] = rng.uniform(0.9, 1.0, len(leaves))
+    scale = form_factor_scale(h, sol.matrix(), levels, reach)
+    gain = 0.99 * reach[leaves]
+    free = gain <= MAX_GAIN
+    np.testing.assert_allclose((total * scale)[leaves][free], reach[leaves][free], rtol=1e-12)
+    np.testing.assert_allclose(0.99 * (total * scale)[leaves][~free], MAX_GAIN, rtol=1e-12)
+    assert (~free).any() and free.any()
+
+
+def test_gmres_then_iterations_reach_the_fixed_point_of_the_iterations_alone_in_fewer_products():
+    """A bright closed room (ρ 0.95, the gain near 0.95 everywhere): the gather iterations alone
+    take hundreds of products to a tolerance of 1e-6; GMRES first gives the same B (within it) in
+    a fraction of them, and B stays linear in the exitances (twice the lamp, twice B)."""
+    lamp = np.r_[[[3.0, 2.0, 1.0]], np.zeros((5, 3))]
+    sol = Radiosity(_polygons(_cube((0, 0, 0), 1.0)[:, ::-1], 0.95, lamp), HierarchyParams(epsilon=1e-3))
+    sol.build()
+    h, matrix, exitance = sol.hierarchy, sol.matrix(), sol.exitance()
+    reach = sol.reach()
+    start = exitance.copy()
+    plain = solve(h, matrix, exitance, 1e-6, 5000, start=start, reach=reach, krylov=False)
+    b_plain = h.radiosity.copy()
+    fast = solve(h, matrix, exitance, 1e-6, 5000, start=start, reach=reach)
+    b_fast = h.radiosity.copy()
+    assert plain.converged and fast.converged and plain.iterations > 150
+    assert fast.iterations < plain.iterations / 3, (fast.iterations, plain.iterations)
+    reflected = float(np.abs(b_plain - exitance).max())
+    assert np.abs(b_fast - b_plain).max() < 2e-5 * reflected  # both within 1e-6 of the change's scale
+    solve(h, matrix, 2 * exitance, 1e-6, 5000, start=start, reach=reach)
+    assert np.abs(h.radiosity - 2 * b_fast).max() < 4e-5 * reflected
