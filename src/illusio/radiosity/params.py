@@ -42,10 +42,11 @@ class HierarchyParams:
     since an element narrower than √A_ε is never split however the light varies along it. max_links:
     the refinement's budget: past it the refinement stops with an error naming it (a scene whose links
     run away would grow until memory runs out). reach_rays: rays per leaf measuring its reach
-    (Visibility.reach: Σ_j F_ij V_ij as rays see it, 1 in a closed room); the solve scales each
-    leaf's gathered light so its links' Σ F·V equals it (solve.form_factor_scale), since the links'
-    estimates (±35 % at a room's corners) do not sum to it, and in a bright room (ρ near 1) the
-    error of that sum is multiplied by every bounce; 0 leaves the sums as the links have them."""
+    (Visibility.reach: Σ_j F_ij V_ij as rays see it, 1 in a closed room), to which the solve then
+    scales each leaf's gathered light (solve.form_factor_scale); 0, the default, leaves the sums as
+    the links have them. Measured against Mitsuba over 4×4 blocks at 64 rays: the Graz office
+    16.7 → 14.1 %, the MGF cube 1.6 → 1.4 %, but office2 7.7 → 10.4 % (and 4.2 → 7.7 % without
+    clusters): the links' own sums are not the error it was made for, so it is not on by default."""
 
     PANEL: ClassVar[str] = "Hierarchy"  # its options' panel in --help
 
@@ -79,12 +80,12 @@ class HierarchyParams:
         group="advanced",
     )
     reach_rays: int = param(
-        64,
+        0,
         range=(0, 1024),
         step=1,
         label="reach rays",
         help="cosine-weighted rays per leaf measuring the share of its hemisphere that meets a surface; "
-        "each leaf's gathered form factors are scaled to it (0: not measured, only a gain over 0.98 is cut)",
+        "each leaf's gathered form factors are scaled to it (0: off; only a gain over 0.98 is cut)",
         group="advanced",
     )
 
@@ -134,6 +135,9 @@ class RadiosityParams:
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
         "element": "only with show links",
         "hierarchy.max_links": "a budget: the default scene stays far below it (at its low end, refused)",
+        "tolerance": "GMRES leaves the default scene's B far inside any tolerance (the image moves under "
+        "1/255 from 1e-4 to 0.25); a stop before it still warns",
+        "max_iterations": "the default scene converges in far fewer products (a cap it reaches warns)",
     }
 
     def __post_init__(self):

@@ -2,8 +2,9 @@
 
 - gather: H_i = Σ_{links j→i} F_ij·V_ij·B_j, for every element at every level, as one sparse product;
 - push: each element's total irradiance is its own H plus its ancestors' (top down, level by level);
-- at the leaves B = E + ρ·s·H_total, s scaling the leaf's gathered light so its links' Σ F·V is its
-  reach as rays measure it, and never to a gain ρ·Σ F·V over 0.98 (:func:`form_factor_scale`);
+- at the leaves B = E + ρ·s·H_total, s keeping the gain ρ·Σ F·V at most 0.98 (and, where a reach
+  is given, scaling the leaf's gathered light so its links' Σ F·V is its reach as rays measure it:
+  :func:`form_factor_scale`);
 - pull: an inner element's B is the area-weighted mean of its children's, Σ A_c·B_c / A (bottom up).
 
 The fixed point is found by GMRES on (I − M)·B = push-pull(E) (a few dozen products of M where a
@@ -68,9 +69,8 @@ MAX_GAIN = 0.98
 def form_factor_scale(h: Hierarchy, matrix, levels: list[np.ndarray], reach: np.ndarray | None = None) -> np.ndarray:
     """(n,) the factor on each element's gathered H. Its links' Σ F·V (to everything it gathers
     from, its own links' and its ancestors', K·1 pushed down) is scaled to its ``reach`` (n,; NaN
-    where not measured: Visibility.reach, 1 in a closed room): the estimates' error (±35 % at the
-    Cornell box's corners) is multiplied by every bounce in a bright room, and cutting only the
-    sums over 1 made the Graz office 12 % too dark. Then the gain ρ_max·Σ F·V is kept at most
+    where not measured: Visibility.reach, 1 in a closed room; HierarchyParams.reach_rays says what
+    it does on RenderPark's scenes). Then the gain ρ_max·Σ F·V is kept at most
     MAX_GAIN: surfaces nearly touching — AutoCAD's doubled walls, a two-sided face's twin across a
     thin slab — can pass 1/ρ, and the iteration would amplify light instead of converging (the
     Graz office's red walls at B = 678 W/m² under lamps of 2.7)."""

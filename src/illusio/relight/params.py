@@ -58,11 +58,11 @@ INVERSE_TOLERANCE, INVERSE_MAX_ITERATIONS = 0.01, 40
 
 #: the initial solution of 4.2.1: "la subdivision initiale, obtenue avec un critère de raffinement BF,
 #: est grossière" (Figure 4.6a) — BF, at a coarser ε than a radiosity frame's default
-INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3, clusters=False, reach_rays=0)
+INITIAL_HIERARCHY = HierarchyParams(criterion="bf", epsilon=3e-3, clusters=False)
 #: the fresh solution of 4.3.3 is the chapter's BFV one ("un critère de raffinement BFV": coarser in
 #: the shadows, fewer links). Relighting reads element links (a lamp's shadow masks, the frontier,
 #: the corner gather): its solutions link every pair of polygons, without clusters
-FINAL_HIERARCHY = HierarchyParams(criterion="bfv", clusters=False, reach_rays=0)
+FINAL_HIERARCHY = HierarchyParams(criterion="bfv", clusters=False)
 
 
 #: metres on a side of a virtual lamp added by the CLI, the viewer or ``RelightSession.add_lamp``
@@ -86,7 +86,8 @@ class RelightParams:
     (4.3.3): the mesh and links made again with ``final_hierarchy`` (default: BFV, as the
     chapter has it) over the final textures, D computed with the lamps' links at the leaves, then B with
     the links where the criterion puts them. Both keep the model's own polygons (their sliver_piece is
-    taken as 0: the photograph's textures and pixels are keyed to the input polygons). lamp_scales: (lamp name,
+    taken as 0: the photograph's textures and pixels are keyed to the input polygons) and their
+    links' own form-factor sums (reach_rays taken as 0: the estimates were measured with them). lamp_scales: (lamp name,
     factor on its estimated
     exitance) pairs. exposure: factor on the displayed radiance."""
 
@@ -132,6 +133,8 @@ class RelightParams:
         "hierarchy.lights_to_leaves": "loscos, the default method, pushes the lamps' links to the leaves (4.3.2)",
         "hierarchy.clusters": "refused: relighting reads element links, its solutions take clusters=False",
         "hierarchy.sliver_piece": "relighting keeps the model's own polygons (taken as 0)",
+        "hierarchy.reach_rays": "relighting keeps its links' own form-factor sums, which its photograph "
+        "estimates were measured with (taken as 0)",
         "hierarchy.max_links": "a budget: the default scene stays far below it (at its low end, refused)",
     }
 

@@ -49,7 +49,9 @@ class RelightSession:
         self.renderer = RadiosityRenderer(self.ctx)
         self.renderer.prepare(self.model)
         # the model's own polygons, uncut: the photograph's textures and pixels are keyed to them
-        self.hierarchy_params = self.strategy.hierarchy(dataclasses.replace(params.hierarchy, sliver_piece=0.0))
+        self.hierarchy_params = self.strategy.hierarchy(
+            dataclasses.replace(params.hierarchy, sliver_piece=0.0, reach_rays=0)
+        )
         self.solution = self.renderer.solve(RadiosityParams(self.hierarchy_params))
         self.display = DisplayPass(self.ctx)
         self._gather = CornerGather()  # the corners' form factors, kept between edits
