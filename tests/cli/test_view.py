@@ -53,9 +53,13 @@ def test_view_errors_are_one_line(tmp_path, capsys):
         (["view", "-o", str(tmp_path / "a.avi")], "must be an .mp4 or a .gif"),
         (["view", "--path", str(bad), "-o", str(bad)], "input"),
         (["view", "--fps", "0", "-o", str(tmp_path / "a.mp4")], "--fps must be positive"),
+        (
+            ["view", "-o", str(tmp_path / "a.mp4"), "--screenshot-window", str(tmp_path / "w.png")],
+            "--screenshot-window needs the window",
+        ),
     ]
     for args, message in cases:
         code, cap = call_cli(args, capsys)
         assert code == 2, (args, cap.err)
         assert message in cap.err and cap.err.count("\n") == 1 and "Traceback" not in cap.err, cap.err
-    assert not (tmp_path / "a.mp4").exists()
+    assert not (tmp_path / "a.mp4").exists() and not (tmp_path / "w.png").exists()

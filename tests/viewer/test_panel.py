@@ -2,6 +2,8 @@
 for, with the declared range, and an edit goes through Viewer.set_param (tested with a stand-in for
 imgui that records the widgets and answers scripted edits)."""
 
+import pytest
+
 from illusio.core.params import describe
 from illusio.lines.params import LineParams
 from illusio.sis.multiscene import MultiSceneParams
@@ -74,6 +76,15 @@ class FakeImgui:
     def is_item_hovered(self):
         return False
 
+    def calc_text_size(self, text):
+        return type("Size", (), {"x": 7.0 * len(text), "y": 16.0})()
+
+    def push_item_width(self, width):
+        self.calls.append(("item width", width))
+
+    def pop_item_width(self):
+        self.calls.append(("item width", None))
+
 
 def test_widgets_follow_the_metadata():
     infos = {i.name: i for i in describe(LineParams())}
@@ -117,8 +128,45 @@ def test_fields_are_drawn_by_group_the_advanced_ones_under_a_closed_header():
 
     imgui = FakeImgui()
     draw_fields(type("Viewer", (), {"set_param": lambda *a: None})(), describe(DofParams()), imgui)
-    labels = [c[1].split("##")[-1] for c in imgui.calls if c[0] != "header"]
+    labels = [c[1].split("##")[-1] for c in imgui.calls if c[0] not in ("header", "item width")]
+    longest = max(7.0 * len(info.title) for info in describe(DofParams()))
+    assert imgui.calls[0] == ("item width", -(longest + 12.0)) and imgui.calls[-1] == ("item width", None)
     headers = [c[1:] for c in imgui.calls if c[0] == "header"]
     assert headers == [("output", 32), ("advanced", 0)]
     assert labels[0] == "method" and labels.index("method") < labels.index("aperture_mm") < labels.index("stereo")
     assert "seed" not in labels and "shadows" not in labels  # advanced: under the closed header
+
+
+def test_every_character_of_the_labels_is_in_the_panels_font():
+    """The panel's face (Roboto, as imgui_bundle ships it) and its loaded ranges hold every
+    character of every Params' labels, help and choices, and of the modes' own lines (ImGui's own
+    font showed "?" for ρ, τ and the dashes)."""
+    from pathlib import Path
+
+    from fontTools.ttLib import TTFont
+
+    import illusio.viewer.modes as modes
+    from illusio.core.technique import techniques
+    from illusio.lines.style import LineStyle
+    from illusio.sis.params import StereogramParams
+    from illusio.viewer.panel import GLYPH_RANGES, panel_font_path
+
+    path = panel_font_path()
+    if path is None:
+        pytest.skip("the viewer extra (imgui_bundle) is not installed")
+    text = []
+
+    def walk(infos):
+        for info in infos:
+            text.extend([info.title, info.help, *map(str, info.choices)])
+            walk(info.children)
+
+    for params in [t.params_class()() for t in techniques().values()] + [LineStyle(), StereogramParams()]:
+        walk(describe(params))
+    for source in Path(modes.__file__).parent.glob("*.py"):
+        text.append(source.read_text(encoding="utf-8"))  # the strings its panel draws are in its source
+    cmap = TTFont(path).getBestCmap()
+    used = {c for t in text for c in t if ord(c) > 126}
+    missing = sorted(c for c in used if ord(c) not in cmap)
+    outside = sorted(c for c in used if not any(lo <= ord(c) <= hi for lo, hi in GLYPH_RANGES))
+    assert not missing and not outside, (missing, outside)

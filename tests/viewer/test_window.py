@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from illusio.core.images import linear_to_srgb, read_image
+from illusio.viewer.panel import PANEL_WIDTH
 
 SIZE = (640, 360)
 
@@ -46,9 +47,23 @@ def test_window_shows_the_frame_beside_its_panel(window):
     bw, bh = window.window.buffer_size
     screen = screen.reshape(bh, bw, 3)[::-1].astype(np.float32) / 255
     expected = linear_to_srgb(window.viewer.image())
-    right = slice(440, bw)  # the panel is 400 pixels wide at (10, 10)
+    right = slice(PANEL_WIDTH + 40, bw)  # the panel is PANEL_WIDTH pixels wide at (10, 10)
     assert np.abs(screen[:, right] - expected[:, right]).mean() < 2 / 255
     assert np.abs(screen[:200, :300] - expected[:200, :300]).mean() > 0.05  # the panel is drawn there
+
+
+def test_a_window_screenshot_holds_the_panel_and_the_frame(window, tmp_path):
+    """--screenshot-window: the whole window as drawn, the panel (its settings) over the frame's
+    left, the frame alone on its right; --screenshot keeps the frame without the panel."""
+    window.frame(1 / 30)
+    window.frame(1 / 30, grab=tmp_path / "window.png")
+    whole = linear_to_srgb(read_image(tmp_path / "window.png"))
+    frame = linear_to_srgb(window.viewer.image())
+    bw, bh = window.window.buffer_size
+    assert whole.shape[:2] == (bh, bw)
+    right = slice(PANEL_WIDTH + 40, bw)
+    assert np.abs(whole[:, right] - frame[:, right]).mean() < 2 / 255
+    assert np.abs(whole[:200, :300] - frame[:200, :300]).mean() > 0.05  # the panel
 
 
 def test_walking_looking_switching_and_screenshots(window, tmp_path):

@@ -43,6 +43,9 @@ def view(
     fps: float = typer.Option(30.0, "--fps", help="frames per second of the recorded video"),
     exit_after: int = typer.Option(None, "--exit-after", help="close after N frames"),
     screenshot: Path = typer.Option(None, "--screenshot", help="save the last frame (.png)"),
+    screenshot_window: Path = typer.Option(
+        None, "--screenshot-window", help="save the whole window at the end, the panel and its settings included (.png)"
+    ),
     record: Path = typer.Option(
         None, "--record", help="record the walk as a camera path (JSON) when the window closes"
     ),
@@ -58,9 +61,11 @@ def view(
         )
     w, h = parse_size(size)
     inputs = [p for p in (source, path) if p is not None and Path(p).exists()]
-    for out in (output, screenshot, record):
+    for out in (output, screenshot, record, screenshot_window):
         if out is not None:
             check_output_path(out, inputs)
+    if screenshot_window is not None and (output is not None or _headless()):
+        raise InputError("--screenshot-window needs the window (a display); --screenshot saves the frame alone")
     if output is not None and output.suffix.lower() not in (".mp4", ".gif"):
         raise InputError(f"{output.name}: the video must be an .mp4 or a .gif")
     camera_path = CameraPath.load(path) if path is not None else None
@@ -78,8 +83,8 @@ def view(
     from ..viewer.window import ViewerWindow
 
     window = ViewerWindow(technique, source, variant, (w, h), camera_path, record)
-    window.run(exit_after, screenshot)
-    for out in (screenshot, record):
+    window.run(exit_after, screenshot, screenshot_window)
+    for out in (screenshot, record, screenshot_window):
         if out is not None and out.exists():
             typer.echo(f"wrote {out}")
 

@@ -57,7 +57,7 @@ class HierarchyParams:
     lights_to_leaves: bool = param(
         False, help="links from lamps pushed to the receivers' leaves (Loscos 1999, Figure 4.6b)", group="advanced"
     )
-    refinements: int = param(2, range=(1, 8), step=1, help="refine → solve rounds", group="advanced")
+    refinements: int = param(2, range=(1, 8), step=1, help="refine, then solve: rounds", group="advanced")
     seed: int = param(
         0, range=(0, 2**31 - 1), step=1, help="visibility rays (and the path tracer of a reference)", group="advanced"
     )

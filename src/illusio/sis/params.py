@@ -67,7 +67,7 @@ class StereogramParams:
     dot_size: int = param(1, range=(1, 64), unit="px", step=1, help="pixels per random dot", group="output")
     guides: bool = param(False, help="two guide dots W_s + β apart", group="output")
     cross_eyed: bool = param(False, help="for crossed eyes (default: wall-eyed)", group="output")
-    invert: bool = param(False, help="D → 1 − D (black = near)", group="output")
+    invert: bool = param(False, help="D becomes 1 − D (black = near)", group="output")
     oversample: int = param(1, range=(1, 8), step=1, help="compute at N times the width", group="advanced")
     seed: int = param(0, range=(0, 2**31 - 1), step=1, help="seed of every random pattern", group="advanced")
 

@@ -7,11 +7,23 @@ closed one). A change goes through ``Viewer.set_param``."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from ..core.params import GROUPS, ParamInfo, describe
 from .modes import MODES
 from .viewer import Viewer
 
-__all__ = ["draw_fields", "draw_panel", "widget_value"]
+__all__ = ["GLYPH_RANGES", "draw_fields", "draw_panel", "load_panel_font", "panel_font_path", "widget_value"]
+
+#: the panel's font size (px); its face is Roboto, which imgui_bundle ships: ImGui's own font has ASCII
+#: only, so ρ, τ, λ, ε and the dashes of the labels showed as "?"
+PANEL_FONT_SIZE = 16.0
+#: what of the face is loaded, as (first, last) code points: Latin-1, Greek, general punctuation (the
+#: dashes), arrows and mathematical operators (−, √); a test keeps every label's characters inside
+#: them and in the face
+GLYPH_RANGES = ((0x20, 0xFF), (0x370, 0x3FF), (0x2010, 0x2027), (0x2190, 0x21FF), (0x2200, 0x22FF))
+#: the panel's width at first (px): the longest labels beside a widget of useful width
+PANEL_WIDTH = 480
 
 #: groups drawn under a header (open or closed at first); the others are drawn as they are
 _HEADERS = {"output": True, "advanced": False}
@@ -70,8 +82,32 @@ def _fields(viewer: Viewer, infos, imgui, prefix: str = "") -> None:
             imgui.set_tooltip(info.help)
 
 
+def panel_font_path() -> Path | None:
+    """Roboto-Regular.ttf as imgui_bundle ships it (None without it)."""
+    try:
+        import imgui_bundle
+    except ImportError:
+        return None
+    path = Path(imgui_bundle.__file__).parent / "assets" / "fonts" / "Roboto" / "Roboto-Regular.ttf"
+    return path if path.is_file() else None
+
+
+def load_panel_font(imgui) -> bool:
+    """Make the panel's font ImGui's default (call before the renderer builds the font texture);
+    False, and ImGui's own font kept, where the face is not there."""
+    path = panel_font_path()
+    if path is None:
+        return False
+    ranges = [c for pair in GLYPH_RANGES for c in pair] + [0]
+    imgui.get_io().fonts.add_font_from_file_ttf(str(path), PANEL_FONT_SIZE, None, ranges)
+    return True
+
+
 def draw_fields(viewer: Viewer, infos, imgui) -> None:
-    """The widgets of ``infos`` (describe's) by group, in GROUPS' order."""
+    """The widgets of ``infos`` (describe's) by group, in GROUPS' order; the widgets leave room
+    for the longest label at their right, so no label is cut."""
+    longest = max((imgui.calc_text_size(info.title).x for info in infos), default=0.0)
+    imgui.push_item_width(-(longest + 12.0))
     for group, title in GROUPS.items():
         members = [info for info in infos if info.group == group]
         if not members:
@@ -81,6 +117,7 @@ def draw_fields(viewer: Viewer, infos, imgui) -> None:
             if not imgui.collapsing_header(title, flags):
                 continue
         _fields(viewer, members, imgui)
+    imgui.pop_item_width()
 
 
 def draw_panel(viewer: Viewer, imgui, actions: dict, state: dict | None = None) -> None:
@@ -88,7 +125,7 @@ def draw_panel(viewer: Viewer, imgui, actions: dict, state: dict | None = None) 
     ("screenshot"); ``state``: what the panel keeps between frames (the file field's text)."""
     state = {} if state is None else state
     imgui.set_next_window_pos((10, 10), imgui.Cond_.first_use_ever.value)
-    imgui.set_next_window_size((400, 0), imgui.Cond_.first_use_ever.value)
+    imgui.set_next_window_size((PANEL_WIDTH, 0), imgui.Cond_.first_use_ever.value)
     imgui.begin("illusio")
     ms = viewer.frame_ms
     imgui.text(f"{ms:.1f} ms a frame ({1000 / ms if ms > 0 else 0:.0f} fps), {viewer.size[0]}x{viewer.size[1]}")

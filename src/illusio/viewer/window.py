@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 import moderngl
+import numpy as np
 
 from ..core.context import Context, release_current
 from ..core.errors import GLUnavailable
@@ -78,6 +79,9 @@ class ViewerWindow:
         settings = Path(os.environ.get("XDG_CONFIG_HOME") or Path.home() / ".config") / "illusio" / "imgui.ini"
         settings.parent.mkdir(parents=True, exist_ok=True)
         imgui.get_io().set_ini_filename(str(settings))
+        from .panel import load_panel_font
+
+        load_panel_font(imgui)  # before the renderer builds the font texture
         self.gui = ModernglWindowRenderer(self.window)
         import glfw
 
@@ -154,6 +158,17 @@ class ViewerWindow:
         if min(self.window.buffer_size) >= 1:  # a minimised window has no pixels: keep the last size
             self.viewer.resize(self.window.buffer_size)
 
+    def grab_window(self, path: Path) -> Path:
+        """Write what the window shows now (the frame and the panel), atomically: the back buffer,
+        sRGB-encoded as drawn, row 0 at the top."""
+        from ..core.images import srgb_to_linear, write_image
+
+        w, h = self.window.buffer_size
+        pixels = np.frombuffer(self.window.ctx.screen.read((0, 0, w, h), components=3), np.uint8)
+        image = srgb_to_linear(pixels.reshape(h, w, 3)[::-1].astype(np.float32) / 255.0)
+        write_image(path, image)
+        return Path(path)
+
     def screenshot(self, path: Path | None = None) -> Path:
         if path is None:
             self.screenshots += 1
@@ -161,7 +176,9 @@ class ViewerWindow:
         return self.viewer.screenshot(path)
 
     # -- frames --------------------------------------------------------------------------------
-    def frame(self, dt: float | None = None) -> None:
+    def frame(self, dt: float | None = None, grab: Path | None = None) -> None:
+        """One frame of the window; ``grab``: also write the whole window, panel included, there
+        (read before the buffers swap)."""
         now = time.perf_counter()
         dt = now - self._last if dt is None else dt
         self._last = now
@@ -178,12 +195,18 @@ class ViewerWindow:
         imgui.render()
         self.gui.render(imgui.get_draw_data())
         self.window.ctx.enable_only(moderngl.NOTHING)  # imgui leaves blending on; the passes expect it off
+        if grab is not None:
+            self.grab_window(grab)
         self.window.title = (
             f"illusio — {self.viewer.mode.name} ({self.viewer.mode.variant}) — {self.viewer.frame_ms:.0f} ms"
         )
         self.window.swap_buffers()
 
-    def run(self, exit_after: int | None = None, screenshot: Path | None = None) -> None:
+    def run(
+        self, exit_after: int | None = None, screenshot: Path | None = None, window_screenshot: Path | None = None
+    ) -> None:
+        """Frames until the window closes (or ``exit_after`` of them, or a played path ends); then
+        ``screenshot`` gets the last frame, ``window_screenshot`` the window with its panel."""
         frames = 0
         try:
             while not self.window.is_closing and (exit_after is None or frames < exit_after):
@@ -197,6 +220,8 @@ class ViewerWindow:
                     break
             if screenshot is not None:
                 self.screenshot(screenshot)
+            if window_screenshot is not None:
+                self.frame(grab=window_screenshot)
             if self.record_path is not None and self.viewer.recorder.keyframes:
                 self.viewer.recorder.save(self.record_path)
         finally:

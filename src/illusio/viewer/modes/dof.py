@@ -66,7 +66,7 @@ class DofMode(Mode):
         _, self.show_coc = imgui.checkbox("show the circle of confusion (black: in focus)", self.show_coc)
         if self.renderer.result() is not None:
             r = self.renderer.result()
-            imgui.text(
+            imgui.text_wrapped(
                 f"focus {r.focus_distance:.2f} m, screen {r.screen_distance:.2f} m: "
                 f"vergence–accommodation {r.conflict_dioptres:.2f} D"
             )

@@ -81,4 +81,4 @@ class LinesMode(Mode):
         return True
 
     def panel(self, imgui, viewer) -> None:
-        imgui.text(self.message)
+        imgui.text_wrapped(self.message)

@@ -60,7 +60,9 @@ class RadiosityMode(Mode):
         if solution is None:
             return
         st = solution.stats
-        imgui.text(f"{st.elements} elements, {st.links} links, {st.iterations} iterations")
+        imgui.text_wrapped(f"{st.elements} elements, {st.links} links, {st.iterations} iterations")
         self.lamp_sliders(imgui, solution.lamp_names)
         if self.variant == "links":
-            imgui.text(f"links lighting element {self.params.element} (green visible, yellow partial, red invisible)")
+            imgui.text_wrapped(
+                f"links lighting element {self.params.element} (green visible, yellow partial, red invisible)"
+            )

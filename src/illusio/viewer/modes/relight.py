@@ -140,11 +140,11 @@ class RelightMode(Mode):
         if session is None:
             return
         self.lamp_sliders(imgui, session.lamp_names, 3.0)
-        imgui.text(
+        imgui.text_wrapped(
             f"prepared in {session.times['prepare']:.1f} s; last edit {session.times.get('edit', 0) * 1000:.0f} ms"
         )
-        imgui.text("L: a lamp above the pointer; O: a crate there, drag it with the mouse")
+        imgui.text_wrapped("L: a lamp above the pointer; O: a crate there, drag it with the mouse")
         if "move object" in session.times:
-            imgui.text(f"last crate move {session.times['move object'] * 1000:.0f} ms")
+            imgui.text_wrapped(f"last crate move {session.times['move object'] * 1000:.0f} ms")
         if self.message:
-            imgui.text(self.message)
+            imgui.text_wrapped(self.message)
