@@ -28,12 +28,15 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..core.images import atomic_output
+from ..core.kernels import compile_note
 from ..core.progress import phase
 from ..scene.mesh import Mesh
 
 __all__ = ["Curvature", "estimate_curvature", "cache_dir", "CACHE_VERSION"]
 
 CACHE_VERSION = 4
+#: the kernels' first compilation after an install, measured on 2 cores (`NUMBA_CACHE_DIR=EMPTY illusio lines blob`)
+COMPILE_SECONDS = 60
 
 
 @dataclass
@@ -132,8 +135,8 @@ def estimate_curvature(
                 return Curvature.load(key)
             except Exception:  # a corrupt cache file: recompute and overwrite it
                 pass
-    # numba compiles the kernels on a process's first call (cached on disk after the first install)
-    first = "" if _fit_all.signatures else " (its kernels load, or compile on a first install: up to a minute)"
+    # numba compiles the kernels on the first call after an install (then loads them from disk)
+    first = compile_note("the curvature kernels", COMPILE_SECONDS, _fit_all, _smooth_tensors, _derivatives)
     with phase(f"lines: curvature of {len(vertices):,} vertices{first}"):
         area_normals = _area_normals(vertices, faces)
         offsets, neighbours = _adjacency(len(vertices), faces)

@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..core.errors import InputError, did_you_mean
+from ..core.kernels import compile_note
 from ..core.progress import phase
 from .clusters import ClusteredGather, ClusterLinks, ClusterTree, refine_nodes, transfer_bound
 from .dynamic import add_lamp, add_object, move_object, remove_object
@@ -24,6 +25,18 @@ from .polygons import MAX_POLYGONS, Polygons, polygon_areas
 from .refine import needs_refinement, refine, transfer_estimate
 from .solve import SolveResult, solve
 from .visibility import Visibility
+
+#: the first compilation of radiosity's kernels after an install, measured on 2 cores
+#: (`NUMBA_CACHE_DIR=EMPTY illusio radiosity cornell-box --size 64x64`)
+COMPILE_SECONDS = 60
+
+
+def _compile_note() -> str:
+    from . import clusters, formfactor, solve, visibility
+
+    kernels = (solve._push_pull, formfactor._point_polygon, visibility._fraction_and_masks, clusters._cluster_gather)
+    return compile_note("the radiosity kernels", COMPILE_SECONDS, *kernels)
+
 
 __all__ = ["Radiosity", "Stats", "AUTO_MIN_AREA", "MAX_POLYGONS"]
 
@@ -164,7 +177,7 @@ class Radiosity:
     def _link_from_roots(self, tolerance: float, max_iterations: int) -> None:
         h = self.hierarchy
         rounds = self.params.refinements
-        with phase("radiosity", total=rounds) as next_round:
+        with phase("radiosity" + _compile_note(), total=rounds) as next_round:
             t = time.perf_counter()
             h.radiosity[:] = self._ambient_estimate()  # children inherit it as they are made
             with phase(f"radiosity: refine, round 1 of {rounds}"):
