@@ -29,6 +29,23 @@ def test_a_caller_hears_radiosity_s_phases_nested_counted_and_finished():
     assert not [e for e in heard if e.phase == "nothing heard"]
 
 
+def test_a_path_traced_reference_is_a_phase_the_caller_hears():
+    """Mitsuba's references (the gallery's, --reference, relighting's photograph) say what they
+    render and how many paths a pixel."""
+    pytest.importorskip("mitsuba")
+    from illusio.radiosity import scene_polygons
+    from illusio.radiosity.mitsuba import render_mitsuba
+    from illusio.scene import load_scene
+
+    scene = load_scene("cornell-box")
+    heard = []
+    with reporting(heard.append):
+        image = render_mitsuba(scene_polygons(scene), scene.camera(), (8, 6), 2)
+    assert image.shape == (6, 8, 3)
+    ends = [e for e in heard if e.finished]
+    assert [e.phase for e in ends] == ["path tracing 8×6 at 2 paths a pixel (Mitsuba)"]
+
+
 def test_a_phase_that_raises_still_reports_its_end():
     heard = []
     with reporting(heard.append), pytest.raises(ValueError), phase("breaks", total=3) as advance:

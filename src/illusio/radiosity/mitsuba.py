@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.progress import phase
 from ..passes.mitsuba import load_mitsuba, load_scene, render, rgb, sensor
 from ..scene.camera import View
 from .polygons import Polygons
@@ -74,6 +75,11 @@ def render_mitsuba(
     ``samples`` paths a pixel (box filter), unbounded path length (Russian roulette) by default.
     ``denoise``: through Open Image Denoise (``passes.denoise``), guided by the first hit's albedo
     and normal that the same paths give (Mitsuba's aov integrator)."""
+    with phase(f"path tracing {size[0]}×{size[1]} at {samples} paths a pixel (Mitsuba)"):
+        return _render_mitsuba(polygons, view, size, samples, seed, max_depth, denoise)
+
+
+def _render_mitsuba(polygons, view, size, samples, seed, max_depth, denoise) -> np.ndarray:
     mi = load_mitsuba()
     integrator = {"type": "path", "max_depth": int(max_depth)}
     if denoise:
