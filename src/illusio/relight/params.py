@@ -101,7 +101,7 @@ class RelightParams:
         "lamps from their own pixels",
         group="method",
     )
-    mean_reflectance: float = param(0.5, range=(0.01, 0.95), label="mean reflectance (first guess, eq. 4.1)")
+    mean_reflectance: float = param(0.5, range=(0.01, 0.95), label="mean reflectance (first guess, Loscos eq. 4.1)")
     colour_threshold: float = param(20.0, range=(0.0, 200.0), label="colour similarity ε (CIE L*a*b*, Fig. 4.7, 4.11)")
     visibility_threshold: float = param(0.3, range=(0.0, 1.0), label="visibility similarity (Fig. 4.7)")
     texture_refinement: bool = param(True, help="loscos: split leaves along the photographed shadows (4.3.1)")
