@@ -151,3 +151,29 @@ def test_every_exported_name_resolves(package):
     module = importlib.import_module(f"illusio.{package}")
     for name in module.__all__:
         assert getattr(module, name) is not None, f"illusio.{package}.{name}"
+
+
+def test_an_export_named_as_its_submodule_stays_the_export_and_dir_lists_the_exports():
+    """README's one-shot ``from illusio.sis import stereogram`` is the function even after its
+    submodule ``illusio.sis.stereogram`` was imported (Python sets the package's attribute to the
+    module then); every lazily exported name of every package is no module; ``dir()`` (tab
+    completion, ``help()``) lists the exports. In a fresh interpreter: the import order matters."""
+    import subprocess
+    import sys
+
+    program = (
+        "import importlib, types\n"
+        "import illusio.sis.stereogram, illusio.sis.multiscene\n"
+        "from illusio.sis import stereogram, multiscene\n"
+        "assert callable(stereogram) and callable(multiscene), (stereogram, multiscene)\n"
+        "assert not isinstance(stereogram, types.ModuleType)\n"
+        "for package in ('passes', 'sis', 'dof', 'lines', 'ibr', 'radiosity', 'relight', 'core'):\n"
+        "    module = importlib.import_module('illusio.' + package)\n"
+        "    exports = module.__dict__.get('_lazy_exports', {})\n"
+        "    assert set(exports) <= set(dir(module)), package\n"
+        "    for name in exports:\n"
+        "        assert not isinstance(getattr(module, name), types.ModuleType), (package, name)\n"
+        "print('ok')\n"
+    )
+    out = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr[-2000:]
