@@ -108,8 +108,10 @@ def test_the_command_writes_camera_json_that_a_folder_reads(tmp_path, capsys, rn
         ],
         capsys,
     )
-    assert code == 2 and "check that each u, v is paired with its x, y, z" in cap.err and "Traceback" not in cap.err
-    assert not (tmp_path / "other.json").exists()
+    # OpenCV either finds a camera that puts points behind it, or none (seen for 1 seed in CI's runs):
+    # both refusals name the pairing
+    assert code == 2 and "paired" in cap.err and "Traceback" not in cap.err, cap.err
+    assert cap.err.count("\n") == 1 and not (tmp_path / "other.json").exists()
 
 
 @pytest.mark.parametrize(
