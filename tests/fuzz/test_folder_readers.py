@@ -144,16 +144,6 @@ def test_seed_tum_sequence_reads(tum_seeds, tmp_path):
 TUM_TARGETS = ["rgb.txt", "depth.txt", "groundtruth.txt", "intrinsic.json", "rgb/1305031102.000000.png"]
 
 
-@seed(SESSION_SEED)
-@FUZZ
-@given(target=st.sampled_from(TUM_TARGETS), mutations=MUTATIONS, drop=st.booleans())
-def test_mutated_tum_sequences_are_read_or_refused(tum_seeds, target, mutations, drop, tmp_path_factory):
-    """One file of the sequence mutated (or, with ``drop``, removed): frames read, or one line."""
-    from illusio.ibr.captures import read_tum
-
-    read_mutated_folder(read_tum, valid_frames, tum_seeds, target, mutations, drop, tmp_path_factory.mktemp("tum"))
-
-
 # --- an RGB-D folder as Open3D's and Redwood's tools write it (color/, depth/, intrinsic.json, .log) ---
 
 
@@ -205,17 +195,6 @@ def test_seed_rgbd_folder_reads(tmp_path):
     assert must_refuse_or_succeed(read_rgbd_folder, write_set(tmp_path / "rgbd", files), valid_frames)
 
 
-@seed(SESSION_SEED)
-@FUZZ
-@given(target=st.sampled_from(RGBD_TARGETS), mutations=MUTATIONS, drop=st.booleans())
-def test_mutated_rgbd_folders_are_read_or_refused(target, mutations, drop, tmp_path_factory):
-    """One file of the folder mutated (or, with ``drop``, removed): frames read, or one line."""
-    from illusio.ibr.captures import read_rgbd_folder
-
-    files = rgbd_files(str(tmp_path_factory.getbasetemp() / "rgbd-seed"))
-    read_mutated_folder(read_rgbd_folder, valid_frames, files, target, mutations, drop, tmp_path_factory.mktemp("rgbd"))
-
-
 # --- a COLMAP workspace (sparse/ text model, images/, stereo/depth_maps/*.geometric.bin) ---
 
 
@@ -261,15 +240,35 @@ def test_seed_colmap_workspace_reads(tmp_path):
     assert [f.name for f in frames] == ["a.png", "b.png"]
 
 
+def _capture_reader(name: str):
+    def read(path):
+        from illusio.ibr import captures
+
+        return getattr(captures, name)(path)
+
+    return read
+
+
+#: the capture folders fuzzed alike: (the seed's files by folder, the reader in ibr.captures, the files mutated)
+CAPTURE_FOLDERS = {
+    "tum": (tum_files, "read_tum", TUM_TARGETS),
+    "rgbd": (rgbd_files, "read_rgbd_folder", RGBD_TARGETS),
+    "colmap": (colmap_files, "read_colmap", COLMAP_TARGETS),
+}
+
+
+@pytest.mark.parametrize("kind", CAPTURE_FOLDERS)
 @seed(SESSION_SEED)
 @FUZZ
-@given(target=st.sampled_from(COLMAP_TARGETS), mutations=MUTATIONS, drop=st.booleans())
-def test_mutated_colmap_workspaces_are_read_or_refused(target, mutations, drop, tmp_path_factory):
-    """One file of the workspace mutated (or, with ``drop``, removed): frames read, or one line."""
-    from illusio.ibr.captures import read_colmap
-
-    files = colmap_files(str(tmp_path_factory.getbasetemp() / "colmap-seed"))
-    read_mutated_folder(read_colmap, valid_frames, files, target, mutations, drop, tmp_path_factory.mktemp("colmap"))
+@given(data=st.data(), mutations=MUTATIONS, drop=st.booleans())
+def test_mutated_capture_folders_are_read_or_refused(kind, data, mutations, drop, tmp_path_factory):
+    """One file of a TUM sequence, an RGB-D folder or a COLMAP workspace mutated (or, with ``drop``,
+    removed): frames read, or one line."""
+    make, reader, targets = CAPTURE_FOLDERS[kind]
+    target = data.draw(st.sampled_from(targets), label="target")
+    files = make(str(tmp_path_factory.getbasetemp() / f"{kind}-seed"))
+    folder = tmp_path_factory.mktemp(kind)
+    read_mutated_folder(_capture_reader(reader), valid_frames, files, target, mutations, drop, folder)
 
 
 # --- a relighting folder (a model as Blender writes it, its photograph and camera.json) ---
