@@ -13,7 +13,8 @@ Stated rules (the inverse of the reader's):
 - a point light of I W/sr is a glTF point light of 683·I cd;
 - an area light (glTF has none) is an emissive rectangle other tools show, with the exact lamp in its
   node's ``extras.illusio.area_light`` (read back as that lamp, not as a mesh);
-- a camera is a perspective camera (lens shift and pixel aspect in ``extras``);
+- a camera is a perspective camera (lens shift, pixel aspect, the distance to its target and its up
+  hint in ``extras``: the target is where IBR's rig of reference views looks);
 - node tags and visibility, the scene's ambient and background, curves and actions are ``extras``.
 """
 
@@ -111,7 +112,7 @@ def export_gltf(scene: Scene, path: str | os.PathLike) -> Path:
                 perspective=pygltflib.Perspective(
                     yfov=float(np.radians(camera.fov_y)), znear=float(camera.near), zfar=float(camera.far)
                 ),
-                extras={"illusio": {"shift": list(camera.shift), "pixel_aspect": camera.pixel_aspect}},
+                extras={"illusio": _camera_record(view)},
             )
         )
         world_from_camera = np.linalg.inv(np.asarray(view.pose.matrix(), np.float64))
@@ -202,3 +203,16 @@ def _scene_record(scene: Scene) -> dict:
 
 def _use(gltf, extension: str) -> None:
     gltf.extensionsUsed = sorted(set(gltf.extensionsUsed or ()) | {extension})
+
+
+def _camera_record(view) -> dict:
+    """What a glTF camera lacks: its lens shift and pixel aspect, and the pose's target (as a
+    distance along the view, so a camera moved in Blender keeps a target ahead of it) and up hint."""
+    pose = view.pose
+    eye, target = np.asarray(pose.position, np.float64), np.asarray(pose.target, np.float64)
+    return {
+        "shift": list(view.camera.shift),
+        "pixel_aspect": view.camera.pixel_aspect,
+        "target_distance": float(np.linalg.norm(target - eye)),
+        "up": [float(u) for u in pose.up],
+    }

@@ -36,7 +36,9 @@ the scene is the same. A file with no light and no emissive material gets the tu
 scaled to its bounds (said in the warning).
 
 **Cameras**: a perspective camera is a named camera (its node's name, else the camera's); with none,
-``main`` frames the scene's bounds. Orthographic cameras are dropped (named in the warning).
+``main`` frames the scene's bounds. Its target (where IBR's rig of reference views looks) lies
+along the view at the depth of the bounds' centre, or at the distance illusio's export wrote in the
+camera's extras. Orthographic cameras are dropped (named in the warning).
 """
 
 from __future__ import annotations
@@ -595,9 +597,11 @@ def _lights_and_cameras(gltf, scene: Scene, unsupported: list[str]) -> None:
             p = camera.perspective
             near = float(p.znear or 0.05)
             far = float(p.zfar) if p.zfar else max(1000 * near, 4 * radius + float(np.linalg.norm(position - centre)))
-            up = m[:3, 1] / max(np.linalg.norm(m[:3, 1]), 1e-12)
-            target = position + forward * max(float(np.dot(centre - position, forward)), near * 2)
             own = _illusio_extras(camera)
+            up = m[:3, 1] / max(np.linalg.norm(m[:3, 1]), 1e-12)
+            distance = own.get("target_distance") or max(float(np.dot(centre - position, forward)), near * 2)
+            target = position + forward * float(distance)
+            up = _written_up(own.get("up"), up, forward)
             lens = Camera(
                 float(np.degrees(p.yfov)),
                 near,
@@ -606,6 +610,19 @@ def _lights_and_cameras(gltf, scene: Scene, unsupported: list[str]) -> None:
                 pixel_aspect=float(own.get("pixel_aspect", 1.0)),
             )
             scene.cameras[name] = View(Pose(tuple(position), tuple(target), tuple(up)), lens)
+
+
+def _written_up(written, up: np.ndarray, forward: np.ndarray):
+    """illusio's own up hint for a camera (export's extras) where the node's rotation still agrees
+    with it (no roll added in another tool), else the node's own up axis."""
+    if written is None:
+        return up
+    hint = np.asarray(written, np.float64)
+    side = np.cross(forward, hint)
+    if np.linalg.norm(side) < 1e-9:
+        return up
+    derived = np.cross(side / np.linalg.norm(side), forward)
+    return hint if float(np.dot(derived, up)) > 1 - 1e-6 else up
 
 
 def _light(light: dict, name: str, position, forward, centre, radius) -> PointLight:
