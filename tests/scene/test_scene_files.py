@@ -374,3 +374,15 @@ def test_a_scenario_names_a_gltf_scenes_nodes(room, tmp_path):
         "blue-box",
         "green-ball",
     )
+
+
+def test_a_scene_file_hides_in_a_stereogram_as_its_placed_nodes(room, tmp_path):
+    """sis-scene --hidden takes a scene file: every node where the file's transforms put it (the
+    merged mesh spans the scene's bounds), and the command draws it."""
+    from illusio.scene.sources import resolve_mesh
+
+    mesh, scene = resolve_mesh(str(room)), load_scene_file(room)
+    assert np.allclose(mesh.vertices.min(0), scene.bounds()[0], atol=1e-5)
+    assert np.allclose(mesh.vertices.max(0), scene.bounds()[1], atol=1e-5)
+    r = illusio("sis-scene", "living-room", "--hidden", room, "-o", tmp_path / "s.png", "--size", "160x96")
+    assert r.returncode == 0, r.stderr

@@ -189,7 +189,9 @@ def sis_scene(
     on_turntable: bool = on_turntable_option(),
     output: Path = typer.Option(..., "-o", "--output", help="image to write (.png); with --frames, the first frame"),
     hidden: str = typer.Option(
-        "torus-knot", "--hidden", help="what the stereogram hides: a built-in shape or a mesh file"
+        "torus-knot",
+        "--hidden",
+        help="what the stereogram hides: a built-in shape, a mesh or a scene file (its nodes where it places them)",
     ),
     camera: str = typer.Option(
         "tv", "--camera", help="a named camera of the scene or EYE:TARGET (x,y,z:x,y,z in metres)"
