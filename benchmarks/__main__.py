@@ -19,7 +19,7 @@ from .runner import print_table, write_results
 SUITES = list(
     dict.fromkeys(
         [s for t in techniques().values() for s in t.benchmarks]
-        + ["protocol", "viewer", "batch", "scene_files", "mgf_scenes"]
+        + ["protocol", "viewer", "batch", "scene_files", "mgf_scenes", "svg_strokes"]
     )
 )
 

@@ -30,7 +30,7 @@ def _floats(text: str, count: tuple[int, ...], name: str) -> list[float]:
 def lines(
     mesh: str = typer.Argument(..., help="mesh file (.obj .ply .off .stl .gltf .glb) or built-in shape"),
     output: Path = typer.Option(
-        ..., "-o", "--output", help="drawing to write: .png, or .svg (polylines per line type)"
+        ..., "-o", "--output", help="drawing to write: .png, or .svg (a layer of paths per line type)"
     ),
     view: str = typer.Option("30,15", "--view", help="AZIMUTH,ELEVATION in degrees around the mesh"),
     camera: str = typer.Option(
@@ -149,20 +149,21 @@ def lines(
         write_image(out, parameter_grid(renderer, v, tile, params=params))
         typer.echo(f"wrote {out} (τ × λ grid, tiles {tile[0]}×{tile[1]})")
         return
-    # the drawing at the output size: what --debug, the SVG and --compare read (a PNG page alone is
+    # the drawing at the output size: what --debug and --compare read (a PNG or SVG page alone is
     # drawn at antialias × the size only)
-    needed = debug or compare or out.suffix.lower() == ".svg" or antialias == 1
+    needed = debug or compare or antialias == 1
     drawing = renderer.drawing(Frame(v, (w, h)), params) if needed else None
     if debug:
         write_image(out, debug_view(debug, drawing, m, renderer.curvature(params.curvature)))
         typer.echo(f"wrote {out} ({debug} view)")
         return
+    # the page: drawn again at antialias × the size (a PNG's lines then widened and reduced; an SVG's
+    # traced there and scaled to the size, so both hold the same lines)
+    page = renderer.drawing(Frame(v, (w * antialias, h * antialias)), params) if antialias > 1 else drawing
     if out.suffix.lower() == ".svg":
-        count = write_drawing_svg(out, drawing, params)
-        typer.echo(f"wrote {out} ({count} polylines)")
+        count = write_drawing_svg(out, page, params, style)
+        typer.echo(f"wrote {out} ({count} paths)")
     else:
-        # the page: drawn again at antialias × the size (its lines then widened and reduced)
-        page = renderer.drawing(Frame(v, (w * antialias, h * antialias)), params) if antialias > 1 else drawing
         strength = ridge_strength(page.q_t1, page.ridge_mask) if fade else None
         write_image(out, stylise(page.image, style, strength))
         typer.echo(f"wrote {out} ({w}×{h})")

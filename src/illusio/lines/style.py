@@ -30,7 +30,8 @@ __all__ = ["LineStyle", "stylise", "coverage_and_ink", "parse_colour", "ridge_st
 class LineStyle:
     """width: line width in output pixels. colour: one linear RGB ink for every line (None: each line
     type's own). transparent: RGBA output, alpha = coverage. fade: hybrid ridges lighter where weak.
-    supersample: the factor the drawing was rendered at (it is reduced by it)."""
+    supersample: the factor the drawing was rendered at (it is reduced by it). svg_join, svg_smooth:
+    how an SVG's strokes are chained and drawn (lines.svg)."""
 
     width: float = param(
         1.0, range=(0.5, 32.0), unit="px", flag="line-width", help="line width of the output", group="output"
@@ -39,6 +40,16 @@ class LineStyle:
     transparent: bool = param(False, help="a PNG with the paper transparent (alpha = ink)", group="output")
     fade: bool = param(
         False, help="apparent ridges lighter where weak (|q| under the median ridge's), as rtsc does", group="output"
+    )
+    svg_join: float = param(
+        1.5,
+        range=(0.0, 8.0),
+        unit="px",
+        help="SVG: a line's ends this close to another's of its type join into one path (0: as traced)",
+        group="output",
+    )
+    svg_smooth: bool = param(
+        False, help="SVG: curves through each path's points (Catmull–Rom as cubic Béziers)", group="output"
     )
     # what the drawing was made at, set by whoever made it (the lines command's --antialias)
     supersample: int = param(1, range=(1, 4), step=1, cli=False, group="advanced")
