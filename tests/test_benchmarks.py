@@ -71,3 +71,16 @@ def test_quick_mgf_benchmark_scores_renderparks_scenes_against_mitsuba(tmp_path,
     # the cube is RenderPark's Cornell-like box: within the radiosity goal at 48×36, 64 paths
     assert ratios["cube: error against Mitsuba, 4×4 blocks"] < 0.05
     assert 0.9 < ratios["office2: mean radiance / Mitsuba's"] < 1.1
+
+
+def test_quick_svg_and_sis_video_benchmarks_write_their_measures(tmp_path):
+    """The SVG strokes before and after (and the SVG against the PNG), and the stereogram videos'
+    change where the depth stays, held against regenerated."""
+    results = run_quick(tmp_path, "svg_strokes", "sis_video")
+    svg = results["svg_strokes"]["ratios"]
+    assert svg["all: paths after"] < svg["all: paths before"]
+    if "all: smallest SVG vs PNG F1" in svg:  # resvg-py installed (the test extra)
+        assert svg["all: smallest SVG vs PNG F1"] > 0.95
+    video = results["sis_video"]["ratios"]
+    for name in ("torus-knot turning", "sphere crossing"):
+        assert video[f"{name}: change held / regenerated"] < 1.0

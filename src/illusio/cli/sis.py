@@ -63,24 +63,48 @@ def _print_size(text: str, dpi: float) -> tuple[tuple[int, int], Screen]:
 @params_options(params=StereogramParams)
 def sis(
     depth: str = typer.Argument(
-        ..., help="depth map: grey PNG (8/16-bit, white = near), .npy, a mesh file or a built-in shape"
+        ...,
+        help="depth map: grey PNG (8/16-bit, white = near), .npy, a mesh file or a built-in shape; for a"
+        " video, depth frames: a video (.mp4, white = near), a numbered sequence (depth_%04d.png) or a folder"
+        " of images or .npy frames",
     ),
-    output: Path = typer.Option(..., "-o", "--output", help="stereogram to write (.png)"),
+    output: Path = typer.Option(
+        ...,
+        "-o",
+        "--output",
+        help="stereogram to write (.png), or a video (.mp4, .gif) of depth frames or of a shape turning round",
+    ),
     size: str = typer.Option(None, "--size", help="WIDTHxHEIGHT in pixels (default: the depth map's)"),
     print_size: str = typer.Option(
         None, "--print-size", help="WIDTHxHEIGHTcm for print (with --dpi); sets the size and the physical model"
     ),
     dpi: float = typer.Option(300.0, "--dpi", help="dots per inch with --print-size"),
     cpu: bool = typer.Option(False, "--cpu/--no-cpu", help="use the NumPy/numba reference instead of the GPU"),
+    frames: int = typer.Option(
+        None, "--frames", help="video: frames of a shape's turn (default 48), or the first N depth frames"
+    ),
+    fps: float = typer.Option(None, "--fps", help="video: frames a second (default: the depth video's, else 24)"),
+    hold: bool = typer.Option(
+        True,
+        "--hold/--regenerate",
+        help="video: keep each frame's colours where the depth stays (sis.video), or make every frame afresh",
+    ),
     *,
     params: StereogramParams,
 ) -> None:
-    """Make an autostereogram of DEPTH."""
+    """Make an autostereogram of DEPTH, or a stereogram video of depth frames or of a shape turning."""
     from ..core.context import Context
     from ..sis.stereogram import stereogram
 
     out = check_output_path(output, scene_inputs(depth) + scene_inputs(params.pattern))
     params = replace(params, screen=params.screen.derived())  # its height from the width and aspect given
+    if out.suffix.lower() in (".mp4", ".gif"):
+        if print_size:
+            raise InputError("--print-size makes a print: write a .png")
+        _sis_video(depth, out, parse_size(size) if size else None, frames, fps, hold, params)
+        return
+    if frames is not None or fps is not None:
+        raise InputError("--frames and --fps make a video: write an .mp4 or a .gif")
     wanted = parse_size(size) if size else None
     if print_size:
         wanted, screen = _print_size(print_size, dpi)
@@ -104,6 +128,48 @@ def sis(
         f"wrote {out} ({image.shape[1]}×{image.shape[0]}, {params.algorithm}, "
         f"separations {params.strip_width:g}..{params.far_separation:g} px)"
     )
+
+
+#: frames of a shape's turn when --frames does not say
+TURN_FRAMES = 48
+
+
+def _sis_video(depth: str, out: Path, size, frames, fps, hold: bool, params: StereogramParams) -> None:
+    """A stereogram video (sis.video): of depth frames, or of a shape turning once round."""
+    from itertools import islice
+
+    from ..core.context import default_context
+    from ..core.images import VideoWriter
+    from ..core.renderer import DEFAULT_SIZE
+    from ..scene.sources import is_mesh_source, resolve_mesh
+    from ..sis.stereogram import resize_depth
+    from ..sis.video import DEFAULT_FPS, StereogramSequence, is_depth_sequence, open_depth_frames, turntable_depths
+
+    if frames is not None and frames < 1:
+        raise InputError(f"--frames must be at least 1, got {frames}")
+    if fps is not None and not fps > 0:
+        raise InputError(f"--fps must be positive, got {fps}")
+    sequence = StereogramSequence(params, hold)  # refuses the symmetric algorithm before any work
+    if is_depth_sequence(depth):
+        source = open_depth_frames(depth, fps)
+        count = min(source.count, frames or source.count)
+        depths, rate, what = islice(iter(source), count), source.fps, f"{count} depth frames of {depth}"
+    elif is_mesh_source(depth):
+        count = frames or TURN_FRAMES
+        depths = turntable_depths(default_context(), resolve_mesh(depth), size or DEFAULT_SIZE, count)
+        rate, what = fps or DEFAULT_FPS, f"{depth} turning once round in {count} frames"
+    else:
+        raise InputError(
+            f"{depth}: one depth map makes one picture (.png); a video needs depth frames (a video, a numbered"
+            " sequence depth_%04d.png, a folder) or a shape to turn"
+        )
+    with VideoWriter(out, rate) as video, progress(count, "sis: frames") as advance:
+        for d in depths:
+            if size and (d.shape[1], d.shape[0]) != size:
+                d = resize_depth(d, size)
+            video.append(sequence.frame(d))
+            advance()
+    typer.echo(f"wrote {out} ({what}, {rate:g} frames a second, {'held' if hold else 'regenerated'})")
 
 
 #: the share of checked pixels that must decode back for sis-decode's self-check to pass

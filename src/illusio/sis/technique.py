@@ -47,7 +47,7 @@ TECHNIQUES = (
             "sis-decode=illusio.cli.sis:sis_decode",
         ),
         showcase="illusio.gallery.sis:sis_showcase",
-        benchmarks=("sis", "sis_quality"),
+        benchmarks=("sis", "sis_quality", "sis_video"),
     ),
     Technique(
         name="sis-scene",
