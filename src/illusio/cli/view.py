@@ -36,7 +36,9 @@ def view(
         "e.g. sis tv|wall|interactive|raw, lines drawing|q1|t1|curvature",
     ),
     size: str = typer.Option(
-        "x".join(map(str, DEFAULT_SIZE)), "--size", help="WIDTHxHEIGHT of the window or the video"
+        "x".join(map(str, DEFAULT_SIZE)),
+        "--size",
+        help="WIDTHxHEIGHT of the image or the video (the window adds the panel's column)",
     ),
     path: Path = typer.Option(None, "--path", help="play a camera path (JSON keyframes t, eye, target)"),
     output: Path = typer.Option(None, "-o", "--output", help="record to a video (.mp4 or .gif) offscreen, no window"),

@@ -22,7 +22,8 @@ PANEL_FONT_SIZE = 16.0
 #: dashes), arrows and mathematical operators (−, √); a test keeps every label's characters inside
 #: them and in the face
 GLYPH_RANGES = ((0x20, 0xFF), (0x370, 0x3FF), (0x2010, 0x2027), (0x2190, 0x21FF), (0x2200, 0x22FF))
-#: the panel's width at first (px): the longest labels beside a widget of useful width
+#: the panel's width (window px): the longest labels beside a widget of useful width. The window
+#: keeps it as a column left of the image, so the image is the size asked for, at its aspect
 PANEL_WIDTH = 480
 
 #: groups drawn under a header (open or closed at first); the others are drawn as they are
@@ -120,13 +121,21 @@ def draw_fields(viewer: Viewer, infos, imgui) -> None:
     imgui.pop_item_width()
 
 
-def draw_panel(viewer: Viewer, imgui, actions: dict, state: dict | None = None) -> None:
+def draw_panel(viewer: Viewer, imgui, actions: dict, state: dict | None = None, height: float | None = None) -> None:
     """The panel for the viewer's current mode. ``actions``: callbacks the window provides
-    ("screenshot"); ``state``: what the panel keeps between frames (the file field's text)."""
+    ("screenshot"); ``state``: what the panel keeps between frames (the file field's text);
+    ``height``: the window's height (px), the panel then a fixed column PANEL_WIDTH wide at its left
+    (None: a floating panel that starts at the top left)."""
     state = {} if state is None else state
-    imgui.set_next_window_pos((10, 10), imgui.Cond_.first_use_ever.value)
-    imgui.set_next_window_size((PANEL_WIDTH, 0), imgui.Cond_.first_use_ever.value)
-    imgui.begin("illusio")
+    if height is None:
+        imgui.set_next_window_pos((10, 10), imgui.Cond_.first_use_ever.value)
+        imgui.set_next_window_size((PANEL_WIDTH, 0), imgui.Cond_.first_use_ever.value)
+        imgui.begin("illusio")
+    else:
+        imgui.set_next_window_pos((0, 0), imgui.Cond_.always.value)
+        imgui.set_next_window_size((PANEL_WIDTH, float(height)), imgui.Cond_.always.value)
+        fixed = imgui.WindowFlags_
+        imgui.begin("illusio", None, fixed.no_move.value | fixed.no_resize.value | fixed.no_collapse.value)
     ms = viewer.frame_ms
     imgui.text(f"{ms:.1f} ms a frame ({1000 / ms if ms > 0 else 0:.0f} fps), {viewer.size[0]}x{viewer.size[1]}")
     mode = viewer.mode

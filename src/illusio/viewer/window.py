@@ -1,5 +1,8 @@
 """``illusio view`` in a real window: moderngl-window's GLFW backend, the imgui panel, keyboard and
 mouse navigation. Everything the window shows comes from a :class:`~illusio.viewer.viewer.Viewer`.
+The panel is a column at the window's left (PANEL_WIDTH px) and the image fills the rest: a window
+opened for an image of W×H is W + PANEL_WIDTH wide, so the image keeps the size and aspect asked
+for; resizing the window resizes the image.
 
 Keys: W A S D walk (orbit: turn), Q E down / up (orbit: zoom), mouse drag to look (orbit: turn),
 wheel to zoom, Tab next technique, 1 2 3 4 5 a technique (plain, sis, lines, dof, ibr), V next view of the technique,
@@ -20,6 +23,7 @@ import numpy as np
 from ..core.context import Context, release_current
 from ..core.errors import GLUnavailable
 from .modes import MODES
+from .panel import PANEL_WIDTH
 from .path import CameraPath, PathRecorder
 from .viewer import Viewer
 
@@ -64,7 +68,9 @@ class ViewerWindow:
 
         release_current()  # a headless context of this process must not stay current beside the window's
         try:
-            self.window = Window(title="illusio", size=size, gl_version=(4, 3), vsync=False, resizable=True)
+            # the image at the size asked for, beside the panel's column
+            window_size = (int(size[0]) + PANEL_WIDTH, int(size[1]))
+            self.window = Window(title="illusio", size=window_size, gl_version=(4, 3), vsync=False, resizable=True)
         except Exception as exc:  # glfw raises plain exceptions when no GL 4.3 window can be made
             raise GLUnavailable(
                 f"cannot open an OpenGL 4.3 window ({' '.join(str(exc).split())}); "
@@ -93,7 +99,7 @@ class ViewerWindow:
         )
         self.record_path = record
         self.viewer = Viewer(
-            self.ctx, technique, source, variant, self.window.buffer_size, path, PathRecorder() if record else None
+            self.ctx, technique, source, variant, self.image_size(), path, PathRecorder() if record else None
         )
         self.screenshot_dir = Path(screenshot_dir)
         self.screenshots = 0
@@ -138,9 +144,21 @@ class ViewerWindow:
             if letter is not None:
                 self.viewer.mode_key(letter)
 
+    def panel_pixels(self) -> int:
+        """The panel column's width in pixels of the frame buffer (PANEL_WIDTH window px, scaled)."""
+        scale = self.window.buffer_size[0] / max(self.window.size[0], 1)
+        return int(round(PANEL_WIDTH * scale))
+
+    def image_size(self) -> tuple[int, int]:
+        """The image's size (pixels): the frame buffer right of the panel."""
+        bw, bh = self.window.buffer_size
+        return max(1, bw - self.panel_pixels()), bh
+
     def on_pointer(self, x, y, dx, dy) -> None:
         self.gui.mouse_position_event(x, y, dx, dy)
         w, h = self.window.size
+        x -= PANEL_WIDTH  # over the image, right of the panel
+        w -= PANEL_WIDTH
         self.viewer.pointer = (x / max(w, 1), y / max(h, 1)) if 0 <= x < w and 0 <= y < h else None
 
     def on_drag(self, x, y, dx, dy) -> None:
@@ -156,7 +174,7 @@ class ViewerWindow:
     def on_resize(self, width, height) -> None:
         self.gui.resize(width, height)
         if min(self.window.buffer_size) >= 1:  # a minimised window has no pixels: keep the last size
-            self.viewer.resize(self.window.buffer_size)
+            self.viewer.resize(self.image_size())
 
     def grab_window(self, path: Path) -> Path:
         """Write what the window shows now (the frame and the panel), atomically: the back buffer,
@@ -186,12 +204,14 @@ class ViewerWindow:
         self.window.use()
         frame = self.viewer.step(min(dt, 0.25))
         screen = self.window.ctx.screen
-        self.viewer.display(screen, self.window.buffer_size, frame, encode_srgb=True)
+        screen.use()
+        screen.clear(0.1, 0.1, 0.1)  # under the panel
+        self.viewer.display(screen, self.image_size(), frame, encode_srgb=True, origin=(self.panel_pixels(), 0))
         imgui = self.imgui
         imgui.new_frame()
         from .panel import draw_panel
 
-        draw_panel(self.viewer, imgui, {"screenshot": self.screenshot}, self.panel_state)
+        draw_panel(self.viewer, imgui, {"screenshot": self.screenshot}, self.panel_state, self.window.size[1])
         imgui.render()
         self.gui.render(imgui.get_draw_data())
         self.window.ctx.enable_only(moderngl.NOTHING)  # imgui leaves blending on; the passes expect it off
