@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from .common import parse_size
+from .common import parse_size, progress
 
 
 def demo(
@@ -35,16 +35,19 @@ def demo(
     sections = []
     t0 = time.perf_counter()
     try:
-        for k, (name, showcase) in enumerate(chosen, 1):
-            typer.echo(f"demo: [{k}/{len(chosen)}] {name} ...")
-            t = time.perf_counter()
-            made = path_traced.renders_made()
-            sections.append(showcase(ctx, out, (w, h)))
-            traced = path_traced.renders_made() - made
-            typer.echo(
-                f"demo: [{k}/{len(chosen)}] {name}: {len(sections[-1].items)} images in "
-                f"{time.perf_counter() - t:.1f} s" + (f" ({traced} path-traced)" if traced else "")
-            )
+        # a counted phase: a bar with its ETA on a terminal (the demo takes minutes), beside the lines
+        with progress(len(chosen), "demo: showcases") as advance:
+            for k, (name, showcase) in enumerate(chosen, 1):
+                typer.echo(f"demo: [{k}/{len(chosen)}] {name} ...")
+                t = time.perf_counter()
+                made = path_traced.renders_made()
+                sections.append(showcase(ctx, out, (w, h)))
+                traced = path_traced.renders_made() - made
+                typer.echo(
+                    f"demo: [{k}/{len(chosen)}] {name}: {len(sections[-1].items)} images in "
+                    f"{time.perf_counter() - t:.1f} s" + (f" ({traced} path-traced)" if traced else "")
+                )
+                advance()
     finally:
         path_traced.clear()
     renderer = ctx.info()["renderer"]
