@@ -8,6 +8,23 @@ Quick start::
     renderer = SceneRenderer(Context())          # every technique's renderer works the same way
     renderer.prepare(load_scene("living-room"))
     write_image("living-room.png", renderer.render(Frame(size=(960, 600))))
+
+In a notebook, ``illusio.show(image, ...)`` draws images inline::
+
+    import illusio, trimesh
+    from illusio.lines import line_drawing
+    illusio.show(line_drawing(trimesh.creation.icosphere(3), size=(256, 256)))
 """
 
 __version__ = "0.1.0"
+
+
+def show(*images, gap: int = 8):
+    """Images (linear float, row 0 on top) drawn inline in a notebook, side by side
+    (:func:`illusio.core.show.show`)."""
+    from .core.show import show as _show
+
+    return _show(*images, gap=gap)
+
+
+__all__ = ["show", "__version__"]

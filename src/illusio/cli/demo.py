@@ -18,7 +18,7 @@ def demo(
     """Render the built-in showcases and write OUT/index.html, a line for each as it starts and ends."""
     from ..core.context import Context
     from ..core.errors import InputError
-    from ..gallery import SHOWCASES, path_traced, write_gallery
+    from ..gallery import SHOWCASES, traced, write_gallery
 
     w, h = parse_size(size)
     chosen = SHOWCASES
@@ -40,16 +40,16 @@ def demo(
             for k, (name, showcase) in enumerate(chosen, 1):
                 typer.echo(f"demo: [{k}/{len(chosen)}] {name} ...")
                 t = time.perf_counter()
-                made = path_traced.renders_made()
+                made = traced.renders_made()
                 sections.append(showcase(ctx, out, (w, h)))
-                traced = path_traced.renders_made() - made
+                made_here = traced.renders_made() - made
                 typer.echo(
                     f"demo: [{k}/{len(chosen)}] {name}: {len(sections[-1].items)} images in "
-                    f"{time.perf_counter() - t:.1f} s" + (f" ({traced} path-traced)" if traced else "")
+                    f"{time.perf_counter() - t:.1f} s" + (f" ({made_here} path-traced)" if made_here else "")
                 )
                 advance()
     finally:
-        path_traced.clear()
+        traced.clear()
     renderer = ctx.info()["renderer"]
     page = write_gallery(
         out,

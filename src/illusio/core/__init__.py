@@ -13,6 +13,7 @@ _EXPORTS = {
         "images",
     ),
     **dict.fromkeys(("TexturePool", "TextureSpec", "readback", "upload"), "textures"),
+    **dict.fromkeys(("Picture", "show"), "show"),
 }
 
 __all__ = list(_EXPORTS)

@@ -129,6 +129,7 @@ class Renderer:
     def prepare(self, subject: Any) -> bool:
         """Hold ``subject`` for the frames to come; returns True when it differed from the one held
         (and was loaded), False when it was the same by value (nothing is done)."""
+        subject = self._subject(subject)
         key = fingerprint(subject)
         if key == self._subject_key:
             return False
@@ -173,6 +174,11 @@ class Renderer:
         self._subject_key = None
 
     # -- for subclasses ----------------------------------------------------------------------
+    def _subject(self, subject: Any) -> Any:
+        """``subject`` in the form this renderer holds (a subclass converts what users hand it, such
+        as a trimesh mesh, before it is compared or loaded); the subject itself by default."""
+        return subject
+
     def _load(self, subject: Any) -> None:
         raise NotImplementedError
 

@@ -4,8 +4,8 @@ Each technique contributes a *showcase*: a function ``(ctx, out_dir, size) -> Se
 :data:`SHOWCASES`. The demo runs them in order and writes ``index.html`` linking every image.
 """
 
-from . import path_traced
 from .html import Item, Section, write_gallery
 from .showcases import SHOWCASES
+from .traced import path_traced
 
 __all__ = ["Item", "Section", "write_gallery", "SHOWCASES", "path_traced"]

@@ -17,7 +17,7 @@ from ..passes.mitsuba import mitsuba_available
 from ..radiosity import RadiosityParams, RadiosityRenderer
 from ..scene.builtin import builtin_scene
 from .html import Item, Section, Table
-from .path_traced import DEMO_SAMPLES, path_traced
+from .traced import DEMO_SAMPLES, path_traced
 
 __all__ = ["radiosity_showcase"]
 

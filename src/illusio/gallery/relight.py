@@ -14,7 +14,7 @@ from ..core.images import write_image
 from ..passes.denoise import denoiser_available
 from ..passes.mitsuba import mitsuba_available
 from .html import Item, Section, Table
-from .path_traced import DEMO_SAMPLES, path_traced
+from .traced import DEMO_SAMPLES, path_traced
 
 __all__ = ["relight_showcase"]
 
@@ -42,7 +42,7 @@ def relight_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: in
     from ..scene.builtin import builtin_scene
 
     # the photograph is radiosity's path-traced reference of the office (same polygons, camera,
-    # size and seed): made once a run (gallery.path_traced)
+    # size and seed): made once a run (gallery.traced)
     small = (max(64, size[0] // 2), max(48, size[1] // 2))
     office = builtin_scene("office")
     polygons, view = scene_polygons(office), office.camera("main")

@@ -87,7 +87,8 @@ def estimate_curvature(
     confidence: float = 2.0,
     smoothing: int = 3,
 ) -> Curvature:
-    """Fit a jet of ``degree`` (2, 3 or 4) at every vertex over the smallest neighbourhood of at least
+    """Fit a jet of ``degree`` (2, 3 or 4) at every vertex of ``mesh`` (illusio's Mesh or a
+    trimesh.Trimesh) over the smallest neighbourhood of at least
     ``rings`` rings that holds twice the jet's unknowns (lower degrees where none does).
 
     ``adaptive``: then also fit every lower degree, each on those rings and on up to ``extra_rings``
@@ -109,6 +110,9 @@ def estimate_curvature(
     against 0.106 adaptive alone and 0.093 adaptive with three passes; clean surfaces with varying
     curvature pay a little bias, ellipsoid-3 0.004 → 0.035). ``dcurv`` comes from the cubic terms of
     the fits that have them (zero when only quadrics joined), in the final principal frame."""
+    from ..scene.mesh import as_mesh
+
+    mesh = as_mesh(mesh)  # a trimesh.Trimesh is taken too
     if degree not in (2, 3, 4):
         raise InputError(f"jet degree must be 2, 3 or 4, got {degree}")
     if not 1 <= rings <= 8:

@@ -203,6 +203,14 @@ class LineRenderer(Renderer):
         self.last_view: View | None = None
 
     # -- subject -------------------------------------------------------------------------------
+    def _subject(self, subject):
+        """A mesh (illusio's or a trimesh.Trimesh), or (mesh, Curvature)."""
+        from ..scene.mesh import as_mesh
+
+        if isinstance(subject, tuple) and len(subject) == 2:
+            return as_mesh(subject[0]), subject[1]
+        return as_mesh(subject)
+
     def _load(self, subject) -> None:
         mesh, curvature = subject if isinstance(subject, tuple) else (subject, None)
         if not isinstance(mesh, Mesh):
@@ -374,8 +382,9 @@ def line_drawing(
     size=(1024, 1024),
     ctx: Context | None = None,
 ) -> np.ndarray:
-    """One drawing of ``mesh``: float32 (H, W, 3) linear, row 0 on top. Without ``ctx`` the process's
-    default headless context is used; the context keeps one renderer for these calls."""
+    """One drawing of ``mesh`` (illusio's Mesh or a trimesh.Trimesh): float32 (H, W, 3) linear, row 0
+    on top. Without ``ctx`` the process's default headless context is used; the context keeps one
+    renderer for these calls."""
     renderer = (ctx or default_context()).kept(LineRenderer)
     renderer.prepare(mesh)
     return renderer.render(Frame(view, size), params)

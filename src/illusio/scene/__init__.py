@@ -3,12 +3,13 @@
 from .builtin import SCENES, SHAPES, builtin_scene, shape, turntable
 from .camera import Camera, Pose, Screen, StereoRig, View
 from .loader import load_scene
-from .mesh import Mesh, MeshWarning, load_mesh
+from .mesh import Mesh, MeshWarning, as_mesh, load_mesh
 from .scene import Action, AreaLight, Curve, Material, Node, PointLight, Scene
 
 __all__ = [
     "Mesh",
     "MeshWarning",
+    "as_mesh",
     "load_mesh",
     "Camera",
     "Pose",

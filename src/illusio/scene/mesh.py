@@ -17,7 +17,7 @@ import numpy as np
 from ..core.errors import InputError
 from .mesh_counts import check_declared_counts, length_error
 
-__all__ = ["Mesh", "MeshWarning", "load_mesh", "vertex_normals", "crease_split", "weld", "MESH_FORMATS"]
+__all__ = ["Mesh", "MeshWarning", "as_mesh", "load_mesh", "vertex_normals", "crease_split", "weld", "MESH_FORMATS"]
 
 MESH_FORMATS = (".obj", ".ply", ".off", ".stl", ".gltf", ".glb")
 
@@ -56,6 +56,21 @@ class Mesh:
             if len(self.source_index) != len(self.vertices):
                 raise InputError(f"{self.name}: source_index must have one row per vertex")
 
+    @classmethod
+    def from_trimesh(cls, mesh, name: str | None = None) -> Mesh:
+        """A Mesh of a ``trimesh.Trimesh`` (its vertices, faces and, with texture visuals, uvs; a
+        ``trimesh.Scene`` is flattened with its transforms). Normals are computed as for any Mesh."""
+        import trimesh
+
+        if isinstance(mesh, trimesh.Scene):
+            mesh = mesh.to_mesh() if hasattr(mesh, "to_mesh") else mesh.dump(concatenate=True)
+        if not isinstance(mesh, trimesh.Trimesh):
+            raise InputError(f"expected a trimesh.Trimesh or trimesh.Scene, got {type(mesh).__name__}")
+        uv = getattr(mesh.visual, "uv", None)
+        uvs = None if uv is None or len(uv) != len(mesh.vertices) else np.asarray(uv, np.float32)
+        label = name or str(mesh.metadata.get("name") or mesh.metadata.get("file_name") or "trimesh")
+        return cls(np.asarray(mesh.vertices), np.asarray(mesh.faces), uvs=uvs, name=label)
+
     @property
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """(min corner, max corner) of the referenced vertices."""
@@ -83,6 +98,17 @@ class Mesh:
         v, f, n, uv, origin = crease_split(self.vertices, self.faces, angle, self.uvs, return_origin=True)
         source = None if self.source_index is None else self.source_index[origin]
         return replace(self, vertices=v, faces=f, normals=n, uvs=uv, notes=list(self.notes), source_index=source)
+
+
+def as_mesh(mesh) -> Mesh:
+    """``mesh`` as a :class:`Mesh`: a Mesh as it is, a ``trimesh.Trimesh`` or ``trimesh.Scene`` through
+    :meth:`Mesh.from_trimesh`; anything else is refused in one line."""
+    if isinstance(mesh, Mesh):
+        return mesh
+    module = type(mesh).__module__ or ""
+    if module.split(".")[0] == "trimesh":
+        return Mesh.from_trimesh(mesh)
+    raise InputError(f"expected a mesh (illusio Mesh or trimesh.Trimesh), got {type(mesh).__name__}")
 
 
 def weld(vertices: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

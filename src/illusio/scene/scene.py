@@ -100,6 +100,9 @@ class Node:
     visible: bool = True
 
     def __post_init__(self):
+        from .mesh import as_mesh
+
+        self.mesh = as_mesh(self.mesh)  # a trimesh.Trimesh is taken too
         self.transform = np.asarray(self.transform, dtype=np.float32).reshape(4, 4)
         if not np.isfinite(self.transform).all():
             raise InputError(f"node {self.name!r}: transform is not finite")

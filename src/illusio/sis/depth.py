@@ -117,8 +117,10 @@ class HiddenDepthPass:
 def hidden_scene(mesh: Mesh, azimuth: float = 0.0, elevation: float = 10.0, distance: float = 2.6) -> Scene:
     """A scene holding only ``mesh`` (normalised to 1 m), with a ``main`` camera in front of it: what a
     stereogram hides."""
+    from ..scene.mesh import as_mesh
     from ..scene.scene import Node
 
+    mesh = as_mesh(mesh)
     m = mesh.normalised(1.0)
     lo, hi = m.bounds
     centre = tuple((np.asarray(lo) + np.asarray(hi)) / 2)

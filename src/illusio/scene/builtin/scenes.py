@@ -422,7 +422,9 @@ def turntable(
     mesh: Mesh | None = None, colour=(0.75, 0.72, 0.68), azimuth: float = 30.0, elevation: float = 22.0
 ) -> Scene:
     """One shape (default: the torus knot) normalised to 1 m, resting on a checkered floor."""
-    mesh = (mesh or shapes.torus_knot()).normalised(1.0)
+    from ..mesh import as_mesh
+
+    mesh = (shapes.torus_knot() if mesh is None else as_mesh(mesh)).normalised(1.0)
     s = Scene("turntable", ambient=(0.08, 0.08, 0.09), background=(0.05, 0.05, 0.06))
     _place(
         s,

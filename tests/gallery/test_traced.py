@@ -9,24 +9,24 @@ pytest.importorskip("mitsuba", reason="the photo extra (pip install 'illusio[pho
 
 
 def test_equal_arguments_share_one_render_and_others_do_not():
-    from illusio.gallery import path_traced
+    from illusio.gallery import traced
     from illusio.radiosity.polygons import scene_polygons
     from illusio.scene.builtin import builtin_scene
 
-    path_traced.clear()
+    traced.clear()
     scene = builtin_scene("cornell-box")
     view = scene.camera("main")
-    made = path_traced.renders_made()
-    first = path_traced.path_traced(scene_polygons(scene), view, (16, 12), samples=2)
-    again = path_traced.path_traced(scene_polygons(builtin_scene("cornell-box")), view, (16, 12), samples=2)
-    assert again is first and path_traced.renders_made() == made + 1
+    made = traced.renders_made()
+    first = traced.path_traced(scene_polygons(scene), view, (16, 12), samples=2)
+    again = traced.path_traced(scene_polygons(builtin_scene("cornell-box")), view, (16, 12), samples=2)
+    assert again is first and traced.renders_made() == made + 1
     assert not first.flags.writeable  # a section cannot spoil what another reads
-    other = path_traced.path_traced(scene_polygons(scene), view, (16, 12), samples=2, seed=1)
-    assert path_traced.renders_made() == made + 2 and other.shape == (12, 16, 3)
+    other = traced.path_traced(scene_polygons(scene), view, (16, 12), samples=2, seed=1)
+    assert traced.renders_made() == made + 2 and other.shape == (12, 16, 3)
     assert not np.array_equal(other, first)
-    path_traced.clear()
-    path_traced.path_traced(scene_polygons(scene), view, (16, 12), samples=2)
-    assert path_traced.renders_made() == made + 3  # cleared: made again
+    traced.clear()
+    traced.path_traced(scene_polygons(scene), view, (16, 12), samples=2)
+    assert traced.renders_made() == made + 3  # cleared: made again
 
 
 def test_radiosity_office_reference_is_the_relight_photograph(ctx):
