@@ -17,9 +17,19 @@ from tests.conftest import REPO
 @pytest.fixture(scope="module")
 def sdist_names(tmp_path_factory):
     pytest.importorskip("build", reason="the test extra (pip install build)")
-    out = tmp_path_factory.mktemp("sdist")
+    import shutil
+
+    # from the files a clone holds: an installed tree's egg-info (its SOURCES.txt) would add to the sdist
+    tree, out = tmp_path_factory.mktemp("tree"), tmp_path_factory.mktemp("sdist")
+    files = subprocess.run(
+        ["git", "ls-files", "-co", "--exclude-standard"], capture_output=True, text=True, cwd=REPO, check=True
+    ).stdout.split()
+    for name in files:
+        if (REPO / name).is_file():
+            (tree / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(REPO / name, tree / name)
     r = subprocess.run(
-        [sys.executable, "-m", "build", "--sdist", "--outdir", str(out), str(REPO)],
+        [sys.executable, "-m", "build", "--sdist", "--outdir", str(out), str(tree)],
         capture_output=True,
         text=True,
         timeout=600,
