@@ -85,3 +85,22 @@ def test_gmres_then_iterations_reach_the_fixed_point_of_the_iterations_alone_in_
     assert np.abs(b_fast - b_plain).max() < 2e-5 * reflected  # both within 1e-6 of the change's scale
     solve(h, matrix, 2 * exitance, 1e-6, 5000, start=start, reach=reach)
     assert np.abs(h.radiosity - 2 * b_fast).max() < 4e-5 * reflected
+
+
+def test_a_warm_start_finishes_with_gather_steps_and_a_cold_bright_room_takes_gmres(monkeypatch):
+    """solve's probe: from a converged B (an edit) the first gather steps finish it, GMRES unused
+    (its set-up cost as much as the rest of a relighting drag's move); from the lamps alone in a bright
+    room the steps contract slowly and GMRES is taken."""
+    import illusio.radiosity.solve as solve_module
+
+    lamp = np.r_[[[3.0, 2.0, 1.0]], np.zeros((5, 3))]
+    sol = Radiosity(_polygons(_cube((0, 0, 0), 1.0)[:, ::-1], 0.95, lamp), HierarchyParams(epsilon=1e-3))
+    sol.build()
+    h, matrix, exitance, reach = sol.hierarchy, sol.matrix(), sol.exitance(), sol.reach()
+    calls = []
+    real = solve_module._krylov
+    monkeypatch.setattr(solve_module, "_krylov", lambda *a: calls.append(1) or real(*a))
+    cold = solve(h, matrix, exitance, 1e-6, 5000, start=exitance.copy(), reach=reach)
+    assert cold.converged and calls == [1]
+    warm = solve(h, matrix, exitance, 1e-6, 5000, start=h.radiosity.copy(), reach=reach)
+    assert warm.converged and warm.iterations <= solve_module.PROBE_STEPS and calls == [1]

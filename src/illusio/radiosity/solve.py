@@ -106,6 +106,23 @@ def _push_pull(order, parent, child, area, reflectance, irradiance, exitance, sc
     return b
 
 
+#: gather steps a solve takes before it decides on GMRES
+PROBE_STEPS = 3
+#: GMRES is used when the gather steps' contraction predicts more than this many steps still to go
+GATHER_STEPS_LEFT = 12
+
+
+def _steps_left(changes: list[float], tolerance: float) -> float:
+    """Gather steps still needed to bring the last change under ``tolerance`` at the contraction the
+    last two steps showed (infinite when they did not contract)."""
+    if len(changes) < 2 or changes[-2] <= 0:
+        return np.inf
+    ratio = changes[-1] / changes[-2]
+    if not 0 < ratio < 1:
+        return np.inf
+    return float(np.log(tolerance / changes[-1]) / np.log(ratio))
+
+
 def _krylov(h, matrix, exitance, levels, scale, b, tolerance, max_iterations):
     """B from GMRES on (I − M) B = push_pull(0, E), M the gather and push-pull of the light alone:
     a bright room (ρ·Σ F near 1) that gather iterations take hundreds of steps over is solved in a few
@@ -141,11 +158,13 @@ def solve(
     reach: np.ndarray | None = None,
     krylov: bool = True,
 ) -> SolveResult:
-    """From ``start`` (default: the hierarchy's B), GMRES (with ``krylov``) then gather + push-pull
-    iterations until the largest change of B is below ``tolerance`` × the largest reflected radiosity
-    max(B − E); leaves B and H in the hierarchy. ``matrix``: K with H = K @ B (a scipy matrix or
-    :class:`links.LinkGather`); ``reach``: form_factor_scale's. The iterations counted are the
-    products of K, GMRES's included."""
+    """From ``start`` (default: the hierarchy's B), gather + push-pull iterations until the largest
+    change of B is below ``tolerance`` × the largest reflected radiosity max(B − E); leaves B and H in
+    the hierarchy. With ``krylov``, after PROBE_STEPS of them, GMRES when their contraction predicts
+    more than GATHER_STEPS_LEFT more (a bright room from a cold start; an edit's warm start finishes
+    with the gather steps: on the relighting drag, GMRES's set-up cost as much as the rest of a move).
+    ``matrix``: K with H = K @ B (a scipy matrix or :class:`links.LinkGather`); ``reach``:
+    form_factor_scale's. The iterations counted are the products of K, GMRES's included."""
     if not np.any(exitance):  # nothing emits: B = 0 (the relative change below would never settle)
         h.radiosity[:] = 0.0
         h.irradiance[:] = 0.0
@@ -153,19 +172,31 @@ def solve(
     levels = h.by_level()
     gather_scale = form_factor_scale(h, matrix, levels, reach)
     b = (h.radiosity if start is None else start).copy()
-    b, k = _krylov(h, matrix, exitance, levels, gather_scale, b, tolerance, max_iterations) if krylov else (b, 0)
-    change, irradiance = np.inf, None
-    while k < max_iterations or irradiance is None:  # at least one: it measures the change
-        k += 1
+    k, changes, change, irradiance = 0, [], np.inf, None
+
+    def gather(b):
         irradiance = np.asarray(matrix @ b)
         new = push_pull(h, irradiance, exitance, levels, gather_scale)
         # the reflected light, not the lamps; where almost none is (a lamp facing away) the change
         # is measured against 1e-9 of the lamps' exitance, so a dark scene converges too
         scale = max(float(np.abs(new - exitance).max()), 1e-9 * float(np.abs(exitance).max()))
-        change = float(np.abs(new - b).max()) / scale
-        b = new
-        if change < tolerance:
-            break
+        return new, irradiance, float(np.abs(new - b).max()) / scale
+
+    if krylov:
+        # a few gather steps first: from a converged start (an edit) they finish the solve, and
+        # their contraction says whether GMRES (whose set-up costs more than a few products) pays
+        while k < PROBE_STEPS and k < max_iterations:
+            k += 1
+            b, irradiance, change = gather(b)
+            changes.append(change)
+            if change < tolerance:
+                break
+        if change >= tolerance and _steps_left(changes, tolerance) > GATHER_STEPS_LEFT:
+            b, spent = _krylov(h, matrix, exitance, levels, gather_scale, b, tolerance, max_iterations - k)
+            k += spent
+    while change >= tolerance and (k < max_iterations or irradiance is None):  # at least one
+        k += 1
+        b, irradiance, change = gather(b)
     h.radiosity[:] = b
     h.irradiance[:] = irradiance
     dark = float(np.abs(b - exitance).max()) < 1e-9 * float(np.abs(exitance).max())
