@@ -135,9 +135,6 @@ class RadiosityParams:
     NOT_VISIBLE_BY_DEFAULT: ClassVar[dict[str, str]] = {
         "element": "only with show links",
         "hierarchy.max_links": "a budget: the default scene stays far below it (at its low end, refused)",
-        "tolerance": "GMRES leaves the default scene's B far inside any tolerance (the image moves under "
-        "1/255 from 1e-4 to 0.25); a stop before it still warns",
-        "max_iterations": "the default scene converges in far fewer products (a cap it reaches warns)",
     }
 
     def __post_init__(self):
