@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Set up illusio on a fresh Debian/Ubuntu machine: system GL libraries (installed when running as
 # root, otherwise the one apt-get line is printed), a virtual environment in .venv, the package.
-# Usage: scripts/setup.sh [pip extras, comma-separated: viewer, photo (also installs libatomic1, which
-# Mitsuba's JIT loads), test (viewer + photo + cluster; also installs xvfb, xauth and chromium)]
+# Usage: scripts/setup.sh [pip extras, comma-separated: viewer, docs (the site: scripts/docs.sh),
+# photo (also installs libatomic1, which Mitsuba's JIT loads), test (viewer + photo + cluster + docs;
+# also installs xvfb, xauth and chromium)]
 # Versions are those of constraints.txt (a fresh install that passed the suite); ILLUSIO_CONSTRAINTS=none
 # installs the newest instead (how constraints.txt is refreshed: README, "Versions").
 set -euo pipefail

@@ -38,7 +38,7 @@ def image_distance(focal_length: float, distance):
 def coc_diameter(distance, focus_distance: float, aperture: float, focal_length: float):
     """Equation (2): the diameter C of the circle of confusion on the image plane placed where
     ``focus_distance`` is sharp, for a point at ``distance``: by similar triangles,
-    C = A · |d_s(d) − d_s(d_f)| / d_s(d) (same units as the aperture A)."""
+    C = A · abs(d_s(d) − d_s(d_f)) / d_s(d) (same units as the aperture A)."""
     d_s = image_distance(focal_length, distance)
     plane = image_distance(focal_length, focus_distance)
     return aperture * np.abs(d_s - plane) / d_s

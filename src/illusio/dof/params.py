@@ -28,7 +28,7 @@ STEREO_OUTPUTS = ("none", "left", "right", "left-right") + COMPOSITES
 class DofParams:
     """method: one of METHODS. focus_distance: d_f, metres along the view axis to the plane in focus.
     aperture_mm: A, the lens (pupil) diameter; the blur of a point at depth d is
-    A·|1/d − 1/d_f|·H / (2 tan(fov/2)) pixels (dof.lens). focal_length_mm: 0 keeps the camera's field
+    A·abs(1/d − 1/d_f)·H / (2 tan(fov/2)) pixels (dof.lens). focal_length_mm: 0 keeps the camera's field
     of view; else the field of view of that lens on a 24 mm high frame. samples: lens positions the
     accumulation method averages. planes_behind, planes_front: m and n of the planes method, spread by
     ``distribution`` between the focal plane and the camera's far and near planes. max_coc: the largest circle of

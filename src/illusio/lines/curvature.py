@@ -55,7 +55,7 @@ class Curvature:
     valid: np.ndarray
 
     def scale(self, percentile: float = 90.0) -> float:
-        """A curvature scale of the mesh (1/units): the ``percentile`` of max(|k_min|, |k_max|) over
+        """A curvature scale of the mesh (1/units): the ``percentile`` of max(abs(k_min), abs(k_max)) over
         valid vertices. Thresholds relative to it transfer between meshes of any size and detail."""
         k = np.maximum(np.abs(self.k_min), np.abs(self.k_max))[self.valid]
         return float(np.percentile(k, percentile)) if len(k) else 1.0

@@ -86,7 +86,7 @@ class LineParams:
     or Judd's object-space method. tau: τ, q = 2^τ q1 (/ curvature scale when relative).
     lam: λ of the adaptive Laplacian. threshold: the ridge filter's response threshold (0.2 in the
     report). object_threshold: q1 / scale above which object-space apparent ridges are kept.
-    ridge_threshold: |k| / scale for ridges and valleys. suggestive_threshold: D_w κ_r / scale² (and
+    ridge_threshold: abs(k) / scale for ridges and valleys. suggestive_threshold: D_w κ_r / scale² (and
     the level of the DwKr lines). highlight_threshold: the strength of suggestive highlights
     (−D_w κ_r / scale²) and principal highlights ((k_max² − k_min²)·n·v / scale²) kept.
     silhouette_space: "object" (zero crossings of n·v) or "image" (depth discontinuities).

@@ -23,11 +23,13 @@ class Camera:
     """Perspective projection only (where the camera is comes from :class:`Pose`).
 
     fov_y: vertical field of view, degrees. near, far: clip distances, metres.
+
     shift: lens shift (x right, y up) as the tangent of the angle between the view axis and the
-      centre of the frustum window; (0, 0) is a symmetric frustum. Stereo rigs use it for off-axis
-      frusta (no toe-in); a photograph's principal point off the image centre is a shift too.
+    centre of the frustum window; (0, 0) is a symmetric frustum. Stereo rigs use it for off-axis
+    frusta (no toe-in); a photograph's principal point off the image centre is a shift too.
+
     pixel_aspect: f_y / f_x of a pinhole's intrinsics: the frustum's width is tan(fov_y/2) ×
-      the image's aspect × this (1: square pixels). See :meth:`from_intrinsics`.
+    the image's aspect × this (1: square pixels). See :meth:`from_intrinsics`.
     """
 
     fov_y: float = 50.0

@@ -73,8 +73,9 @@ TEXTURES = {
 
 
 def load_scene(source: str | os.PathLike) -> Scene:
-    """A built-in scene name (``living-room``, ``office``, ``museum``, ``turntable``), a YAML path or
-    an MGF file (``.mgf``: the classic radiosity scenes; :mod:`illusio.scene.mgf`)."""
+    """A built-in scene name (``living-room``, ``office``, ``museum``, ``turntable``), a YAML path,
+    an MGF file (``.mgf``: the classic radiosity scenes; :mod:`illusio.scene.mgf`) or a glTF or OBJ
+    scene as other tools write it (:func:`illusio.scene.scene_file.load_scene_file`)."""
     text = str(source)
     if text in SCENES:
         return builtin_scene(text)
@@ -83,12 +84,16 @@ def load_scene(source: str | os.PathLike) -> Scene:
         from .mgf import load_mgf
 
         return load_mgf(p)
+    from .scene_file import SCENE_FILE_FORMATS, load_scene_file
+
+    if p.suffix.lower() in SCENE_FILE_FORMATS:
+        return load_scene_file(p)
     if p.suffix.lower() not in (".yaml", ".yml"):
         if not p.exists():
             raise InputError(
                 f"{text}: not a built-in scene ({', '.join(SCENES)}) nor a YAML file{did_you_mean(text, SCENES)}"
             )
-        raise InputError(f"{p}: scene files must be .yaml, .yml or .mgf")
+        raise InputError(f"{p}: scene files must be .yaml, .yml, .mgf, .glb, .gltf or .obj")
     if not p.is_file():
         raise InputError(f"{p}: no such file")
     data = read_yaml(p, "scene")

@@ -111,7 +111,7 @@ class DecodeReport:
     expected one; checked: how many pixels were checked (those with a partner in the stereogram and a
     window of one depth, not ambiguous); ambiguous: pixels left out because two separations match
     equally well (doubled images where a chain forks at an occlusion edge); mean_error: mean
-    |decoded − expected| over the checked pixels."""
+    abs(decoded − expected) over the checked pixels."""
 
     matched: float
     checked: int

@@ -35,18 +35,29 @@ class StereogramParams:
     """How depth becomes a stereogram.
 
     algorithm: one of :data:`ALGORITHMS`.
+
     strip_width: W_s, pixels — the separation of the nearest depth (Algorithm 1's strip width).
+
     depth_factor: β, pixels — separations span [W_s, W_s + β] from near (D = 0) to far (D = 1).
+
     exact: map depth through equation (3) on ``screen`` (linear in the simulated depth f' between the
-        f'_min, f'_max that W_s and W_s + β stand for) instead of the linear W_s + β·D.
+    f'_min, f'_max that W_s and W_s + β stand for) instead of the linear W_s + β·D.
+
     screen: the physical display (d, a, w_p, f, e of Table 1); gives e_p for the range checks and the
-        hidden-surface test of the symmetric algorithm.
+    hidden-surface test of the symmetric algorithm.
+
     pattern: one of :data:`PATTERNS` or an image path (tiled, its period scaled to W_s + β).
+
     dot_size: pixels per random dot.
+
     guides: draw two guide dots W_s + β apart near the top.
+
     cross_eyed: for viewing with crossed eyes (the depth is flipped so that near stays near).
+
     invert: flip the depth map (D → 1 − D) before anything else.
+
     oversample: compute at this many times the width and average back (smooths depth terracing).
+
     seed: for every random pattern.
     """
 
