@@ -386,3 +386,18 @@ def test_a_scene_file_hides_in_a_stereogram_as_its_placed_nodes(room, tmp_path):
     assert np.allclose(mesh.vertices.max(0), scene.bounds()[1], atol=1e-5)
     r = illusio("sis-scene", "living-room", "--hidden", room, "-o", tmp_path / "s.png", "--size", "160x96")
     assert r.returncode == 0, r.stderr
+
+
+def test_a_glb_whose_texture_image_is_damaged_is_one_line(room, tmp_path):
+    """Found by the fuzz target (seed 1538875605: one byte of a GLB's embedded PNG flipped): PIL
+    decodes the texture only when its pixels are read, and its OSError was a traceback."""
+    data = bytearray(room.read_bytes())
+    idat = data.index(b"IDAT")
+    data[idat + 40] ^= 0xFF  # inside the compressed pixels
+    broken = tmp_path / "broken.glb"
+    broken.write_bytes(bytes(data))
+    from illusio.core.errors import InputError
+
+    with pytest.raises(InputError, match="not a readable image"):
+        load_scene_file(broken)
+    assert_one_line_error(illusio("render", broken, "-o", tmp_path / "x.png"), "broken.glb", "texture")

@@ -391,19 +391,29 @@ def _factor(value, n: int, default) -> np.ndarray:
     return a / 255 if np.asarray(value).dtype == np.uint8 else a
 
 
+def _pixels(image, mode: str) -> np.ndarray:
+    """A texture's pixels (float32 in [0, 1]) in PIL ``mode``: the image is decoded here (trimesh
+    hands it over unread), so a damaged one is refused in one line, not a traceback."""
+    from PIL import Image
+
+    try:
+        return np.asarray(image.convert(mode), np.float32) / 255
+    except (OSError, ValueError, SyntaxError, IndexError, Image.DecompressionBombError) as exc:
+        said = str(exc).strip().splitlines()
+        raise InputError(f"a texture is not a readable image ({said[0] if said else type(exc).__name__})") from None
+
+
 def _texture(image) -> np.ndarray | None:
     if image is None:
         return None
-    rgb = np.asarray(image.convert("RGB"), np.float32) / 255
-    return srgb_to_linear(rgb)
+    return srgb_to_linear(_pixels(image, "RGB"))
 
 
 def _opacity(image, factor: float) -> np.ndarray | None:
     """glTF's alpha: the base colour factor's alpha × the texture's (linear, not sRGB-coded)."""
     if image is None:
         return None
-    alpha = np.asarray(image.convert("RGBA"), np.float32)[:, :, 3] / 255
-    return alpha * np.float32(factor)
+    return _pixels(image, "RGBA")[:, :, 3] * np.float32(factor)
 
 
 def _pbr_material(source, gltf_material, unsupported: list[str]) -> Material:
