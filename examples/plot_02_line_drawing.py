@@ -13,8 +13,9 @@ from _display import display
 
 from illusio.lines import LineParams, line_drawing
 
-ball = trimesh.creation.icosphere(subdivisions=4)
-ball.vertices *= 1 + 0.15 * np.sin(3 * ball.vertices[:, [0]]) * np.cos(2 * ball.vertices[:, [1]])  # a lumpy ball
+ball = trimesh.creation.icosphere(subdivisions=5)
+bumps = np.sin(5 * ball.vertices[:, [0]]) * np.cos(4 * ball.vertices[:, [1]]) * np.sin(3 * ball.vertices[:, [2]])
+ball.vertices *= 1 + 0.25 * bumps  # a lumpy ball
 
 ridges = line_drawing(ball, size=(360, 360))
 more = line_drawing(ball, LineParams(lines=("apparent-ridges", "silhouettes", "suggestive")), size=(360, 360))

@@ -24,7 +24,10 @@ for name, mesh, colour, at in (
     ("block", trimesh.creation.box((0.6, 0.8, 0.6)), [0.1, 0.4, 0.8, 1], [0.5, 0.4, 0]),
     ("floor", trimesh.creation.box((3, 0.02, 3)), [0.7, 0.7, 0.7, 1], [0, -0.01, 0]),
 ):
-    mesh.visual = trimesh.visual.TextureVisuals(material=PBRMaterial(name, baseColorFactor=colour))
+    # metallicFactor given: glTF's default is 1, a metal, which illusio's Phong mapping draws as its
+    # highlight alone (docs: "Scenes from other tools")
+    material = PBRMaterial(name, baseColorFactor=colour, metallicFactor=0.0, roughnessFactor=0.6)
+    mesh.visual = trimesh.visual.TextureVisuals(material=material)
     scene.add_geometry(mesh, node_name=name, transform=trimesh.transformations.translation_matrix(at))
 path = Path(tempfile.mkdtemp()) / "shapes.glb"
 scene.export(path)
