@@ -25,7 +25,7 @@ extensions = [
 ]
 source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
 # the design journal and the build output are not pages of the site
-exclude_patterns = ["_build", "design-notes.md", "gallery/*.ipynb", "gallery/*.py.md5", "gallery/*.zip"]
+exclude_patterns = ["_build", "gallery/*.ipynb", "gallery/*.py.md5", "gallery/*.zip"]
 myst_heading_anchors = 3
 html_theme = "furo"
 html_title = f"illusio {release}"

@@ -299,7 +299,7 @@ def bias_plot(out_dir: Path, rel: str, halves: dict, sep: np.ndarray, strip_widt
         "left-to-right bias: decoded per half, per algorithm",
         f"no accuracy bias between halves; the bias is where the scene is seen: sequential, fast and strip "
         f"show the near part {shift:.0f} px left of the depth map (half a separation), symmetric centred "
-        f"(design notes: which to choose when; RESULTS: sis_quality)",
+        f"(docs/decisions/0008: which to choose when; RESULTS: sis_quality)",
         figure=PAPER + "section 3.3",
     )
 
