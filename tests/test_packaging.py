@@ -42,9 +42,9 @@ def sdist_names(tmp_path_factory):
 
 def test_the_sdist_holds_the_license_and_what_readme_points_to(sdist_names):
     assert {"LICENSE", "README.md", "constraints.txt", "pyproject.toml"} <= sdist_names
-    named = set(
-        re.findall(r"`((?:scripts|examples|docs|benchmarks|tests)/[\w./-]+)`", (REPO / "README.md").read_text())
-    )
+    readme = (REPO / "README.md").read_text()
+    named = set(re.findall(r"`((?:scripts|examples|docs|benchmarks|tests)/[\w./-]+)`", readme))
+    named |= {t.rstrip("/") for t in re.findall(r"\]\(([^)\s:#]+)\)", readme)}  # its links: pages, the strip
     named |= {"scripts/demo.sh", "scripts/test.sh", "benchmarks/RESULTS.md", "docs/scene-files.md"}
     present = {p for p in named if (REPO / p).exists() and "/_build/" not in p}  # built, not shipped
     assert len(present) >= 5

@@ -225,7 +225,7 @@ def test_zero_parallax_stays_at_the_screen_while_the_focus_moves(ctx, museum):
 
 
 def test_figure_11_shows_depth_of_field():
-    """README's Figure 11 command is the gallery's; the script's focus changes by metres when the
+    """The command page's Figure 11 command is the gallery's; the script's focus changes by metres when the
     robot fires (it went from 28.1 to 27.0 m), and the aperture blurs the far end of the ship's
     loop by many pixels while the robot is in focus."""
     from pathlib import Path
@@ -236,8 +236,8 @@ def test_figure_11_shows_depth_of_field():
     from illusio.gallery.dof import FIGURE_11_APERTURE, FIGURE_11_COMMAND
     from illusio.scene.builtin import builtin_scene
 
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text()
-    assert FIGURE_11_COMMAND in " ".join(readme.split())
+    commands = (Path(__file__).resolve().parents[2] / "docs" / "commands.md").read_text()
+    assert FIGURE_11_COMMAND in " ".join(commands.split())
     scene = builtin_scene("futuristic")
     view = scene.camera()
     player = ScenarioPlayer(load_scenario(shipped_scenario("futuristic")), scene)

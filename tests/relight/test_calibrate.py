@@ -137,7 +137,7 @@ def test_points_on_one_plane_are_refused(rng):
 
 
 def test_the_worked_example_from_photograph_to_relit_image(tmp_path, capsys):
-    """README's walkthrough on the example the project makes: the calibrated camera is the one the
+    """The walkthrough of docs/own-data.md on the example the project makes: the calibrated camera is the one the
     photograph was made with (f within 2 %, c within 3 px, k1 within 0.02), and the photograph
     relit with the reading lamp off is nearer the path-traced truth of that edit than the photograph
     is, by half at least (over 4×4 blocks, one exposure scale each: measured 0.083 against 0.30)."""

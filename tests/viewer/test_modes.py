@@ -331,7 +331,7 @@ def test_the_sis_mode_takes_a_scene_or_a_hidden_shape_as_its_source(ctx):
 
 def test_the_dof_mode_opens_with_the_command_lines_defaults(ctx):
     """One source of defaults: `illusio view -t dof` opens as `illusio dof` draws (DofParams()), its
-    scenario view as README's Figure 11 line runs it."""
+    scenario view as the command page's Figure 11 line runs it."""
     from illusio.dof.params import DofParams
     from illusio.gallery.dof import FIGURE_11_PARAMS
     from illusio.viewer.modes import MODES

@@ -261,7 +261,7 @@ def relight_example(
 ) -> None:
     """The worked example of relighting your own photograph: a room's model, a photograph of it
     path-traced through a camera with its own intrinsics and lens distortion, and points picked on
-    both. Then: `illusio relight calibrate`, `illusio relight prepare`, `illusio relight` (README)."""
+    both. Then: `illusio relight calibrate`, `illusio relight prepare`, `illusio relight` (docs/own-data.md)."""
     from ..relight.example import make_example
 
     if not 1 <= samples <= 4096:

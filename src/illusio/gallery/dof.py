@@ -182,7 +182,7 @@ def _museum_walk(ctx: Context, out_dir: Path, size: tuple[int, int], fps: float 
     )
 
 
-#: Figure 11 as README and the gallery give it: the paper's planes, an aperture that shows the blur
+#: Figure 11 as docs/commands.md and the gallery give it: the paper's planes, an aperture that shows the blur
 FIGURE_11_APERTURE = 500.0
 FIGURE_11_PARAMS = DofParams(method="planes", aperture_mm=FIGURE_11_APERTURE, stereo="anaglyph")
 FIGURE_11_ITEM = Item(

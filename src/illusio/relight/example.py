@@ -1,4 +1,4 @@
-"""The worked example of relighting one's own photograph (README's walkthrough): a folder as a user
+"""The worked example of relighting one's own photograph (docs/own-data.md's walkthrough): a folder as a user
 would make it — the room's model (scene.yaml), a photograph of it and points picked on both — made by
 the project, so every step from photograph to relit image runs from a fresh clone.
 

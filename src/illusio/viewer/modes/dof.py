@@ -35,7 +35,7 @@ class DofMode(Mode):
         self.renderer.prepare(self.scene)
         self.show_coc = False
         self.player = None
-        # the command line's defaults (one source, the Params); the scenario as README's Figure 11 line
+        # the command line's defaults (one source, the Params); the scenario as the command page's Figure 11 line
         # runs it (illusio dof futuristic --scenario futuristic --method planes --aperture 500)
         if variant == "scenario":
             self.player = ScenarioPlayer(load_scenario(shipped_scenario("futuristic")), self.scene)
