@@ -170,3 +170,45 @@ def test_second_run_reads_the_cache(tmp_path, monkeypatch):
     assert np.allclose(estimate_curvature(mesh).k_max, first.k_max + 123.0)
     # another setting is another key
     assert not np.allclose(estimate_curvature(mesh, degree=2).k_max, first.k_max + 123.0)
+
+
+@pytest.mark.parametrize("degree", [2, 3, 4])
+def test_normal_equations_from_power_sums_are_the_design_matrix_products(degree, rng):
+    """The fit's AᵀA and Aᵀh, summed as the 45 power sums Σ x^p y^q and 15 Σ h x^p y^q, equal the
+    plain products of the jet's design matrix (`jet_monomials`) on random points in a random frame."""
+    from illusio.lines.curvature import _accumulate, _frame, jet_monomials
+
+    count = int(rng.integers(12, 60))
+    vertices = rng.normal(size=(count + 1, 3))
+    n0 = rng.normal(size=3)
+    n0 /= np.linalg.norm(n0)
+    t1, t2 = np.empty(3), np.empty(3)
+    _frame(n0, t1, t2)
+    scale = float(rng.uniform(0.5, 2.0))
+    unknowns = (degree + 1) * (degree + 2) // 2
+    gram, moment = np.zeros((unknowns, unknowns)), np.zeros(unknowns)
+    ring = np.arange(1, count + 1)
+    hh = _accumulate(
+        vertices, 0, n0, t1, t2, scale, ring, 0, count, unknowns, gram, moment, np.empty(45), np.empty(45), np.empty(15)
+    )
+    local = (vertices[1:] - vertices[0]) * scale
+    x, y, h = local @ t1, local @ t2, local @ n0
+    a = jet_monomials(x, y, degree)
+    np.testing.assert_allclose(np.triu(gram), np.triu(a.T @ a), rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(moment, a.T @ h, rtol=1e-10, atol=1e-12)
+    assert hh == pytest.approx(h @ h, rel=1e-12)
+
+
+def test_adjacency_and_area_normals_match_their_plain_statements(rng):
+    """The numba adjacency (unique sorted neighbours, CSR) and area normals equal the NumPy ones on a
+    random triangle soup with repeated, reversed and degenerate faces."""
+    from illusio.lines.curvature import _adjacency, _area_normals, adjacency_reference, area_normals_reference
+
+    count = 200
+    faces = rng.integers(0, count, size=(600, 3))
+    faces = np.concatenate([faces, faces[:50, ::-1], faces[:20]])  # repeated edges both ways
+    faces[:10, 1] = faces[:10, 0]  # degenerate faces: no self-loop in the adjacency
+    vertices = rng.normal(size=(count, 3))
+    for got, want in zip(_adjacency(count, faces), adjacency_reference(count, faces)):
+        np.testing.assert_array_equal(got, want)
+    np.testing.assert_allclose(_area_normals(vertices, faces), area_normals_reference(vertices, faces), atol=1e-12)

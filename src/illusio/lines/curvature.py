@@ -34,7 +34,7 @@ from ..scene.mesh import Mesh
 
 __all__ = ["Curvature", "estimate_curvature", "cache_dir", "CACHE_VERSION"]
 
-CACHE_VERSION = 4
+CACHE_VERSION = 5
 #: the kernels' first compilation after an install, measured on 2 cores (`NUMBA_CACHE_DIR=EMPTY illusio
 #: lines blob`: the curvature phase 16.6 s, the run 25.7 s against 3.7 s once compiled)
 COMPILE_SECONDS = 20
@@ -166,22 +166,83 @@ def estimate_curvature(
     return result
 
 
-def _area_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+@numba.njit(cache=True)
+def _area_normals(vertices, faces):
+    """Each vertex's sum of its faces' area-weighted normals (edge cross products): not normalised,
+    zero marks an unreferenced or degenerate vertex."""
+    n = np.zeros_like(vertices)
+    for f in range(len(faces)):
+        a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+        ux, uy, uz = vertices[b, 0] - vertices[a, 0], vertices[b, 1] - vertices[a, 1], vertices[b, 2] - vertices[a, 2]
+        vx, vy, vz = vertices[c, 0] - vertices[a, 0], vertices[c, 1] - vertices[a, 1], vertices[c, 2] - vertices[a, 2]
+        nx, ny, nz = uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx
+        for v in (a, b, c):
+            n[v, 0] += nx
+            n[v, 1] += ny
+            n[v, 2] += nz
+    return n
+
+
+def area_normals_reference(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
+    """The plain statement of :func:`_area_normals` (the test's reference)."""
     fn = np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]], vertices[faces[:, 2]] - vertices[faces[:, 0]])
     n = np.zeros_like(vertices)
     for axis in range(3):
         n[:, axis] = sum(np.bincount(faces[:, c], fn[:, axis], len(vertices)) for c in range(3))
-    return n  # not normalised: zero marks an unreferenced or degenerate vertex
+    return n
 
 
-def _adjacency(count: int, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """CSR vertex adjacency (unique neighbours) from the faces' edges."""
+@numba.njit(parallel=True, cache=True)
+def _adjacency(count, faces):
+    """CSR vertex adjacency from the faces' edges: each vertex's neighbours, unique and sorted
+    (a counting sort of the edges both ways, then each vertex's short list sorted and deduplicated)."""
+    degree = np.zeros(count + 1, np.int64)
+    for f in range(len(faces)):
+        for k in range(3):
+            a, b = faces[f, k], faces[f, (k + 1) % 3]
+            if a != b:
+                degree[a + 1] += 1
+                degree[b + 1] += 1
+    start = np.cumsum(degree)
+    raw = np.empty(start[-1], np.int64)
+    fill = start[:-1].copy()
+    for f in range(len(faces)):
+        for k in range(3):
+            a, b = faces[f, k], faces[f, (k + 1) % 3]
+            if a != b:
+                raw[fill[a]] = b
+                fill[a] += 1
+                raw[fill[b]] = a
+                fill[b] += 1
+    kept = np.zeros(count + 1, np.int64)
+    for v in numba.prange(count):
+        first, last = start[v], start[v + 1]
+        for k in range(first + 1, last):  # insertion sort: a vertex has a handful of neighbours
+            value = raw[k]
+            j = k - 1
+            while j >= first and raw[j] > value:
+                raw[j + 1] = raw[j]
+                j -= 1
+            raw[j + 1] = value
+        unique = 0
+        for k in range(first, last):
+            if k == first or raw[k] != raw[k - 1]:
+                raw[first + unique] = raw[k]
+                unique += 1
+        kept[v + 1] = unique
+    offsets = np.cumsum(kept)
+    neighbours = np.empty(offsets[-1], np.int64)
+    for v in numba.prange(count):
+        neighbours[offsets[v] : offsets[v + 1]] = raw[start[v] : start[v] + offsets[v + 1] - offsets[v]]
+    return offsets, neighbours
+
+
+def adjacency_reference(count: int, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The plain statement of :func:`_adjacency`: CSR vertex adjacency (unique, sorted neighbours)."""
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     edges = np.concatenate([edges, edges[:, ::-1]])
     edges = edges[edges[:, 0] != edges[:, 1]]
-    # sorted by source, then target; sort + mask rather than np.unique (80× slower in NumPy 2.4 here)
-    keys = np.sort(edges[:, 0] * np.int64(count) + edges[:, 1])
-    keys = keys[np.concatenate([[True], keys[1:] != keys[:-1]])]
+    keys = np.unique(edges[:, 0] * np.int64(count) + edges[:, 1])
     sources = keys // count
     offsets = np.zeros(count + 1, np.int64)
     offsets[1:] = np.cumsum(np.bincount(sources, minlength=count))
@@ -202,6 +263,16 @@ def _grow_ring(queue, head, tail, offsets, neighbours, stamp, mark, limit):
                 queue[tail] = u
                 tail += 1
     return tail
+
+
+@numba.njit(cache=True)
+def _frame_tangent(n):
+    """The unit tangent t1 of :func:`_frame` for the unit normal n, as a tuple."""
+    ax, ay = (1.0, 0.0) if abs(n[0]) < 0.9 else (0.0, 1.0)
+    d = ax * n[0] + ay * n[1]
+    x, y, z = ax - n[0] * d, ay - n[1] * d, -n[2] * d
+    length = np.sqrt(x * x + y * y + z * z)
+    return x / length, y / length, z / length
 
 
 @numba.njit(cache=True)
@@ -245,7 +316,9 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
         ata = np.empty((size, size))
         coef = np.empty(size)
         work = np.empty(size)
-        columns = np.empty((16, limit))
+        powers = np.empty(45)  # scratch of _accumulate
+        power_sums = np.empty(45)
+        power_sums_h = np.empty(15)
         fit = np.empty(15)  # one candidate: normal (3), k_min, k_max, e_min (3), e_max (3), cubic (4)
         best = np.empty(15)
         grams = np.empty((extra_rings + 1, size, size))  # normal equations per ring prefix
@@ -303,7 +376,23 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
             gram[:] = 0.0
             moment[:] = 0.0
             block = _unknowns(deg)
-            hh = _accumulate(vertices, i, n0, t1, t2, 1.0 / radius, queue, 0, ends[start], block, gram, moment, columns)
+            hh = _accumulate(
+                vertices,
+                i,
+                n0,
+                t1,
+                t2,
+                1.0 / radius,
+                queue,
+                0,
+                ends[start],
+                block,
+                gram,
+                moment,
+                powers,
+                power_sums,
+                power_sums_h,
+            )
             # the normal equations of the start rings and of each extra ring's prefix, kept for the
             # candidates below (the full block of the starting degree: lower degrees are its leading block)
             grams[0, :block, :block] = gram[:block, :block]
@@ -317,7 +406,21 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
                     break
                 ends[r + 1] = tail
                 hh += _accumulate(
-                    vertices, i, n0, t1, t2, 1.0 / radius, queue, ends[r], tail, block, gram, moment, columns
+                    vertices,
+                    i,
+                    n0,
+                    t1,
+                    t2,
+                    1.0 / radius,
+                    queue,
+                    ends[r],
+                    tail,
+                    block,
+                    gram,
+                    moment,
+                    powers,
+                    power_sums,
+                    power_sums_h,
                 )
                 extra += 1
                 grams[extra, :block, :block] = gram[:block, :block]
@@ -338,7 +441,20 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
             for d in range(deg, lowest - 1, -1):
                 for j in range(extra + 1):
                     std = _fit_one(
-                        grams[j], moments[j], sums[j], ends[start + j], d, radius, ata, coef, work, n0, t1, t2, fit
+                        grams[j],
+                        moments[j],
+                        sums[j],
+                        ends[start + j],
+                        d,
+                        radius,
+                        ata,
+                        coef,
+                        work,
+                        n0,
+                        t1,
+                        t2,
+                        fit,
+                        gamma > 0.0,
                     )
                     lo_low = max(lo_low, fit[3] - gamma * std)
                     lo_high = min(lo_high, fit[3] + gamma * std)
@@ -413,9 +529,8 @@ def _smooth_tensors(normals, k_min, k_max, e_min, e_max, valid, offsets, neighbo
         if not valid[i]:
             continue
         n = normals[i]
-        u = np.empty(3)
-        w = np.empty(3)
-        _frame(n, u, w)
+        u = _frame_tangent(n)  # a tuple (no allocation per vertex): _frame's t1 and t2
+        w = (n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0])
         t = tensor[i]
         # the 2×2 restriction [[uᵀTu, uᵀTw], [wᵀTu, wᵀTw]]
         tu0 = t[0] * u[0] + t[1] * u[1] + t[2] * u[2]
@@ -521,65 +636,111 @@ def _radius(vertices, i, t1, t2, ring, m):
     return np.sqrt(radius)
 
 
+#: sums may be reordered (and multiply-adds fused) so that LLVM vectorises them: a sum left in order
+#: is one chain of dependent additions, and the fit waited on it; no other fast-math assumption is made
+REASSOCIATE = {"reassoc", "contract"}
+
+#: the jet's monomials f·x^p·y^q in the order of its unknowns (h = c + a1 x + a2 y + ½(b0 x² + 2 b1 xy
+#: + b2 y²) + (c0 x³ + 3 c1 x²y + 3 c2 xy² + c3 y³)/6 + quartic/24): the exponents (p, q) and the
+#: Taylor factor f; the cubic's and the quadric's are the leading 10 and 6
+MONOMIALS = np.array(
+    [
+        (0, 0),
+        (1, 0),
+        (0, 1),
+        (2, 0),
+        (1, 1),
+        (0, 2),
+        (3, 0),
+        (2, 1),
+        (1, 2),
+        (0, 3),
+        (4, 0),
+        (3, 1),
+        (2, 2),
+        (1, 3),
+        (0, 4),
+    ],
+    np.int64,
+)
+FACTORS = np.array([1, 1, 1, 1 / 2, 1, 1 / 2, 1 / 6, 1 / 2, 1 / 2, 1 / 6, 1 / 24, 1 / 6, 1 / 4, 1 / 6, 1 / 24])
+
+
+def jet_monomials(x: np.ndarray, y: np.ndarray, degree: int) -> np.ndarray:
+    """The jet's monomials at points (x, y): the design matrix A, (len(x), unknowns), one row a point
+    (the plain statement the normal equations of :func:`_accumulate` are tested against)."""
+    count = (degree + 1) * (degree + 2) // 2
+    p, q = MONOMIALS[:count].T
+    return FACTORS[:count] * np.asarray(x, float)[:, None] ** p * np.asarray(y, float)[:, None] ** q
+
+
+def _power_index(top: int) -> np.ndarray:
+    """(top+1, top+1) → the flat index of x^p y^q among the powers with p + q ≤ top, p-major (-1 past)."""
+    index = np.full((top + 1, top + 1), -1, np.int64)
+    k = 0
+    for p in range(top + 1):
+        for q in range(top + 1 - p):
+            index[p, q] = k
+            k += 1
+    return index
+
+
+_POWERS_8, _POWERS_4 = _power_index(8), _power_index(4)
+#: AᵀA[a, b] = GRAM_FACTOR[a, b] · Σ x^p y^q at flat power GRAM_POWER[a, b]; Aᵀh[a] = FACTORS[a] · Σ h x^p y^q
+#: at flat power MOMENT_POWER[a] (p + q ≤ 4)
+GRAM_POWER = _POWERS_8[MONOMIALS[:, None, 0] + MONOMIALS[None, :, 0], MONOMIALS[:, None, 1] + MONOMIALS[None, :, 1]]
+GRAM_FACTOR = FACTORS[:, None] * FACTORS[None, :]
+MOMENT_POWER = _POWERS_4[MONOMIALS[:, 0], MONOMIALS[:, 1]]
+#: the flat index among the 45 powers (p + q ≤ 8) of each of the 15 with p + q ≤ 4, in their p-major order
+LOW_POWERS = np.array([_POWERS_8[p, q] for p in range(5) for q in range(5 - p)], np.int64)
+
+
 @numba.njit(cache=True)
-def _accumulate(vertices, i, n0, t1, t2, scale, ring, first, last, size, gram, moment, columns):
+def _accumulate(vertices, i, n0, t1, t2, scale, ring, first, last, size, gram, moment, powers, sums, sums_h):
     """Add ring[first:last]'s points, in the frame (t1, t2, n0) at vertex i scaled by ``scale``, to
-    the normal equations (upper triangle of ``gram``, ``moment``); returns their Σh². ``columns``:
-    scratch (16 × len(ring)) for the monomials, point-contiguous so the sums vectorise."""
-    degree = 4 if size == 15 else 3 if size == 10 else 2
+    the normal equations AᵀA (upper triangle of ``gram``) and Aᵀh (``moment``) of the jet's
+    monomials; returns their Σh². An entry of AᵀA is f_a·f_b·Σ x^(p_a+p_b)·y^(q_a+q_b), so the points
+    are summed into the 45 power sums Σ x^p y^q (p + q ≤ 8) and the 15 Σ h x^p y^q (p + q ≤ 4) rather
+    than into AᵀA's 120 entries one by one (:func:`jet_monomials` states A plainly; the test compares).
+    ``powers`` (45), ``sums`` (45), ``sums_h`` (15): scratch, flat so that the sums vectorise."""
+    sums[:] = 0.0
+    sums_h[:] = 0.0
+    hh = 0.0
     for j in range(first, last):
         dx = vertices[ring[j], 0] - vertices[i, 0]
         dy = vertices[ring[j], 1] - vertices[i, 1]
         dz = vertices[ring[j], 2] - vertices[i, 2]
         x = (dx * t1[0] + dy * t1[1] + dz * t1[2]) * scale
         y = (dx * t2[0] + dy * t2[1] + dz * t2[2]) * scale
-        columns[15, j] = (dx * n0[0] + dy * n0[1] + dz * n0[2]) * scale
-        _jet_column(x, y, degree, columns, j)
-    hh = 0.0
-    for j in range(first, last):
-        hh += columns[15, j] * columns[15, j]
-    for a in range(size):  # uniform weights: the rings already bound the support
-        total = 0.0
-        for j in range(first, last):
-            total += columns[a, j] * columns[15, j]
-        moment[a] += total
+        h = (dx * n0[0] + dy * n0[1] + dz * n0[2]) * scale
+        hh += h * h
+        k = 0
+        xp = 1.0
+        for p in range(9):  # x^p y^q, p-major
+            v = xp
+            for _q in range(9 - p):
+                powers[k] = v
+                v *= y
+                k += 1
+            xp *= x
+        for k in range(45):
+            sums[k] += powers[k]
+        for k in range(15):  # those of degree ≤ 4, times h
+            sums_h[k] += powers[LOW_POWERS[k]] * h
+    for a in range(size):
+        moment[a] += FACTORS[a] * sums_h[MOMENT_POWER[a]]
         for b in range(a, size):
-            total = 0.0
-            for j in range(first, last):
-                total += columns[a, j] * columns[b, j]
-            gram[a, b] += total
+            gram[a, b] += GRAM_FACTOR[a, b] * sums[GRAM_POWER[a, b]]
     return hh
 
 
 @numba.njit(cache=True)
-def _jet_column(x, y, degree, columns, j):
-    """The jet's monomials at (x, y) with their Taylor factors, into columns[:, j]: h = c + a1 x + a2 y
-    + ½(b0 x² + 2 b1 xy + b2 y²) + (c0 x³ + 3 c1 x²y + 3 c2 xy² + c3 y³)/6 + (degree 4) quartic/24."""
-    columns[0, j] = 1.0
-    columns[1, j] = x
-    columns[2, j] = y
-    columns[3, j] = 0.5 * x * x
-    columns[4, j] = x * y
-    columns[5, j] = 0.5 * y * y
-    if degree >= 3:
-        columns[6, j] = x * x * x / 6.0
-        columns[7, j] = 0.5 * x * x * y
-        columns[8, j] = 0.5 * x * y * y
-        columns[9, j] = y * y * y / 6.0
-    if degree == 4:
-        columns[10, j] = x * x * x * x / 24.0
-        columns[11, j] = x * x * x * y / 6.0
-        columns[12, j] = x * x * y * y / 4.0
-        columns[13, j] = x * y * y * y / 6.0
-        columns[14, j] = y * y * y * y / 24.0
-
-
-@numba.njit(cache=True)
-def _fit_one(gram, moment, hh, m, degree, radius, ata, coef, work, n0, t1, t2, fit):
+def _fit_one(gram, moment, hh, m, degree, radius, ata, coef, work, n0, t1, t2, fit, want_std):
     """Least-squares jet of ``degree`` from the accumulated normal equations of m points (its
     monomials are the leading block: the cubic's are a subset of the quartic's); writes ``fit`` (see
     _fit_all) and returns the standard deviation of its curvatures estimated from the residual.
-    ``ata``, ``coef``, ``work``: scratch arrays (no allocation per vertex: it would dominate)."""
+    ``ata``, ``coef``, ``work``: scratch arrays (no allocation per vertex: it would dominate). Without
+    ``want_std`` (one fit, nothing to weigh it against) the deviation is not computed: 1 is returned."""
     unknowns = _unknowns(degree)
     for a in range(unknowns):
         for b in range(a, unknowns):
@@ -587,6 +748,9 @@ def _fit_one(gram, moment, hh, m, degree, radius, ata, coef, work, n0, t1, t2, f
             ata[b, a] = gram[a, b]
         ata[a, a] += 1e-9  # keeps flat or degenerate neighbourhoods solvable
     _cholesky_solve(ata, moment, unknowns, coef)  # ata now holds the Cholesky factor L
+    if not want_std:
+        _shape(coef, radius, degree, n0, t1, t2, fit)
+        return 1.0
     # residual Σ(h − A c)² = hᵀh − cᵀAᵀh at the solution; σ² diag((AᵀA)⁻¹) = σ² |L⁻¹ e_k|²
     rss = hh
     for a in range(unknowns):
@@ -661,7 +825,7 @@ def _shape(coef, radius, degree, n0, t1, t2, fit):
         fit[11 + k] = -coef[6 + k] / r2 if degree >= 3 else 0.0
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, fastmath=REASSOCIATE)
 def _cholesky_solve(a, b, n, x):
     """Solve a x = b for the leading n×n block of a small symmetric positive-definite a; a is
     overwritten by its Cholesky factor (a LAPACK call per vertex costs more than the whole solve)."""
