@@ -16,7 +16,7 @@ from tests.conftest import REPO
 
 DOCS = REPO / "docs"
 #: the packages the API reference documents, every name of their __all__
-PUBLIC = ("core", "passes", "scene", "sis", "lines", "dof", "ibr", "radiosity", "relight")
+PUBLIC = ("core", "passes", "scene", "sis", "lines", "dof", "ibr", "radiosity", "relight", "batch", "viewer", "gallery")
 
 
 @pytest.mark.timeout(600)
