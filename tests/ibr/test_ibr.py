@@ -227,10 +227,12 @@ def test_ibr_commands(tmp_path, capsys):
     assert code == 2 and ".mp4 or .gif" in cap.err, cap.err
 
 
-def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference(ctx, room, rng):
+@pytest.mark.parametrize("step", [4, 8])
+def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference(ctx, room, rng, step):
     """The first pass: the reconstruction mesh's depth against passes.reference.gbuffer ray-casting
     the same mesh, with the points it leaves out drawn as reference.point_depth squares (the nearer
-    wins); hole filling against renderer.fill_holes on a depth with random holes."""
+    wins); hole filling against renderer.fill_holes on a depth with random holes. At step 8 the cut
+    cells are meshed again at step 2 inside (proxy_mesh.FINER)."""
     from illusio.ibr.depth_pass import ReconstructPass
     from illusio.ibr.proxy_mesh import reconstruction
     from illusio.ibr.renderer import fill_holes
@@ -238,7 +240,7 @@ def test_reconstruct_pass_matches_ray_casting_and_fills_holes_like_the_reference
     from illusio.scene.scene import Node, Scene
 
     scene, refs = room
-    shape = reconstruction(refs, step=4)
+    shape = reconstruction(refs, step=step)
     mesh, points, footprint = shape.mesh, shape.points, shape.footprint
     assert len(points) > 100
     view = orbit_views(scene, 5)[1]
@@ -361,10 +363,12 @@ def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ct
     assert read_image(tmp_path / "p.png").shape[:2] == (24, 32) and read_image(tmp_path / "p.png").max() > 0.05
 
 
-def test_the_first_pass_keeps_what_a_reference_saw_at_its_own_view(ctx, room):
+@pytest.mark.parametrize("step", [2, 8])
+def test_the_first_pass_keeps_what_a_reference_saw_at_its_own_view(ctx, room, step):
     """Drawn at a reference's own camera, that reference's reconstruction (its mesh and the points
     the mesh leaves out) has its depth wherever it saw something — thin objects, the pixels along
-    occlusion edges whose triangles were all cut as bridges, and what the grid steps over."""
+    occlusion edges whose triangles were all cut as bridges, and what the grid steps over (at step 8
+    with the cut cells meshed again finer inside, and fewer points)."""
     from dataclasses import replace
 
     from illusio.ibr.depth_pass import ReconstructPass
@@ -373,7 +377,7 @@ def test_the_first_pass_keeps_what_a_reference_saw_at_its_own_view(ctx, room):
     _, refs = room
     rp = ReconstructPass(ctx)
     for ref in refs.views:
-        rp.load(reconstruction(replace(refs, views=[ref])))
+        rp.load(reconstruction(replace(refs, views=[ref]), step))
         tex = rp(ref.view, ref.size, 0)
         got = ctx.readback(tex)[..., 0]
         ctx.release(tex)
@@ -416,3 +420,30 @@ def test_photographic_colour_is_resampled_bilinearly_like_the_reference(ctx, roo
     assert off[both].mean() < 2e-3, f"{off[both].sum()} of {both.sum()} pixels differ"
     # the rule matters: the nearest texel would differ on a measurable share of the pixels
     assert (np.abs(nearest["emission"] - want["emission"]) > 3e-3).any(-1)[both].mean() > 0.05
+
+
+def test_cut_cells_are_meshed_again_finer_so_fewer_pixels_become_points(room):
+    """At step 8 every coarse cell a thin object cuts is meshed again at step 2 inside: the fine
+    triangles lie inside cut coarse cells only (no surface drawn twice), and the points are the
+    pixels the single-level mesh leaves out, fewer."""
+    from illusio.ibr import proxy_mesh
+
+    _, refs = room
+    ref = refs.views[0]
+    coarse = proxy_mesh._grid(ref, 8, 85.0)
+    vertices, faces, covered = proxy_mesh._adaptive(ref, 8, 85.0)
+    extra = faces[int(coarse.keep.sum()) :]
+    assert len(extra) > 0
+    # every fine triangle's centre lies in a coarse cell that was cut
+    centre = vertices[extra].mean(axis=1)
+    w, h = ref.size
+    view = ref.view
+    clip = np.c_[centre, np.ones(len(centre))] @ (view.projection_matrix(w / h) @ view.view_matrix()).T
+    xs = (clip[:, 0] / clip[:, 3] + 1) / 2 * w - 0.5
+    ys = (1 - clip[:, 1] / clip[:, 3]) / 2 * h - 0.5
+    i = np.clip(np.searchsorted(coarse.rows, ys, "right") - 1, 0, len(coarse.rows) - 2)
+    j = np.clip(np.searchsorted(coarse.cols, xs, "right") - 1, 0, len(coarse.cols) - 2)
+    assert not coarse.cell_ok[i, j].any()
+    seen = np.asarray(ref.depth) > 0
+    assert (seen & ~covered).sum() < (seen & ~coarse.covered).sum()
+    assert (covered | ~coarse.covered).all()  # the fine mesh only adds covered pixels
