@@ -18,7 +18,7 @@ import typer
 from ..core.errors import IllusioError
 from ..core.lazy import load
 from ..core.technique import techniques
-from . import batch, demo, export, info, listing, view
+from . import batch, compile_kernels, demo, export, info, listing, view
 
 app = typer.Typer(
     add_completion=False,
@@ -53,6 +53,7 @@ def _main(
 
 
 app.command("info")(info.info)
+app.command("compile")(compile_kernels.compile_kernels)
 app.command("list")(listing.listing)
 app.command("demo")(demo.demo)
 app.command("export")(export.export)
