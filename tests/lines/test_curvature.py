@@ -189,7 +189,19 @@ def test_normal_equations_from_power_sums_are_the_design_matrix_products(degree,
     gram, moment = np.zeros((unknowns, unknowns)), np.zeros(unknowns)
     ring = np.arange(1, count + 1)
     hh = _accumulate(
-        vertices, 0, n0, t1, t2, scale, ring, 0, count, unknowns, gram, moment, np.empty(45), np.empty(45), np.empty(15)
+        vertices,
+        0,
+        n0,
+        t1,
+        t2,
+        scale,
+        ring,
+        0,
+        count,
+        unknowns,
+        gram,
+        moment,
+        (np.empty(45), np.empty(45), np.empty(15)),
     )
     local = (vertices[1:] - vertices[0]) * scale
     x, y, h = local @ t1, local @ t2, local @ n0

@@ -45,7 +45,7 @@ STEPS = {"curvature and line drawings": _curvature, "radiosity": _radiosity, "st
 def compile_kernels() -> None:
     """Compile numba's kernels into their disk cache (beside the installed package, or under
     NUMBA_CACHE_DIR) by running each technique's CPU work once at a small size: later processes
-    load them in milliseconds. About a minute on 2 cores; nothing to do when they are cached."""
+    load them in milliseconds. About 30 s on 2 cores; a few when they are cached."""
     from ..core.progress import phase
 
     for name, step in STEPS.items():

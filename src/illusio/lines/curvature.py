@@ -316,9 +316,7 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
         ata = np.empty((size, size))
         coef = np.empty(size)
         work = np.empty(size)
-        powers = np.empty(45)  # scratch of _accumulate
-        power_sums = np.empty(45)
-        power_sums_h = np.empty(15)
+        scratch = (np.empty(45), np.empty(45), np.empty(15))  # _accumulate's powers and their sums
         fit = np.empty(15)  # one candidate: normal (3), k_min, k_max, e_min (3), e_max (3), cubic (4)
         best = np.empty(15)
         grams = np.empty((extra_rings + 1, size, size))  # normal equations per ring prefix
@@ -376,23 +374,7 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
             gram[:] = 0.0
             moment[:] = 0.0
             block = _unknowns(deg)
-            hh = _accumulate(
-                vertices,
-                i,
-                n0,
-                t1,
-                t2,
-                1.0 / radius,
-                queue,
-                0,
-                ends[start],
-                block,
-                gram,
-                moment,
-                powers,
-                power_sums,
-                power_sums_h,
-            )
+            hh = _accumulate(vertices, i, n0, t1, t2, 1.0 / radius, queue, 0, ends[start], block, gram, moment, scratch)
             # the normal equations of the start rings and of each extra ring's prefix, kept for the
             # candidates below (the full block of the starting degree: lower degrees are its leading block)
             grams[0, :block, :block] = gram[:block, :block]
@@ -406,21 +388,7 @@ def _fit_all(vertices, normals, offsets, neighbours, rings, degree, extra_rings,
                     break
                 ends[r + 1] = tail
                 hh += _accumulate(
-                    vertices,
-                    i,
-                    n0,
-                    t1,
-                    t2,
-                    1.0 / radius,
-                    queue,
-                    ends[r],
-                    tail,
-                    block,
-                    gram,
-                    moment,
-                    powers,
-                    power_sums,
-                    power_sums_h,
+                    vertices, i, n0, t1, t2, 1.0 / radius, queue, ends[r], tail, block, gram, moment, scratch
                 )
                 extra += 1
                 grams[extra, :block, :block] = gram[:block, :block]
@@ -696,13 +664,14 @@ LOW_POWERS = np.array([_POWERS_8[p, q] for p in range(5) for q in range(5 - p)],
 
 
 @numba.njit(cache=True)
-def _accumulate(vertices, i, n0, t1, t2, scale, ring, first, last, size, gram, moment, powers, sums, sums_h):
+def _accumulate(vertices, i, n0, t1, t2, scale, ring, first, last, size, gram, moment, scratch):
     """Add ring[first:last]'s points, in the frame (t1, t2, n0) at vertex i scaled by ``scale``, to
     the normal equations AᵀA (upper triangle of ``gram``) and Aᵀh (``moment``) of the jet's
     monomials; returns their Σh². An entry of AᵀA is f_a·f_b·Σ x^(p_a+p_b)·y^(q_a+q_b), so the points
     are summed into the 45 power sums Σ x^p y^q (p + q ≤ 8) and the 15 Σ h x^p y^q (p + q ≤ 4) rather
     than into AᵀA's 120 entries one by one (:func:`jet_monomials` states A plainly; the test compares).
-    ``powers`` (45), ``sums`` (45), ``sums_h`` (15): scratch, flat so that the sums vectorise."""
+    ``scratch``: (powers (45), sums (45), sums_h (15)), flat so that the sums vectorise."""
+    powers, sums, sums_h = scratch
     sums[:] = 0.0
     sums_h[:] = 0.0
     hh = 0.0
