@@ -199,3 +199,22 @@ def test_the_worked_example_from_photograph_to_relit_image(tmp_path, capsys):
     before = score(fit(photo), truth, inner, block=4).mean_relative_error
     after = score(fit(relit), truth, inner, block=4).mean_relative_error
     assert after < 0.5 * before, (after, before)
+
+
+def test_a_fit_with_pixels_far_from_square_is_refused_naming_the_pairing(monkeypatch, rng):
+    """Points paired wrongly can make OpenCV fit a lens whose f_y is hundreds of times its f_x (found
+    by CI's seed 836631784, where the Camera's own range check then answered without naming the
+    pairing): such a fit is refused in calibrate, in words that point at the points."""
+    cv2 = pytest.importorskip("cv2", reason="calibration needs OpenCV (photo extra)")
+    real = cv2.calibrateCamera
+
+    def stretched(*args, **kwargs):
+        rms, k, dist, rvecs, tvecs = real(*args, **kwargs)
+        k = k.copy()
+        k[1, 1] = k[0, 0] * 186.6
+        return rms, k, dist, rvecs, tvecs
+
+    monkeypatch.setattr(cv2, "calibrateCamera", stretched)
+    xyz = model_points(14, rng)
+    with pytest.raises(InputError, match="paired"):
+        calibrate(project(xyz), xyz, SIZE)

@@ -46,6 +46,8 @@ __all__ = [
 ]
 
 MIN_POINTS = 6
+#: the most f_y / f_x (or f_x / f_y) a fit may give: beyond it the points are not one camera's view
+MAX_PIXEL_ASPECT = 2.0
 #: the reprojection error (RMS, pixels) above which a calibration is refused
 MAX_REPROJECTION_ERROR = 2.0
 #: GL camera axes (y up, looking down −z) ↔ OpenCV's (y down, z forward)
@@ -131,6 +133,12 @@ def calibrate(uv: np.ndarray, xyz: np.ndarray, size: tuple[int, int]) -> Calibra
     if best is None:
         raise InputError("calibration failed: OpenCV found no camera for these points (are u, v and x, y, z paired?)")
     _, k, dist, rvec, tvec = best
+    aspect = float(k[1, 1] / k[0, 0])
+    if not 1 / MAX_PIXEL_ASPECT <= aspect <= MAX_PIXEL_ASPECT:  # a camera's pixels are near square
+        raise InputError(
+            f"calibration found no plausible lens (f_y / f_x = {aspect:.3g}, where a camera's pixels are "
+            "near square): check that each u, v is paired with its x, y, z"
+        )
     projected = cv2.projectPoints(xyz, rvec, tvec, k, dist)[0].reshape(-1, 2)
     errors = np.linalg.norm(projected - uv, axis=1)
     intrinsics = Intrinsics(
