@@ -2,9 +2,10 @@
 
 - gather: H_i = Σ_{links j→i} F_ij·V_ij·B_j, for every element at every level, as one sparse product;
 - push: each element's total irradiance is its own H plus its ancestors' (top down, level by level);
-- at the leaves B = E + ρ·s·H_total, s keeping the gain ρ·Σ F·V at most 0.98 (and, where a reach
-  is given, scaling the leaf's gathered light so its links' Σ F·V is its reach as rays measure it:
-  :func:`form_factor_scale`);
+- at the leaves B = E + ρ·(H_lamps + s·H_reflected): the light from the lamps' exitance as the
+  links carry it, and the light from reflecting surfaces times s, which keeps the gain ρ·Σ F·V at
+  most 0.98 (and, where a reach is given, scales the leaf's links' Σ F·V to its reach as rays
+  measure it: :func:`form_factor_scale`, :func:`lamp_light_kept`);
 - pull: an inner element's B is the area-weighted mean of its children's, Σ A_c·B_c / A (bottom up).
 
 The fixed point is found by GMRES on (I − M)·B = push-pull(E) (a few dozen products of M where a
@@ -25,7 +26,7 @@ import numpy as np
 
 from .hierarchy import Hierarchy
 
-__all__ = ["push_pull", "solve", "SolveResult", "form_factor_scale"]
+__all__ = ["push_pull", "solve", "SolveResult", "form_factor_scale", "lamp_light_kept"]
 
 
 @dataclass(frozen=True)
@@ -67,14 +68,18 @@ MAX_GAIN = 0.98
 
 
 def form_factor_scale(h: Hierarchy, matrix, levels: list[np.ndarray], reach: np.ndarray | None = None) -> np.ndarray:
-    """(n,) the factor on each element's gathered H. Its links' Σ F·V (to everything it gathers
-    from, its own links' and its ancestors', K·1 pushed down) is scaled to its ``reach`` (n,; NaN
-    where not measured: Visibility.reach, 1 in a closed room; HierarchyParams.reach_rays says what
-    it does on RenderPark's scenes). Then the gain ρ_max·Σ F·V is kept at most
-    MAX_GAIN: surfaces nearly touching — AutoCAD's doubled walls, a two-sided face's twin across a
-    thin slab — can pass 1/ρ, and the iteration would amplify light instead of converging (the
-    Graz office's red walls at B = 678 W/m² under lamps of 2.7)."""
-    total = np.asarray(matrix @ np.ones((len(h), 3)), np.float64)[:, 0].copy()
+    """(n,) the factor on the light each element gathers from reflecting surfaces (the lamps' own
+    light is never scaled: :func:`lamp_light_kept`). Its links' Σ F·V to surfaces that reflect (ρ > 0;
+    its own links' and its ancestors', K·1 pushed down) is scaled to its ``reach`` (n,; NaN where
+    not measured: Visibility.reach, the share of its hemisphere that meets a reflecting surface;
+    HierarchyParams.reach_rays says what it does on RenderPark's scenes). Then the gain ρ_max·Σ F·V
+    is kept at most MAX_GAIN: surfaces nearly touching — AutoCAD's doubled walls, a two-sided face's
+    twin across a thin slab — can pass 1/ρ, and the iteration would amplify light instead of
+    converging (the Graz office's red walls at B = 678 W/m² under lamps of 2.7). The lamps are left
+    out of the sum: a ceiling 8 cm above a lamp's top face has most of its hemisphere on the lamp,
+    and counting it cut the lamp's direct light there too (the Graz office's ceiling 8 % dark)."""
+    reflects = (h.reflectance.max(axis=1) > 0).astype(np.float64)
+    total = np.asarray(matrix @ np.repeat(reflects[:, None], 3, axis=1), np.float64)[:, 0].copy()
     for level in levels[1:]:
         total[level] += total[h.parent[level]]
     scale = np.ones(len(h))
@@ -83,6 +88,19 @@ def form_factor_scale(h: Hierarchy, matrix, levels: list[np.ndarray], reach: np.
         scale[known] = reach[known] / total[known]
     gain = total * scale * h.reflectance.max(axis=1)
     return np.where(gain > MAX_GAIN, scale * MAX_GAIN / np.maximum(gain, 1e-300), scale)
+
+
+def lamp_light_kept(
+    h: Hierarchy, matrix, exitance: np.ndarray, levels: list[np.ndarray], scale: np.ndarray
+) -> np.ndarray:
+    """(n, 3) what push_pull's ``scale`` takes from the lamps' light, given back: ρ·(1 − s)·(K·E
+    pushed down), pulled up. The solve adds it to every gather step, so the scale acts on the
+    reflected light alone: B = E + ρ·(K·E)↓ + ρ·s·(K·(B − E))↓, still linear in E."""
+    if np.all(scale == 1.0) or not np.any(exitance):
+        return np.zeros_like(exitance, dtype=np.float64)
+    zero = np.zeros_like(exitance, dtype=np.float64)
+    lamps = np.asarray(matrix @ push_pull(h, zero, exitance, levels), np.float64)
+    return push_pull(h, lamps, zero, levels) - push_pull(h, lamps, zero, levels, scale)
 
 
 @numba.njit(cache=True)
@@ -123,7 +141,7 @@ def _steps_left(changes: list[float], tolerance: float) -> float:
     return float(np.log(tolerance / changes[-1]) / np.log(ratio))
 
 
-def _krylov(h, matrix, exitance, levels, scale, b, tolerance, max_iterations):
+def _krylov(h, matrix, exitance, levels, scale, kept, b, tolerance, max_iterations):
     """B from GMRES on (I − M) B = push_pull(0, E), M the gather and push-pull of the light alone:
     a bright room (ρ·Σ F near 1) that gather iterations take hundreds of steps over is solved in a few
     dozen products. Returns (B, the products spent); the caller's iteration then checks it."""
@@ -142,7 +160,7 @@ def _krylov(h, matrix, exitance, levels, scale, b, tolerance, max_iterations):
         x = v.reshape(shape)
         return (x - push_pull(h, np.asarray(matrix @ x), zero, levels, scale)).ravel()
 
-    rhs = push_pull(h, zero, exitance, levels, scale).ravel()
+    rhs = (push_pull(h, zero, exitance, levels, scale) + kept).ravel()
     operator = LinearOperator((b.size, b.size), matvec=product, dtype=np.float64)
     x, _ = gmres(operator, rhs, x0=b.ravel(), rtol=0.1 * tolerance, restart=restart, maxiter=budget // (restart + 1))
     return x.reshape(shape), count[0]
@@ -171,12 +189,13 @@ def solve(
         return SolveResult(0, 0.0, True)
     levels = h.by_level()
     gather_scale = form_factor_scale(h, matrix, levels, reach)
+    kept = lamp_light_kept(h, matrix, exitance, levels, gather_scale)
     b = (h.radiosity if start is None else start).copy()
     k, changes, change, irradiance = 0, [], np.inf, None
 
     def gather(b):
         irradiance = np.asarray(matrix @ b)
-        new = push_pull(h, irradiance, exitance, levels, gather_scale)
+        new = push_pull(h, irradiance, exitance, levels, gather_scale) + kept
         # the reflected light, not the lamps; where almost none is (a lamp facing away) the change
         # is measured against 1e-9 of the lamps' exitance, so a dark scene converges too
         scale = max(float(np.abs(new - exitance).max()), 1e-9 * float(np.abs(exitance).max()))
@@ -192,7 +211,7 @@ def solve(
             if change < tolerance:
                 break
         if change >= tolerance and _steps_left(changes, tolerance) > GATHER_STEPS_LEFT:
-            b, spent = _krylov(h, matrix, exitance, levels, gather_scale, b, tolerance, max_iterations - k)
+            b, spent = _krylov(h, matrix, exitance, levels, gather_scale, kept, b, tolerance, max_iterations - k)
             k += spent
     while change >= tolerance and (k < max_iterations or irradiance is None):  # at least one
         k += 1

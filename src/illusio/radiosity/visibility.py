@@ -321,10 +321,11 @@ class Visibility:
         tris = np.concatenate([c[:, [0, 1, 2]], c[~tri][:, [0, 2, 3]]])
         sided = h.polygons.sides()[h.polygon[roots]] == 1
         self.two_sided = np.r_[sided, sided[~tri]]  # per triangle of the scene, in its order
-        # a face that can never send light (black and dark: B = 0 whatever the lamps) is no reach
+        # reach counts the faces that reflect: what the solve scales is the reflected light (a black
+        # lamp's own light is never scaled, so it is no part of the reach)
         polygon = h.polygon[roots]
-        sends = (h.polygons.reflectance[polygon].max(axis=1) > 0) | (h.polygons.exitance[polygon].max(axis=1) > 0)
-        self.sends = np.r_[sends, sends[~tri]]
+        reflects = h.polygons.reflectance[polygon].max(axis=1) > 0
+        self.reflects = np.r_[reflects, reflects[~tri]]
         extent = np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max() if len(h.roots) else 1.0
         self.offset = 1e-5 * max(float(extent), 1e-6)
         self.contact = 2e-3 * max(float(extent), 1e-6)
@@ -386,12 +387,12 @@ class Visibility:
         return self._exposed_by(probe, up)
 
     def reach(self, elements: np.ndarray, rays: int = 64) -> np.ndarray:
-        """Per element (n,): Σ_j F_ej V_ej as rays measure it — the share of cosine-weighted rays
-        from jittered points of the element that meet the front of a face (or a two-sided face)
-        that can send light (not black and dark), the geometry any light it gathers can come from;
-        1 in a closed room, less where its hemisphere opens onto nothing or a black wall; counted
-        over its exposed points only (NaN where none is), as the links' V is. (The seed's generator
-        draws the points: deterministic.)"""
+        """Per element (n,): Σ_j F_ej V_ej over reflecting surfaces as rays measure it — the share of
+        cosine-weighted rays from jittered points of the element that meet the front of a face (or a
+        two-sided face) that reflects (ρ > 0), the geometry any reflected light it gathers can come
+        from; 1 in a closed room, less where its hemisphere opens onto nothing, a black wall or a
+        lamp; counted over its exposed points only (NaN where none is), as the links' V is. (The
+        seed's generator draws the points: deterministic.)"""
         n = len(elements)
         if n == 0:
             return np.zeros(0)
@@ -408,7 +409,7 @@ class Visibility:
         self.rays += n * rays
         prim = np.asarray(hit["primID"])
         facing = (np.asarray(hit["Ng"]) * directions).sum(axis=1) < 0
-        seen = (prim >= 0) & (facing | self.two_sided[np.maximum(prim, 0)]) & self.sends[np.maximum(prim, 0)]
+        seen = (prim >= 0) & (facing | self.two_sided[np.maximum(prim, 0)]) & self.reflects[np.maximum(prim, 0)]
         # as the links' V: a point in contact with another face or inside an object is no part of
         # the surface and does not count (a desk's leg standing on the floor)
         exposed = self.exposed(origins, np.repeat(normal, rays, axis=0)).reshape(n, rays)
