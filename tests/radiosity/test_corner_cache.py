@@ -85,3 +85,24 @@ def test_gathering_only_the_shown_leaves_keeps_their_corners_exact(rng):
     every = CornerGather()
     every(h, sol.links, leaves, sol.exitance())
     assert gather.pairs < every.pairs
+
+
+def test_the_solves_scale_acts_on_the_reflected_light_at_the_corners_and_never_on_the_lamps(rng):
+    """With the solve's scale s per element (the gain cap, the reach) the corners show E + ρ·(H_lamps
+    + s·(H − H_lamps)), as the solve has it: kept and plain gathers agree on random scales; s = 1 is
+    the unscaled gather; s = 0 leaves exactly the lamps' light (the gather of their exitance alone)."""
+    sol = Radiosity(scene_polygons(load_scene("cornell-box")), HierarchyParams(epsilon=1e-3)).build()
+    h, leaves, exitance = sol.hierarchy, sol.hierarchy.leaves(), sol.exitance()
+    lamp = sol.lamp_radiosity()
+    scale = rng.uniform(0.5, 1.5, len(h))
+    plain = corner_gather(h, sol.links, leaves, exitance, scale, lamp)
+    kept = CornerGather()(h, sol.links, leaves, exitance, scale, lamp)
+    np.testing.assert_allclose(kept, plain, rtol=1e-6, atol=1e-12)
+    unscaled = corner_gather(h, sol.links, leaves, exitance)
+    np.testing.assert_allclose(corner_gather(h, sol.links, leaves, exitance, np.ones(len(h)), lamp), unscaled)
+    assert not np.allclose(plain, unscaled)
+    only_lamps = corner_gather(h, sol.links, leaves, exitance, np.zeros(len(h)), lamp)
+    bright = h.radiosity.copy()
+    h.radiosity[:] = lamp
+    np.testing.assert_allclose(only_lamps, corner_gather(h, sol.links, leaves, exitance), rtol=1e-12)
+    h.radiosity[:] = bright

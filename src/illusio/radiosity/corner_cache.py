@@ -226,7 +226,16 @@ class CornerGather:
             buffer[n : n + k] = values
         self._offset, self._count, self._key, self._ready = (buffer[: n + k] for buffer in self._buffers)
 
-    def __call__(self, h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
+    def __call__(
+        self,
+        h: Hierarchy,
+        links: Links,
+        leaves: np.ndarray,
+        exitance: np.ndarray,
+        scale: np.ndarray | None = None,
+        lamp: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """``scale`` and ``lamp``: as :func:`display.corner_gather`'s."""
         asked = np.zeros(len(h), bool)
         asked[leaves] = True
         dirty, moved = self._changed(h, asked)
@@ -285,4 +294,13 @@ class CornerGather:
             parts,
         )
         irradiance = parts.sum(axis=0)
+        if scale is not None:
+            # the lamps' light gathered again alone (links from other sources skipped as V = 0), so
+            # the scale acts on the reflected light only, as in the solve
+            lamp = np.ascontiguousarray(lamp, np.float64)
+            parts[:] = 0.0
+            lamp_visibility = np.where(lamp[s].any(axis=1), visibility, 0.0)
+            _gather(self._offset[block], self._count[block], self._leaf, self._ff, lamp_visibility, s, lamp, row, parts)
+            from_lamps = parts.sum(axis=0)
+            irradiance = from_lamps + np.asarray(scale)[leaves][:, None, None] * (irradiance - from_lamps)
         return exitance[leaves][:, None] + h.reflectance[leaves][:, None] * irradiance

@@ -61,11 +61,22 @@ def corner_form_factors(h: Hierarchy, leaf: np.ndarray, source: np.ndarray) -> n
     return point_polygon(corners, h.normal[leaf], h.corners[source], h.triangle[source], average=False)
 
 
-def corner_gather(h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.ndarray) -> np.ndarray:
+def corner_gather(
+    h: Hierarchy,
+    links: Links,
+    leaves: np.ndarray,
+    exitance: np.ndarray,
+    scale: np.ndarray | None = None,
+    lamp: np.ndarray | None = None,
+) -> np.ndarray:
     """B at each corner of ``leaves`` (n, 4, 3), gathered at the corner point through the links of
     the leaf and its ancestors from the solved B (see the module docstring); ``exitance``: E per
-    element (n_elements, 3), lamp scales applied. The plain statement, every pair computed afresh:
-    ``corner_cache.CornerGather`` is the same gather keeping its form factors between calls."""
+    element (n_elements, 3), lamp scales applied. ``scale`` (n_elements,) and ``lamp`` (n_elements,
+    3), optional: the solve's factor on each element's reflected light (solve.form_factor_scale)
+    and the lamps' exitance as a B (E pulled up the hierarchy): then B = E + ρ·(H_lamps + s·(H −
+    H_lamps)), H_lamps gathered from ``lamp``, as the solve has it. The plain statement, every pair
+    computed afresh: ``corner_cache.CornerGather`` is the same gather keeping its form factors
+    between calls."""
     element, leaf_under = leaves_under(h, leaves)
     lo = np.searchsorted(element, links.receiver)
     count = np.searchsorted(element, links.receiver, side="right") - lo
@@ -76,6 +87,10 @@ def corner_gather(h: Hierarchy, links: Links, leaves: np.ndarray, exitance: np.n
     row[leaves] = np.arange(len(leaves))
     irradiance = np.zeros((len(leaves), 4, 3))
     np.add.at(irradiance, row[leaf], weight[:, :, None] * h.radiosity[links.source[pair_link]][:, None])
+    if scale is not None:
+        from_lamps = np.zeros((len(leaves), 4, 3))
+        np.add.at(from_lamps, row[leaf], weight[:, :, None] * np.asarray(lamp)[links.source[pair_link]][:, None])
+        irradiance = from_lamps + np.asarray(scale)[leaves][:, None, None] * (irradiance - from_lamps)
     return exitance[leaves][:, None] + h.reflectance[leaves][:, None] * irradiance
 
 
@@ -141,15 +156,17 @@ def vertex_radiosity(
     exitance: np.ndarray | None = None,
     gather=None,
     shown: np.ndarray | None = None,
+    scale: np.ndarray | None = None,
+    lamp: np.ndarray | None = None,
 ) -> np.ndarray:
-    """B at each corner of ``leaves`` (n, 4, 3): gathered at the corners (with ``links`` and
-    ``exitance``; by ``gather``, a CornerGather that keeps its form factors between calls, when
-    given) or each leaf's own B, then averaged over the leaves of the same surface sharing that
-    corner point (``Polygons.surfaces``: a wall cut into triangles is smoothed as one). ``shown`` (mask over the
-    elements, optional): the leaves whose pixels will be
-    displayed; only they and the leaves sharing a corner point with them are gathered (every corner
-    of a shown leaf is then exact), the others keep their own B: a view that sees part of a room
-    pays for that part."""
+    """B at each corner of ``leaves`` (n, 4, 3): gathered at the corners (with ``links``,
+    ``exitance`` and, optional, the solve's ``scale`` and ``lamp``: corner_gather's; by ``gather``,
+    a CornerGather that keeps its form factors between calls, when given) or each leaf's own B, then
+    averaged over the leaves of the same surface sharing that corner point (``Polygons.surfaces``: a
+    wall cut into triangles is smoothed as one). ``shown`` (mask over the elements, optional): the
+    leaves whose pixels will be displayed; only they and the leaves sharing a corner point with them
+    are gathered (every corner of a shown leaf is then exact), the others keep their own B: a view
+    that sees part of a room pays for that part."""
     vertex, corner_of_tri = _corner_points(h, leaves)
     if links is not None and gather is None:
         gather = CornerGather()
@@ -162,7 +179,11 @@ def vertex_radiosity(
             touched = np.zeros(int(vertex.max()) + 1, bool)
             touched[vertex[near]] = True
             needed = touched[vertex].reshape(-1, 4).any(axis=1)
-        b[needed] = gather(h, links, leaves[needed], exitance)
+        b[needed] = (
+            gather(h, links, leaves[needed], exitance)
+            if scale is None
+            else gather(h, links, leaves[needed], exitance, scale, lamp)
+        )
     weight = exposure_weights(h, links, leaves) if links is not None else None
     return _average_at(vertex, corner_of_tri, b, weight)
 
@@ -220,17 +241,20 @@ def leaf_mesh(
     gather=None,
     shown: np.ndarray | None = None,
     textured: bool = False,
+    scale: np.ndarray | None = None,
+    lamp: np.ndarray | None = None,
 ) -> LeafMesh:
     """The leaves as a triangle mesh for display (see the module docstring). Smooth: gathered at the
     corners with ``links`` and ``exitance`` (E per element; ``gather``, ``shown``: see
-    vertex_radiosity), or averaged from the leaves without. ``textured``: the image will be
+    vertex_radiosity; ``scale``, ``lamp``: the solve's, see corner_gather), or averaged from the
+    leaves without. ``textured``: the image will be
     modulated by the textures (texture_modulation: × albedo(x) / the surface's mean), so a textured
     leaf's corners carry B × that mean / ρ there (ρ averaged at the corners as B is): the texture
     then shows once, not once in the elements' ρ and again in the modulation."""
     leaves = h.leaves()
     n = len(leaves)
     b = (
-        vertex_radiosity(h, leaves, links, exitance if exitance is not None else h.exitance, gather, shown)
+        vertex_radiosity(h, leaves, links, exitance if exitance is not None else h.exitance, gather, shown, scale, lamp)
         if smooth
         else np.repeat(h.radiosity[leaves][:, None], 4, axis=1)
     )

@@ -23,7 +23,7 @@ from .links import Links
 from .params import HierarchyParams
 from .polygons import MAX_POLYGONS, Polygons, polygon_areas
 from .refine import needs_refinement, refine, transfer_estimate
-from .solve import SolveResult, solve
+from .solve import SolveResult, push_pull, solve
 from .visibility import Visibility
 
 #: the first compilation of radiosity's kernels after an install, measured on 2 cores
@@ -316,16 +316,44 @@ class Radiosity:
     def display_exitance(self) -> np.ndarray:
         """What the smooth display's corner gather adds to the element links' light (n, 3), W/m²:
         E (lamp scales applied) plus ρ times the irradiance the cluster links bring, pushed down to
-        every element below its receiver (uniform below a root, as the solve has it)."""
+        every element below its receiver (uniform below a root, as the solve has it), the reflected
+        part of it times the solve's scale (:meth:`display_scale`)."""
         exitance = self.exitance()
         if not len(self.cluster_links):
             return exitance
         h = self.hierarchy
-        element, moments = self.matrix().cluster_irradiance(h.radiosity)
+        scale = self.display_scale()
+        if scale is None:
+            return exitance + h.reflectance * self._cluster_light(h.radiosity)
+        lamp = self.lamp_radiosity()
+        from_lamps = self._cluster_light(lamp)
+        reflected = self._cluster_light(h.radiosity - lamp)
+        return exitance + h.reflectance * (from_lamps + scale[:, None] * reflected)
+
+    def _cluster_light(self, b: np.ndarray) -> np.ndarray:
+        """The irradiance the cluster links bring from radiosities ``b`` (n, 3), pushed down."""
+        h = self.hierarchy
+        element, moments = self.matrix().cluster_irradiance(b)
         self.tree.push(moments, h.normal, element)
         for level in h.by_level()[1:]:
             element[level] += element[h.parent[level]]
-        return exitance + h.reflectance * element
+        return element
+
+    def display_scale(self) -> np.ndarray | None:
+        """(n,) the solve's factor on each element's reflected light (solve.form_factor_scale: the
+        gain cap, and the reach where measured), which the display applies too, so the image shows
+        the solve's light; None before a solve or where it is 1 everywhere."""
+        result = getattr(self, "result", None)
+        scale = None if result is None else result.scale
+        if scale is None or len(scale) != len(self.hierarchy) or np.all(scale == 1.0):
+            return None
+        return scale
+
+    def lamp_radiosity(self) -> np.ndarray:
+        """The lamps' exitance as a radiosity (n, 3), lamp scales applied, pulled up the hierarchy:
+        what the display gathers as the lamps' own light."""
+        h = self.hierarchy
+        return push_pull(h, np.zeros((len(h), 3)), self.exitance(), h.by_level())
 
     def reach(self) -> np.ndarray | None:
         """Each leaf's reach (Visibility.reach; NaN off the leaves), None with ``reach_rays`` 0; kept

@@ -76,13 +76,17 @@ class RadiosityRenderer(Renderer):
         if self._state != state:
             if self._state is None or self._state[1:3] != state[1:3]:
                 self._solution.set_lamps(dict(params.lamp_scales), params.tolerance, params.max_iterations)
+            solution = self._solution
+            scale = solution.display_scale()  # the solve's factor on the reflected light, shown too
             self.display.load(
                 leaf_mesh(
-                    self._solution.hierarchy,
-                    self._solution.links,
-                    self._solution.display_exitance(),
+                    solution.hierarchy,
+                    solution.links,
+                    solution.display_exitance(),
                     smooth=params.show != "mesh",
                     textured=modulated and params.show != "mesh",
+                    scale=scale,
+                    lamp=None if scale is None else solution.lamp_radiosity(),
                 )
             )
             self._state = state

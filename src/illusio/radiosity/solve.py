@@ -19,7 +19,7 @@ Units: E, B and H in W/m², per RGB channel. Only the exitances change between i
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
@@ -37,6 +37,9 @@ class SolveResult:
     #: no light reaches any surface (the reflected radiosity under 1e-9 of the largest exitance):
     #: the lamps face away from everything
     dark: bool = False
+    #: (n,) the factor on each element's reflected light the solve used (form_factor_scale), which the
+    #: display's corner gather applies too; None where nothing was solved
+    scale: np.ndarray | None = field(default=None, compare=False, repr=False)
 
 
 def push_pull(
@@ -219,4 +222,4 @@ def solve(
     h.radiosity[:] = b
     h.irradiance[:] = irradiance
     dark = float(np.abs(b - exitance).max()) < 1e-9 * float(np.abs(exitance).max())
-    return SolveResult(k, change, change < tolerance, dark)
+    return SolveResult(k, change, change < tolerance, dark, gather_scale)
