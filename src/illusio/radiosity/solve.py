@@ -26,7 +26,7 @@ import numpy as np
 
 from .hierarchy import Hierarchy
 
-__all__ = ["push_pull", "solve", "SolveResult", "form_factor_scale", "lamp_light_kept"]
+__all__ = ["push_pull", "solve", "SolveResult", "form_factor_scale", "lamp_light_kept", "reflecting_sums"]
 
 
 @dataclass(frozen=True)
@@ -81,16 +81,23 @@ def form_factor_scale(h: Hierarchy, matrix, levels: list[np.ndarray], reach: np.
     converging (the Graz office's red walls at B = 678 W/m² under lamps of 2.7). The lamps are left
     out of the sum: a ceiling 8 cm above a lamp's top face has most of its hemisphere on the lamp,
     and counting it cut the lamp's direct light there too (the Graz office's ceiling 8 % dark)."""
-    reflects = (h.reflectance.max(axis=1) > 0).astype(np.float64)
-    total = np.asarray(matrix @ np.repeat(reflects[:, None], 3, axis=1), np.float64)[:, 0].copy()
-    for level in levels[1:]:
-        total[level] += total[h.parent[level]]
+    total = reflecting_sums(h, matrix, levels)
     scale = np.ones(len(h))
     if reach is not None:
         known = np.isfinite(reach) & (total > 1e-12)
         scale[known] = reach[known] / total[known]
     gain = total * scale * h.reflectance.max(axis=1)
     return np.where(gain > MAX_GAIN, scale * MAX_GAIN / np.maximum(gain, 1e-300), scale)
+
+
+def reflecting_sums(h: Hierarchy, matrix, levels: list[np.ndarray]) -> np.ndarray:
+    """(n,) each element's Σ F·V to the surfaces that reflect (ρ > 0), its own links' and its
+    ancestors' (K·1 over them, pushed down): what form_factor_scale caps and scales to a reach."""
+    reflects = (h.reflectance.max(axis=1) > 0).astype(np.float64)
+    total = np.asarray(matrix @ np.repeat(reflects[:, None], 3, axis=1), np.float64)[:, 0].copy()
+    for level in levels[1:]:
+        total[level] += total[h.parent[level]]
+    return total
 
 
 def lamp_light_kept(
