@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from illusio.radiosity import HierarchyParams, Polygons, Radiosity
+from illusio.radiosity.engine import REACH_MAX_RATIO, REACH_MIN_SUM, smoothed_reach
 from illusio.radiosity.formfactor import point_polygon
 from illusio.radiosity.hierarchy import Hierarchy
 from illusio.radiosity.polygons import _cube
@@ -104,3 +105,36 @@ def test_a_warm_start_finishes_with_gather_steps_and_a_cold_bright_room_takes_gm
     assert cold.converged and calls == [1]
     warm = solve(h, matrix, exitance, 1e-6, 5000, start=h.radiosity.copy(), reach=reach)
     assert warm.converged and warm.iterations <= solve_module.PROBE_STEPS and calls == [1]
+
+
+def _floor_leaves(levels: int) -> Hierarchy:
+    """A 4 × 4 m floor split ``levels`` times into a grid of equal leaves."""
+    h = Hierarchy(_polygons([[[0, 0, 0], [4, 0, 0], [4, 4, 0], [0, 4, 0]]]))
+    for _ in range(levels):
+        h.subdivide(h.leaves())
+    return h
+
+
+def test_the_reach_is_averaged_over_neighbours_and_a_region_the_links_miss_survives(rng):
+    """engine.smoothed_reach: the rays' noise on each leaf's reach is shared out over its
+    neighbours (its spread at least halved), while a region where the reach differs (a ceiling over
+    a lamp: a third) keeps it inside; the factor on a leaf stays within REACH_MAX_RATIO, and a leaf
+    whose links reach under REACH_MIN_SUM is left alone (NaN)."""
+    h = _floor_leaves(4)  # 16 × 16 leaves of 25 cm
+    leaves = h.leaves()
+    x, y = h.centre[leaves, 0], h.centre[leaves, 1]
+    truth = np.where((x < 1.5) & (y < 1.5), 0.3, 0.9)
+    reach = np.full(len(h), np.nan)
+    reach[leaves] = truth + rng.normal(0.0, 0.05, len(leaves))
+    sums = np.full(len(h), 0.9)
+    smooth = smoothed_reach(h, reach, sums)[leaves]
+    away = (np.minimum(np.abs(x - 1.5), np.abs(y - 1.5)) > 0.6) | (x > 2.1) | (y > 2.1)
+    assert np.std((smooth - truth)[away]) < 0.5 * np.std((reach[leaves] - truth)[away])
+    inner = (x < 0.9) & (y < 0.9)
+    assert np.abs(smooth[inner] - 0.3).max() < 0.06
+    bright = np.flatnonzero(truth == 0.9)
+    sums[leaves[bright[:5]]] = REACH_MIN_SUM / 2  # links that reach almost nothing: left as they are
+    sums[leaves[bright[5:10]]] = 0.01 + REACH_MIN_SUM  # a tiny sum under a reach of 0.9: capped
+    smooth = smoothed_reach(h, reach, sums)[leaves]
+    assert np.isnan(smooth[bright[:5]]).all()
+    np.testing.assert_allclose(smooth[bright[5:10]] / sums[leaves[bright[5:10]]], REACH_MAX_RATIO)
