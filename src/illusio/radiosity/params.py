@@ -43,14 +43,15 @@ class HierarchyParams:
     the refinement's budget: past it the refinement stops with an error naming it (a scene whose links
     run away would grow until memory runs out). reach_rays: cosine-weighted rays per leaf measuring
     its reach (Visibility.reach: the share of its hemisphere that meets a reflecting surface), to
-    which the solve scales the links' Σ F·V of each leaf's reflected light, the ratio averaged over
-    neighbouring leaves (engine.smoothed_reach); 0 leaves the sums as the links have them. The
-    links miss it where one element stands for many points that see differently: a ceiling 8 cm
-    over a lamp, a small leaf lit through clusters, a ceiling's strip inside a wall. Measured
-    against Mitsuba over 4×4 blocks, 0 → 32 rays: the Graz office 15.9 → 10.8 %, office3
-    4.8 → 3.6 %, office2 7.8 → 6.3 %, the living room 4.7 → 4.2 %, the office 2.9 → 2.4 %; the
-    Cornell box 3.8 → 4.2 % and the MGF cube 1.6 → 1.8 %, where the links' sums were right and
-    the rays add their noise; the build a third longer on the Graz office."""
+    which the solve scales the links' Σ F·V of each leaf's reflected light, the reach averaged over
+    neighbouring leaves (engine.smoothed_reach); 0, the default, leaves the sums as the links have
+    them. The links miss it where one element stands for many points that see differently: a
+    ceiling 8 cm over a lamp, a ceiling's strip inside a wall, a small leaf lit through clusters.
+    Measured against Mitsuba over 4×4 blocks at 32 rays: RenderPark's Graz office 15.9 → 10.2 %,
+    office3 4.8 → 3.8 %, office2 7.8 → 6.8 %; but the built-in scenes at the radiosity benchmark's
+    settings go the other way (the Cornell box 3.0 → 3.9 %, the office 2.7 → 2.9 %, the living room
+    4.7 → 5.3 %, past its 5 % goal, the bunny's scan room 3.7 → 3.9 %): where the links' sums were
+    right the rays only add their noise, so it is not on by default."""
 
     PANEL: ClassVar[str] = "Hierarchy"  # its options' panel in --help
 
@@ -84,7 +85,7 @@ class HierarchyParams:
         group="advanced",
     )
     reach_rays: int = param(
-        32,
+        0,
         range=(0, 1024),
         step=1,
         label="reach rays",
