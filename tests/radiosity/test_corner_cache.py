@@ -106,3 +106,28 @@ def test_the_solves_scale_acts_on_the_reflected_light_at_the_corners_and_never_o
     h.radiosity[:] = lamp
     np.testing.assert_allclose(only_lamps, corner_gather(h, sol.links, leaves, exitance), rtol=1e-12)
     h.radiosity[:] = bright
+
+
+def test_the_cluster_links_light_on_display_takes_the_solves_scale_on_its_reflected_part(monkeypatch):
+    """Radiosity.display_exitance, what the cluster links add to the corners: E + ρ·(C(lamps) + s·C(B −
+    lamps)), C the cluster links' irradiance pushed down. With s = 1 it is the unscaled light of B;
+    with s = 0 only the lamps' own light through the clusters is left; at s = ½ halfway."""
+    from illusio.radiosity import Radiosity as Engine
+
+    sol = Radiosity(scene_polygons(load_scene("office")), HierarchyParams()).build()
+    assert len(sol.cluster_links)
+    h, exitance = sol.hierarchy, sol.exitance()
+    n = len(h)
+    monkeypatch.setattr(Engine, "display_scale", lambda self: np.ones(n))
+    whole = sol.display_exitance()
+    monkeypatch.setattr(Engine, "display_scale", lambda self: np.zeros(n))
+    lamps_only = sol.display_exitance()
+    monkeypatch.setattr(Engine, "display_scale", lambda self: np.full(n, 0.5))
+    half = sol.display_exitance()
+    np.testing.assert_allclose(half, 0.5 * (whole + lamps_only), rtol=1e-9, atol=1e-12)
+    bright = h.radiosity.copy()
+    h.radiosity[:] = sol.lamp_radiosity()
+    monkeypatch.setattr(Engine, "display_scale", lambda self: None)
+    np.testing.assert_allclose(lamps_only, sol.display_exitance(), rtol=1e-9, atol=1e-12)
+    h.radiosity[:] = bright
+    assert np.abs(whole - lamps_only).max() > 0.1 * np.abs(whole - exitance).max()  # the reflected part counts

@@ -378,8 +378,7 @@ class Radiosity:
         """(n,) the solve's factor on each element's reflected light (solve.form_factor_scale: the
         gain cap, and the reach where measured), which the display applies too, so the image shows
         the solve's light; None before a solve or where it is 1 everywhere."""
-        result = getattr(self, "result", None)
-        scale = None if result is None else result.scale
+        scale = None if self.result is None else self.result.scale
         if scale is None or len(scale) != len(self.hierarchy) or np.all(scale == 1.0):
             return None
         return scale
