@@ -13,6 +13,9 @@ from illusio.radiosity.clusters import (
     ClusteredGather,
     ClusterLinks,
     ClusterTree,
+    _cluster_rays,
+    _node_boxes,
+    _node_samples,
     cluster_kernel,
     cluster_node,
     mean_cosine,
@@ -139,6 +142,53 @@ def test_transfer_bound_is_conservative():
             assert bound >= _exact_transfer(h, r_roots, s_roots, b) * (1 - 1e-9)
             checked += 1
     assert checked >= 20
+
+
+def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
+    """The fused kernels of cluster visibility (the rays between two nodes' sample points, which count)
+    and of the nodes' boxes, against the same written as NumPy over the hierarchy's own arrays."""
+    h = Hierarchy(scene_polygons(room_with_sphere(12)))
+    h.subdivide(rng.choice(h.roots, 20, replace=False))
+    tree = ClusterTree.build(h)
+    leaves = np.flatnonzero(h.active)
+    n, k, offset = 200, 16, 1e-4
+
+    def nodes():
+        return np.where(rng.random(n) < 0.5, cluster_node(rng.integers(0, len(tree), n)), rng.choice(leaves, n))
+
+    receivers, sources = nodes(), nodes()
+    roots_a, uv_a = _node_samples(h, tree, receivers, k, rng)
+    roots_b, uv_b = _node_samples(h, tree, sources, k, rng)
+    origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
+    dist, counted = np.empty(n * k, np.float32), np.empty(n * k, bool)
+    _cluster_rays(
+        h.corners, h.triangle, h.normal, roots_a, uv_a, roots_b, uv_b, offset, origin, unit, dist, up, counted
+    )
+    # plain: the points, lifted; the segment; counted where both exist and it goes front to front
+    a = h.sample_points(np.maximum(roots_a, 0).ravel(), uv_a.reshape(-1, 1, 2))[:, 0]
+    b = h.sample_points(np.maximum(roots_b, 0).ravel(), uv_b.reshape(-1, 1, 2))[:, 0]
+    na, nb = h.normal[np.maximum(roots_a, 0).ravel()], h.normal[np.maximum(roots_b, 0).ravel()]
+    d = (b + offset * nb) - (a + offset * na)
+    length = np.linalg.norm(d, axis=1)
+    u = d / length[:, None]
+    valid = (roots_a >= 0).ravel() & (roots_b >= 0).ravel()
+    expected = valid & ((na * u).sum(axis=1) > 0) & ((nb * u).sum(axis=1) < 0) & (length > 2 * offset)
+    assert 0.05 < expected.mean() < 0.95  # both outcomes are exercised
+    np.testing.assert_array_equal(counted, expected)
+    np.testing.assert_allclose(origin[valid], a[valid] + offset * na[valid], atol=1e-6)
+    np.testing.assert_allclose(unit[valid], u[valid], atol=1e-6)
+    np.testing.assert_allclose(dist[valid], np.maximum(length - offset, 0)[valid], rtol=1e-6)
+    np.testing.assert_array_equal(up[valid], na[valid].astype(np.float32))
+    lo, hi, centre, area, normal = _node_boxes(h, tree, receivers)
+    element, cluster = receivers >= 0, -1 - receivers[receivers < 0]
+    corners = h.corners[receivers[element]]
+    np.testing.assert_array_equal(lo[element], corners.min(axis=1))
+    np.testing.assert_array_equal(hi[element], corners.max(axis=1))
+    np.testing.assert_array_equal(centre[element], h.centre[receivers[element]])
+    np.testing.assert_array_equal(area[element], h.area[receivers[element]])
+    np.testing.assert_array_equal(normal[~element], tree.normal[cluster])
+    np.testing.assert_array_equal(lo[~element], tree.lo[cluster])
+    np.testing.assert_array_equal(hi[~element], tree.hi[cluster])
 
 
 @pytest.mark.parametrize("two_sided", [False, True])

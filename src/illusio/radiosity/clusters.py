@@ -57,7 +57,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from .hierarchy import Hierarchy
+from .hierarchy import Hierarchy, point_on
 from .refine import CHUNK, channel_max, refine
 
 __all__ = ["ClusterTree", "ClusterLinks", "ClusteredGather", "refine_nodes", "is_cluster", "cluster_node"]
@@ -447,16 +447,48 @@ def member_irradiance(m, n0, n1, n2):
 
 def _node_boxes(h: Hierarchy, tree: ClusterTree, nodes: np.ndarray):
     """(lo, hi, centre, area, normal) of ``nodes`` (elements and clusters mixed)."""
-    el = nodes >= 0
-    e, c = nodes[el], -1 - nodes[~el]
-    lo, hi = np.empty((len(nodes), 3)), np.empty((len(nodes), 3))
-    centre, normal, area = np.empty((len(nodes), 3)), np.empty((len(nodes), 3)), np.empty(len(nodes))
-    corners = h.corners[e]
-    lo[el], hi[el] = corners.min(axis=1), corners.max(axis=1)
-    centre[el], normal[el], area[el] = h.centre[e], h.normal[e], h.area[e]
-    lo[~el], hi[~el], centre[~el] = tree.lo[c], tree.hi[c], tree.centre[c]
-    normal[~el], area[~el] = tree.normal[c], tree.area[c]
+    n = len(nodes)
+    lo, hi, centre, normal = (np.empty((n, 3)) for _ in range(4))
+    area = np.empty(n)
+    _fill_node_boxes(
+        h.corners,
+        h.centre,
+        h.normal,
+        h.area,
+        tree.lo,
+        tree.hi,
+        tree.centre,
+        tree.normal,
+        tree.area,
+        np.asarray(nodes, np.int64),
+        lo,
+        hi,
+        centre,
+        area,
+        normal,
+    )
     return lo, hi, centre, area, normal
+
+
+@numba.njit(parallel=True, cache=True)
+def _fill_node_boxes(
+    corners, e_centre, e_normal, e_area, c_lo, c_hi, c_centre, c_normal, c_area, nodes, lo, hi, centre, area, normal
+):
+    """_node_boxes' rows: an element's from its corners, a cluster's (node −1 − c) from the tree."""
+    for i in numba.prange(len(nodes)):
+        e = nodes[i]
+        if e >= 0:
+            for a in range(3):
+                lo[i, a] = min(min(corners[e, 0, a], corners[e, 1, a]), min(corners[e, 2, a], corners[e, 3, a]))
+                hi[i, a] = max(max(corners[e, 0, a], corners[e, 1, a]), max(corners[e, 2, a], corners[e, 3, a]))
+                centre[i, a], normal[i, a] = e_centre[e, a], e_normal[e, a]
+            area[i] = e_area[e]
+        else:
+            c = -1 - e
+            for a in range(3):
+                lo[i, a], hi[i, a] = c_lo[c, a], c_hi[c, a]
+                centre[i, a], normal[i, a] = c_centre[c, a], c_normal[c, a]
+            area[i] = c_area[c]
 
 
 def mean_cosine(normal: np.ndarray, direction: np.ndarray) -> np.ndarray:
@@ -492,18 +524,50 @@ def transfer_bound(h, tree, receivers, sources, b_max_element, b_max_cluster):
     return b * area_r * ff
 
 
-def _node_points(h, tree, nodes, k, rng):
-    """(points (n, k, 3), normals (n, k, 3), valid (n, k)) on ``nodes``: uniform on an element,
-    area-weighted over a cluster's included members."""
-    n = len(nodes)
+def _node_samples(h, tree, nodes, k, rng):
+    """(elements (n, k), −1: none; parameters uv (n, k, 2) in [0, 1)²) of sample points on ``nodes``:
+    uniform on an element, area-weighted over a cluster's included members (the point itself:
+    hierarchy.point_on)."""
     roots = np.repeat(nodes[:, None], k, axis=1)
     cl = nodes < 0
     if cl.any():
         roots[cl] = tree.sample_members(h, -1 - nodes[cl], k, rng)
-    valid = roots >= 0
-    flat = np.maximum(roots, 0).reshape(-1)
-    points = h.sample_points(flat, rng.random((len(flat), 1, 2)))[:, 0].reshape(n, k, 3)
-    return points, h.normal[flat].reshape(n, k, 3), valid
+    return roots, rng.random((len(nodes), k, 2))
+
+
+@numba.njit(parallel=True, cache=True)
+def _cluster_rays(corners, triangle, normal, roots_a, uv_a, roots_b, uv_b, offset, origin, unit, dist, up, counted):
+    """Per sample s of pair p (row i = p·k + s): the ray from the point on roots_a[p, s] to the
+    point on roots_b[p, s], both lifted by ``offset`` along their normals (origin, unit direction,
+    length short of the target by ``offset``, float32, as Embree takes them), the receiver's normal
+    (the exposure probe), and whether the ray counts: both points exist, it leaves the receiver's
+    front toward the source's front, and it is longer than 2·offset."""
+    n, k = roots_a.shape
+    for p in numba.prange(n):
+        for s in range(k):
+            i = p * k + s
+            ea, eb = roots_a[p, s], roots_b[p, s]
+            if ea < 0 or eb < 0:
+                counted[i] = False
+                continue
+            a0, a1, a2 = point_on(corners, triangle, ea, uv_a[p, s, 0], uv_a[p, s, 1])
+            b0, b1, b2 = point_on(corners, triangle, eb, uv_b[p, s, 0], uv_b[p, s, 1])
+            o0, o1, o2 = a0 + offset * normal[ea, 0], a1 + offset * normal[ea, 1], a2 + offset * normal[ea, 2]
+            d0 = b0 + offset * normal[eb, 0] - o0
+            d1 = b1 + offset * normal[eb, 1] - o1
+            d2 = b2 + offset * normal[eb, 2] - o2
+            length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+            norm = max(length, 1e-300)
+            u0, u1, u2 = d0 / norm, d1 / norm, d2 / norm
+            counted[i] = (
+                normal[ea, 0] * u0 + normal[ea, 1] * u1 + normal[ea, 2] * u2 > 0
+                and normal[eb, 0] * u0 + normal[eb, 1] * u1 + normal[eb, 2] * u2 < 0
+                and length > 2 * offset
+            )
+            origin[i, 0], origin[i, 1], origin[i, 2] = o0, o1, o2
+            unit[i, 0], unit[i, 1], unit[i, 2] = u0, u1, u2
+            dist[i] = max(length - offset, 0.0)
+            up[i, 0], up[i, 1], up[i, 2] = normal[ea, 0], normal[ea, 1], normal[ea, 2]
 
 
 def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bool = False):
@@ -513,36 +577,41 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     n, k = len(receivers), visibility.samples
     if n == 0:
         return (np.zeros(0), np.zeros(0, np.int64)) if counted_rays else np.zeros(0)
-    a, na, va = _node_points(h, tree, receivers, k, visibility.rng)
-    b, nb, vb = _node_points(h, tree, sources, k, visibility.rng)
-    offset = visibility.offset
-    origin = a + offset * na
-    target = b + offset * nb
-    d = target - origin
-    length = np.linalg.norm(d, axis=2)
-    unit = d / np.maximum(length, 1e-300)[..., None]
-    counted = va & vb & ((na * unit).sum(axis=2) > 0) & ((nb * unit).sum(axis=2) < 0) & (length > 2 * offset)
-    if counted.any():
+    roots_a, uv_a = _node_samples(h, tree, receivers, k, visibility.rng)
+    roots_b, uv_b = _node_samples(h, tree, sources, k, visibility.rng)
+    origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
+    dist, counted = np.empty(n * k, np.float32), np.empty(n * k, np.bool_)
+    _cluster_rays(
+        h.corners,
+        h.triangle,
+        h.normal,
+        roots_a,
+        uv_a,
+        roots_b,
+        uv_b,
+        visibility.offset,
+        origin,
+        unit,
+        dist,
+        up,
+        counted,
+    )
+    chosen = np.flatnonzero(counted)
+    if len(chosen):
         # a receiving point in contact with something (a face against another, inside a closed
         # object) is not part of a visible surface: left out, as the element links' V leaves it
-        exposed = np.zeros((n, k), bool)
-        exposed[counted] = visibility.exposed(origin[counted], na[counted])
-        counted &= exposed
-    clear = np.zeros((n, k), bool)
-    if counted.any():
+        counted[chosen] = visibility.exposed(origin[chosen], up[chosen])
+        chosen = chosen[counted[chosen]]
+    clear = np.zeros(n * k, bool)
+    if len(chosen):
         if visibility.empty:
-            clear[counted] = True
+            clear[chosen] = True
         else:
-            hit = visibility.scene.run(
-                origin[counted].astype(np.float32),
-                unit[counted].astype(np.float32),
-                dists=np.maximum(length[counted] - offset, 0).astype(np.float32),
-                query="OCCLUDED",
-            )
-            clear[counted] = np.asarray(hit) < 0
-            visibility.rays += int(counted.sum())
-    seen = counted.sum(axis=1)
-    v = np.where(seen > 0, clear.sum(axis=1) / np.maximum(seen, 1), 0.0)
+            hit = visibility.scene.run(origin[chosen], unit[chosen], dists=dist[chosen], query="OCCLUDED")
+            clear[chosen] = np.asarray(hit) < 0
+            visibility.rays += len(chosen)
+    seen = counted.reshape(n, k).sum(axis=1)
+    v = np.where(seen > 0, clear.reshape(n, k).sum(axis=1) / np.maximum(seen, 1), 0.0)
     return (v, seen) if counted_rays else v
 
 

@@ -258,29 +258,33 @@ class Hierarchy:
         return out
 
 
+@numba.njit(cache=True, inline="always")
+def point_on(corners, triangle, e, u, v):
+    """The point of element ``e`` at parameters (u, v) in [0, 1)²: bilinear on a quad, folded
+    barycentric on a triangle (x, y, z)."""
+    if triangle[e]:
+        if u + v > 1:
+            u, v = 1 - u, 1 - v
+        return (
+            corners[e, 0, 0] + u * (corners[e, 1, 0] - corners[e, 0, 0]) + v * (corners[e, 2, 0] - corners[e, 0, 0]),
+            corners[e, 0, 1] + u * (corners[e, 1, 1] - corners[e, 0, 1]) + v * (corners[e, 2, 1] - corners[e, 0, 1]),
+            corners[e, 0, 2] + u * (corners[e, 1, 2] - corners[e, 0, 2]) + v * (corners[e, 2, 2] - corners[e, 0, 2]),
+        )
+    w0, w1, w2, w3 = (1 - u) * (1 - v), u * (1 - v), u * v, (1 - u) * v
+    return (
+        w0 * corners[e, 0, 0] + w1 * corners[e, 1, 0] + w2 * corners[e, 2, 0] + w3 * corners[e, 3, 0],
+        w0 * corners[e, 0, 1] + w1 * corners[e, 1, 1] + w2 * corners[e, 2, 1] + w3 * corners[e, 3, 1],
+        w0 * corners[e, 0, 2] + w1 * corners[e, 1, 2] + w2 * corners[e, 2, 2] + w3 * corners[e, 3, 2],
+    )
+
+
 @numba.njit(cache=True)
 def _sample_points(corners, triangle, elements, uv, out):
     for p in range(elements.shape[0]):
-        e = elements[p]
         for s in range(uv.shape[1]):
-            u, v = uv[p, s, 0], uv[p, s, 1]
-            if triangle[e]:
-                if u + v > 1:
-                    u, v = 1 - u, 1 - v
-                for c in range(3):
-                    out[p, s, c] = (
-                        corners[e, 0, c]
-                        + u * (corners[e, 1, c] - corners[e, 0, c])
-                        + v * (corners[e, 2, c] - corners[e, 0, c])
-                    )
-            else:
-                for c in range(3):
-                    out[p, s, c] = (
-                        (1 - u) * (1 - v) * corners[e, 0, c]
-                        + u * (1 - v) * corners[e, 1, c]
-                        + u * v * corners[e, 2, c]
-                        + (1 - u) * v * corners[e, 3, c]
-                    )
+            out[p, s, 0], out[p, s, 1], out[p, s, 2] = point_on(
+                corners, triangle, elements[p], uv[p, s, 0], uv[p, s, 1]
+            )
 
 
 def _split(c: np.ndarray, tri: np.ndarray) -> np.ndarray:
