@@ -191,6 +191,27 @@ def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
     np.testing.assert_array_equal(hi[~element], tree.hi[cluster])
 
 
+def test_members_are_drawn_by_area_as_the_plain_search_draws_them(rng):
+    """ClusterTree.sample_members (a binary search per sample over its cluster's run) against the
+    same draw through one NumPy searchsorted over the whole cumulative area, some roots excluded."""
+    h = Hierarchy(scene_polygons(room_with_sphere(12)))
+    tree = ClusterTree.build(h)
+    tree.exclude(rng.choice(h.roots, 15, replace=False))
+    clusters = rng.integers(0, len(tree), 300)
+    seed = int(rng.integers(2**31))
+    roots = tree.sample_members(h, clusters, 16, np.random.default_rng(seed))
+    area = np.where(tree.included, h.area[tree.order], 0.0)
+    cum = np.r_[0.0, np.cumsum(area)]
+    lo, hi = cum[tree.start[clusters]], cum[tree.end[clusters]]
+    u = lo[:, None] + np.random.default_rng(seed).random((len(clusters), 16)) * (hi - lo)[:, None]
+    pos = np.clip(
+        np.searchsorted(cum, u, side="right") - 1, tree.start[clusters][:, None], tree.end[clusters][:, None] - 1
+    )
+    expected = np.where(tree.included[pos] & (hi > lo)[:, None], tree.order[pos], -1)
+    np.testing.assert_array_equal(roots, expected)
+    assert (roots == -1).any() and (roots >= 0).mean() > 0.5
+
+
 @pytest.mark.parametrize("two_sided", [False, True])
 def test_clustered_gather_equals_the_plain_reference(two_sided):
     """ClusteredGather (numba, pulls and pushes by runs) against reference.cluster_gather (one link

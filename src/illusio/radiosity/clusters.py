@@ -251,13 +251,34 @@ class ClusterTree:
         cluster with none gives −1)."""
         area = np.where(self.included, h.area[self.order], 0.0)
         cum = np.r_[0.0, np.cumsum(area)]
-        lo, hi = cum[self.start[clusters]], cum[self.end[clusters]]
-        u = lo[:, None] + rng.random((len(clusters), k)) * (hi - lo)[:, None]
-        pos = np.clip(np.searchsorted(cum, u, side="right") - 1, 0, len(self.order) - 1)
-        pos = np.clip(pos, self.start[clusters][:, None], self.end[clusters][:, None] - 1)
-        roots = self.order[pos]
-        roots[~self.included[pos] | (hi <= lo)[:, None]] = -1
+        clusters = np.asarray(clusters, np.int64)
+        roots = np.empty((len(clusters), k), np.int64)
+        _draw_members(
+            cum, self.order, self.included, self.start, self.end, clusters, rng.random((len(clusters), k)), roots
+        )
         return roots
+
+
+@numba.njit(parallel=True, cache=True)
+def _draw_members(cum, order, included, start, end, clusters, uniform, out):
+    """out[i, s]: the member root of cluster clusters[i] whose run of the cumulative area ``cum``
+    holds lo + uniform[i, s]·(hi − lo), lo and hi the cluster's ends in it (a binary search over
+    its run); −1 where that member is excluded or the cluster has no area."""
+    for i in numba.prange(len(clusters)):
+        c = clusters[i]
+        first, last = start[c], end[c]
+        lo, hi = cum[first], cum[last]
+        for s in range(uniform.shape[1]):
+            u = lo + uniform[i, s] * (hi - lo)
+            a, b = first, last + 1  # the first index of the run with cum > u
+            while a < b:
+                m = (a + b) // 2
+                if cum[m] <= u:
+                    a = m + 1
+                else:
+                    b = m
+            pos = min(max(a - 1, first), last - 1)
+            out[i, s] = order[pos] if included[pos] and hi > lo else -1
 
 
 def twins(h: Hierarchy) -> np.ndarray:
