@@ -287,6 +287,11 @@ def _fraction_and_masks(clear, exposed, samples, epoch, keep, facing):
     return visibility, rays
 
 
+#: the most one-sided faces, as a share of the scene's triangles, for which the exposure probe runs
+#: in parts (Visibility._probe): in a scene of one-sided faces one first hit is cheaper
+SPLIT_PROBE_SHARE = 0.1
+
+
 class Visibility:
     """Ray casting against the polygons of a hierarchy (rebuilt with :meth:`rebuild` when they move)."""
 
@@ -336,6 +341,13 @@ class Visibility:
         if len(tris):
             TriangleMesh(self.scene, tris.astype(np.float32))
         self.empty = len(tris) == 0
+        # the faces with a back, apart, where they are few (MGF's scenes: the lamps): see _probe
+        one_sided = ~self.two_sided
+        self.split_probe = len(tris) > 0 and one_sided.sum() <= SPLIT_PROBE_SHARE * len(tris)
+        self._backs = None
+        if self.split_probe and one_sided.any():
+            self._backs = rtcore_scene.EmbreeScene()
+            TriangleMesh(self._backs, tris[one_sided].astype(np.float32))
 
     def __call__(self, receivers: np.ndarray, sources: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(F_ij, V_ij) for each (receiver, source) pair, (n,) float64 each."""
@@ -357,15 +369,39 @@ class Visibility:
         # contact) is not part of the surface anyone sees: a probe along the normal finds it
         # contact, or inside a closed object (the probe meets the back of a face: under a door that
         # stands on the wall, the points are inside the door)
-        probe = self.scene.run(origins, up, output=1)
+        exposed = self._probe(origins, up)
         self.rays += 2 * n * k
-        exposed = self._exposed_by(probe, up)
         facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
         visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False, facing)
         return form_factor, visibility
 
-    def _exposed_by(self, probe, up: np.ndarray) -> np.ndarray:
-        """:func:`_exposed` of the hits of probes cast along ``up``."""
+    def _probe(self, origins: np.ndarray, up: np.ndarray) -> np.ndarray:
+        """:func:`_exposed` of probes from ``origins`` along ``up`` (float32 (n, 3) each): not exposed
+        where the first hit is within ``contact`` or is the back of a one-sided face.
+
+        Where one-sided faces are few (``split_probe``: MGF's scenes, two-sided but for their lamps)
+        the same answer costs less in parts: an occlusion ray ``contact`` long for the contact; the
+        first hit among the one-sided faces alone (a small scene); and where that is a back, an
+        occlusion ray up to it through the whole scene — a two-sided face before it is the first
+        hit and has no back. Otherwise one first hit at any distance, read as it is."""
+        n = len(origins)
+        if self.split_probe:
+            touching = np.asarray(
+                self.scene.run(origins, up, dists=np.full(n, self.contact, np.float32), query="OCCLUDED")
+            )
+            exposed = touching < 0
+            if self._backs is not None:
+                first = self._backs.run(origins, up, output=1)
+                prim, normal = np.asarray(first["primID"]), np.asarray(first["Ng"])
+                back = exposed & (prim >= 0) & ((normal * up).sum(axis=1) > 0)
+                rows = np.flatnonzero(back)
+                if len(rows):
+                    # just short of the back, so the ray meets what lies before it, not the back itself
+                    reach = np.asarray(first["tfar"])[rows] * np.float32(1 - 1e-5)
+                    before = np.asarray(self.scene.run(origins[rows], up[rows], dists=reach, query="OCCLUDED"))
+                    exposed[rows[before < 0]] = False
+            return exposed
+        probe = self.scene.run(origins, up, output=1)
         return _exposed(
             np.asarray(probe["primID"]),
             np.asarray(probe["tfar"]),
@@ -381,10 +417,8 @@ class Visibility:
         (The test the links' V makes of their receiver's samples, for callers with their own points.)"""
         if self.empty or not len(origins):
             return np.ones(len(origins), bool)
-        up = np.ascontiguousarray(normals, np.float32)
-        probe = self.scene.run(np.ascontiguousarray(origins, np.float32), up, output=1)
         self.rays += len(origins)
-        return self._exposed_by(probe, up)
+        return self._probe(np.ascontiguousarray(origins, np.float32), np.ascontiguousarray(normals, np.float32))
 
     def reach(self, elements: np.ndarray, rays: int = 64) -> np.ndarray:
         """Per element (n,): Σ_j F_ej V_ej over reflecting surfaces as rays measure it — the share of
@@ -456,8 +490,7 @@ class Visibility:
                 clear[cast] = np.asarray(hit) < 0
             cast = np.flatnonzero(cast_probe)
             if len(cast):
-                probe = self.scene.run(origins[cast], up[cast], output=1)
-                exposed[cast] = self._exposed_by(probe, up[cast])
+                exposed[cast] = self._probe(origins[cast], up[cast])
             self.rays += int(cast_ray.sum() + cast_probe.sum())
         else:
             clear[:], exposed[:] = True, True

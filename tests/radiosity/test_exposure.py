@@ -1,0 +1,61 @@
+"""The exposure probe (is a sample point part of a visible surface?) in a scene of two-sided faces
+but for a few one-sided ones, as MGF's scenes are (their lamps): the probe in parts it casts there
+(a short occlusion ray, the first hit among the one-sided faces, an occlusion ray up to a back)
+against the first hit at any distance that the general test reads (a hit within ``contact``, or
+the back of a one-sided face)."""
+
+import warnings
+
+import numpy as np
+
+from illusio.radiosity import Polygons, scene_polygons
+from illusio.radiosity.hierarchy import Hierarchy
+from illusio.radiosity.polygons import rectangle
+from illusio.radiosity.visibility import Visibility, _exposed
+from illusio.scene.mgf import load_mgf
+
+
+def test_a_mostly_two_sided_scene_probes_in_parts_and_answers_as_the_first_hit_does(mgf_scenes, rng):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the file's unused entities, said by the reader
+        polygons = scene_polygons(load_mgf(mgf_scenes / "office2.mgf"))
+    h = Hierarchy(polygons)
+    visibility = Visibility(h)
+    assert visibility.split_probe and visibility._backs is not None  # office2's three lamps have backs
+    # every root, and more points under the lamps (points above a lamp see its back)
+    lamps = np.flatnonzero(polygons.exitance.max(axis=1) > 0)
+    elements = np.r_[rng.choice(h.roots, 20000), np.repeat(h.roots[np.isin(h.polygon[h.roots], lamps)], 50)]
+    points = h.sample_points(elements, rng.random((len(elements), 1, 2)))[:, 0]
+    up = h.normal[elements].astype(np.float32)
+    origins = (points + visibility.offset * h.normal[elements]).astype(np.float32)
+    short = visibility.exposed(origins, up)
+    probe = visibility.scene.run(origins, up, output=1)  # the first hit, any distance
+    general = _exposed(
+        np.asarray(probe["primID"]), np.asarray(probe["tfar"]), np.asarray(probe["Ng"]), up, visibility.contact,
+        visibility.two_sided,
+    )  # fmt: skip
+    np.testing.assert_array_equal(short, general)
+    assert 0 < (~short).sum() < len(short)  # points in contact (a desk's foot, a board on a wall) and free ones
+
+
+def test_the_back_of_a_one_sided_face_hides_a_point_unless_a_two_sided_face_comes_first(monkeypatch, rng):
+    """A floor under a one-sided board facing up (its back to the floor), a two-sided shelf between
+    them over half the floor: the floor under the shelf is exposed, the rest sees the board's back
+    first and is not (a point inside a closed one-sided object); the probe in parts says so."""
+    import illusio.radiosity.visibility as visibility_module
+
+    monkeypatch.setattr(visibility_module, "SPLIT_PROBE_SHARE", 0.5)
+    quad = [
+        rectangle((0, 0, 0), (0, 0, 4), (4, 0, 0)),  # floor, facing up
+        rectangle((0, 2, 0), (0, 0, 1), (1, 0, 0)),  # board, facing up, one-sided
+        rectangle((-0.5, 1, 0), (0, 0, 1), (1, 0, 0)),  # shelf over x < 0, facing up
+    ]
+    polygons = Polygons(np.array(quad), np.zeros(3, bool), np.full((3, 3), 0.5), np.zeros((3, 3)), [0, 1, 2],
+                        ["floor", "board", "shelf"], side=[1, 0, 1])  # fmt: skip
+    h = Hierarchy(polygons)
+    visibility = Visibility(h)
+    assert visibility.split_probe and visibility._backs is not None
+    points = np.c_[rng.uniform(-0.45, 0.45, 2000), np.full(2000, visibility.offset), rng.uniform(-0.45, 0.45, 2000)]
+    up = np.tile(np.float32([0, 1, 0]), (2000, 1))
+    exposed = visibility.exposed(points.astype(np.float32), up)
+    np.testing.assert_array_equal(exposed, points[:, 0] < 0)
