@@ -57,6 +57,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from ..core.rays import cast
 from .hierarchy import Hierarchy, point_on
 from .refine import CHUNK, channel_max, refine
 
@@ -628,7 +629,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         if visibility.empty:
             clear[chosen] = True
         else:
-            hit = visibility.scene.run(origin[chosen], unit[chosen], dists=dist[chosen], query="OCCLUDED")
+            hit = cast(visibility.scene, origin[chosen], unit[chosen], dist[chosen], "OCCLUDED")
             clear[chosen] = np.asarray(hit) < 0
             visibility.rays += len(chosen)
     seen = counted.reshape(n, k).sum(axis=1)

@@ -28,6 +28,7 @@ import numba
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.rays import cast
 from .formfactor import point_polygon
 from .hierarchy import Hierarchy
 
@@ -364,7 +365,7 @@ class Visibility:
         if self.empty:
             return form_factor, np.ones(n)
         origins, directions, dists, up = _segments(a, b, receiver_normal, h.normal[sources], self.offset)
-        hit = self.scene.run(origins, directions, dists=dists, query="OCCLUDED")
+        hit = cast(self.scene, origins, directions, dists, "OCCLUDED")
         # a sample point with something right above it (under a board on a wall, behind a door in
         # contact) is not part of the surface anyone sees: a probe along the normal finds it
         # contact, or inside a closed object (the probe meets the back of a face: under a door that
@@ -386,22 +387,20 @@ class Visibility:
         hit and has no back. Otherwise one first hit at any distance, read as it is."""
         n = len(origins)
         if self.split_probe:
-            touching = np.asarray(
-                self.scene.run(origins, up, dists=np.full(n, self.contact, np.float32), query="OCCLUDED")
-            )
+            touching = np.asarray(cast(self.scene, origins, up, np.full(n, self.contact, np.float32), "OCCLUDED"))
             exposed = touching < 0
             if self._backs is not None:
-                first = self._backs.run(origins, up, output=1)
+                first = cast(self._backs, origins, up)
                 prim, normal = np.asarray(first["primID"]), np.asarray(first["Ng"])
                 back = exposed & (prim >= 0) & ((normal * up).sum(axis=1) > 0)
                 rows = np.flatnonzero(back)
                 if len(rows):
                     # just short of the back, so the ray meets what lies before it, not the back itself
                     reach = np.asarray(first["tfar"])[rows] * np.float32(1 - 1e-5)
-                    before = np.asarray(self.scene.run(origins[rows], up[rows], dists=reach, query="OCCLUDED"))
+                    before = np.asarray(cast(self.scene, origins[rows], up[rows], reach, "OCCLUDED"))
                     exposed[rows[before < 0]] = False
             return exposed
-        probe = self.scene.run(origins, up, output=1)
+        probe = cast(self.scene, origins, up)
         return _exposed(
             np.asarray(probe["primID"]),
             np.asarray(probe["tfar"]),
@@ -439,7 +438,7 @@ class Visibility:
         directions = _cosine_directions(normal, jittered_grid(n, rays, self.rng))
         origins = (points + self.offset * normal[:, None]).reshape(-1, 3).astype(np.float32)
         directions = directions.reshape(-1, 3).astype(np.float32)
-        hit = self.scene.run(origins, directions, output=1)
+        hit = cast(self.scene, origins, directions)
         self.rays += n * rays
         prim = np.asarray(hit["primID"])
         facing = (np.asarray(hit["Ng"]) * directions).sum(axis=1) < 0
@@ -484,13 +483,13 @@ class Visibility:
             exposed,
         )
         if not self.empty:
-            cast = np.flatnonzero(cast_ray)
-            if len(cast):
-                hit = self.scene.run(origins[cast], directions[cast], dists=dists[cast], query="OCCLUDED")
-                clear[cast] = np.asarray(hit) < 0
-            cast = np.flatnonzero(cast_probe)
-            if len(cast):
-                exposed[cast] = self._probe(origins[cast], up[cast])
+            chosen = np.flatnonzero(cast_ray)
+            if len(chosen):
+                hit = cast(self.scene, origins[chosen], directions[chosen], dists[chosen], "OCCLUDED")
+                clear[chosen] = np.asarray(hit) < 0
+            chosen = np.flatnonzero(cast_probe)
+            if len(chosen):
+                exposed[chosen] = self._probe(origins[chosen], up[chosen])
             self.rays += int(cast_ray.sum() + cast_probe.sum())
         else:
             clear[:], exposed[:] = True, True
