@@ -558,12 +558,12 @@ def _node_samples(h, tree, nodes, k, rng):
 
 
 @numba.njit(parallel=True, cache=True)
-def _cluster_rays(corners, triangle, normal, roots_a, uv_a, roots_b, uv_b, offset, origin, unit, dist, up, counted):
+def _cluster_rays(corners, triangle, normal, roots_a, uv_a, roots_b, uv_b, offset, origin, unit, dist, counted):
     """Per sample s of pair p (row i = p·k + s): the ray from the point on roots_a[p, s] to the
     point on roots_b[p, s], both lifted by ``offset`` along their normals (origin, unit direction,
-    length short of the target by ``offset``, float32, as Embree takes them), the receiver's normal
-    (the exposure probe), and whether the ray counts: both points exist, it leaves the receiver's
-    front toward the source's front, and it is longer than 2·offset."""
+    length short of the target by ``offset``, float32, as Embree takes them), and whether the ray
+    counts: both points exist, it leaves the receiver's front toward the source's front, and it is
+    longer than 2·offset."""
     n, k = roots_a.shape
     for p in numba.prange(n):
         for s in range(k):
@@ -589,7 +589,6 @@ def _cluster_rays(corners, triangle, normal, roots_a, uv_a, roots_b, uv_b, offse
             origin[i, 0], origin[i, 1], origin[i, 2] = o0, o1, o2
             unit[i, 0], unit[i, 1], unit[i, 2] = u0, u1, u2
             dist[i] = max(length - offset, 0.0)
-            up[i, 0], up[i, 1], up[i, 2] = normal[ea, 0], normal[ea, 1], normal[ea, 2]
 
 
 def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bool = False):
@@ -601,7 +600,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         return (np.zeros(0), np.zeros(0, np.int64)) if counted_rays else np.zeros(0)
     roots_a, uv_a = _node_samples(h, tree, receivers, k, visibility.rng)
     roots_b, uv_b = _node_samples(h, tree, sources, k, visibility.rng)
-    origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
+    origin, unit = np.empty((n * k, 3), np.float32), np.empty((n * k, 3), np.float32)
     dist, counted = np.empty(n * k, np.float32), np.empty(n * k, np.bool_)
     _cluster_rays(
         h.corners,
@@ -615,14 +614,13 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         origin,
         unit,
         dist,
-        up,
         counted,
     )
     chosen = np.flatnonzero(counted)
     if len(chosen):
         # a receiving point in contact with something (a face against another, inside a closed
         # object) is not part of a visible surface: left out, as the element links' V leaves it
-        counted[chosen] = visibility.exposed(origin[chosen], up[chosen])
+        counted[chosen] = visibility.exposed(origin[chosen], h.normal[roots_a.ravel()[chosen]])
         chosen = chosen[counted[chosen]]
     clear = np.zeros(n * k, bool)
     if len(chosen):
