@@ -210,6 +210,26 @@ def test_members_are_drawn_by_area_as_the_plain_search_draws_them(rng):
     assert (roots[-1] == -1).all() and (roots >= 0).mean() > 0.5
 
 
+def test_cluster_links_grow_in_place_and_keep_what_was_added(rng):
+    """ClusterLinks extended a batch at a time (its buffers grow) and with some removed hold what a
+    concatenation of the batches, less the removed rows, holds."""
+    links, batches = ClusterLinks(), []
+    for size in rng.integers(0, 400, 12):
+        batch = (rng.integers(-50, 50, size), rng.integers(-50, 50, size), rng.random((size, 2)), rng.random(size),
+                 rng.random((size, 3)))  # fmt: skip
+        links.extend(*batch)
+        batches.append(batch)
+    whole = [np.concatenate([b[f] for b in batches]) for f in range(5)]
+    drop = rng.random(len(links)) < 0.3
+    gone = links.remove(drop)
+    for name, column in zip(ClusterLinks._FIELDS, whole):
+        np.testing.assert_array_equal(getattr(links, name), column[~drop])
+        np.testing.assert_array_equal(getattr(gone, name), column[drop])
+    links.extend(*(column[:5] for column in whole))
+    np.testing.assert_array_equal(links.kernel[-5:], whole[2][:5])
+    assert len(links) == int((~drop).sum()) + 5
+
+
 @pytest.mark.parametrize("two_sided", [False, True])
 def test_clustered_gather_equals_the_plain_reference(two_sided):
     """ClusteredGather (numba, pulls and pushes by runs) against reference.cluster_gather (one link

@@ -339,32 +339,55 @@ class ClusterLinks:
     """Links with a cluster at one end or both: ``receiver`` and ``source`` nodes, ``kernel`` (n, 2)
     G_ij and G'_ij (1/m², the module docstring: what the source's fronts and its twins send;
     G' = 0 for an element source), ``visibility`` V_ij and ``direction`` (n, 3), the unit vector
-    from the receiver's centre toward the source's (what a receiving cluster's push orients by)."""
+    from the receiver's centre toward the source's (what a receiving cluster's push orients by).
+    The fields are views of buffers with room to grow (read them again after an edit): refinement
+    extends them a chunk of pairs at a time, and a copy of the whole store per chunk made the Graz
+    office's build quadratic."""
 
     _FIELDS = ("receiver", "source", "kernel", "visibility", "direction")
+    _SHAPES = {"receiver": ((), np.int64), "source": ((), np.int64), "kernel": ((2,), np.float64),
+               "visibility": ((), np.float64), "direction": ((3,), np.float64)}  # fmt: skip
 
     def __init__(self, receiver=(), source=(), kernel=(), visibility=(), direction=None):
-        self.receiver = np.asarray(receiver, np.int64).reshape(-1)
-        self.source = np.asarray(source, np.int64).reshape(-1)
-        self.kernel = np.asarray(kernel, np.float64).reshape(-1, 2)
-        self.visibility = np.asarray(visibility, np.float64).reshape(-1)
-        self.direction = (
-            np.zeros((len(self.receiver), 3)) if direction is None else np.asarray(direction, np.float64).reshape(-1, 3)
-        )
+        receiver = np.asarray(receiver, np.int64).reshape(-1)
+        if direction is None:
+            direction = np.zeros((len(receiver), 3))
+        values = (receiver, source, kernel, visibility, direction)
+        self._buffers = {
+            name: np.array(value, dtype).reshape((-1,) + shape)
+            for (name, (shape, dtype)), value in zip(self._SHAPES.items(), values)
+        }
+        self._n = len(receiver)
+
+    receiver = property(lambda self: self._buffers["receiver"][: self._n])
+    source = property(lambda self: self._buffers["source"][: self._n])
+    kernel = property(lambda self: self._buffers["kernel"][: self._n])
+    visibility = property(lambda self: self._buffers["visibility"][: self._n])
+    direction = property(lambda self: self._buffers["direction"][: self._n])
 
     def __len__(self) -> int:
-        return len(self.receiver)
+        return self._n
 
     def extend(self, receiver, source, kernel, visibility, direction) -> None:
+        k = len(receiver)
+        if self._n + k > len(self._buffers["receiver"]):
+            capacity = max(self._n + k, int(len(self._buffers["receiver"]) * 1.5) + 16)
+            for name, old in self._buffers.items():
+                grown = np.empty((capacity,) + old.shape[1:], old.dtype)
+                grown[: self._n] = old[: self._n]
+                self._buffers[name] = grown
         for name, value in zip(self._FIELDS, (receiver, source, kernel, visibility, direction)):
-            setattr(self, name, np.concatenate([getattr(self, name), np.asarray(value, getattr(self, name).dtype)]))
+            self._buffers[name][self._n : self._n + k] = value
+        self._n += k
 
     def remove(self, drop: np.ndarray) -> ClusterLinks:
         """Remove the links where ``drop`` and return them."""
         drop = np.asarray(drop, bool)
         gone = ClusterLinks(*(getattr(self, name)[drop] for name in self._FIELDS))
+        keep = np.flatnonzero(~drop)
         for name in self._FIELDS:
-            setattr(self, name, getattr(self, name)[~drop])
+            self._buffers[name][: len(keep)] = getattr(self, name)[keep]
+        self._n = len(keep)
         return gone
 
     def touching(self, elements: np.ndarray, size: int) -> np.ndarray:

@@ -29,8 +29,11 @@ from .visibility import NO_RAYS, Visibility
 
 __all__ = ["refine", "transfer_estimate", "needs_refinement", "CHUNK"]
 
-#: pairs evaluated in one batch at most
-CHUNK = 200_000
+#: pairs evaluated in one batch at most. A batch's sample points and rays are ~150 bytes a sample, 16
+#: samples a pair: at 200k pairs, fresh memory the kernel faults in on every batch (a kernel that
+#: runs at 17 ns a sample in reused arrays took 72 in fresh ones); at 50k office2 builds in 0.6× the
+#: time and 0.7× the peak memory, the Graz office in the same time (at 20k, per-batch costs win)
+CHUNK = 50_000
 
 
 def channel_max(rgb: np.ndarray) -> np.ndarray:
