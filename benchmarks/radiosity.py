@@ -92,7 +92,10 @@ def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
         scene = scan_room("stanford-bunny.obj") if name.startswith("scan room") else load_scene(name)
         renderer.prepare(scene)
         view = scene.camera("main")
-        halves = [render_mitsuba(renderer.polygons, view, size, spp // 2, seed=s) for s in (1, 2)]
+        # untextured on both sides: Mitsuba of the polygons at their mean reflectances, as the solve
+        # below (textures=False) sees them (the reference of a textured scene carries its images)
+        untextured = renderer.polygons.without_textures()
+        halves = [render_mitsuba(untextured, view, size, spp // 2, seed=s) for s in (1, 2)]
         reference = (halves[0] + halves[1]) / 2
         variants = (
             {"default": HierarchyParams()}
@@ -101,7 +104,6 @@ def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
         )
         mask = None
         for label, hierarchy in variants.items():
-            # untextured: Mitsuba of the polygons sees each surface at its mean reflectance
             image, emitter = renderer.radiance(Frame(view, size), RadiosityParams(hierarchy, textures=False), 4)
             mask = ~emitter
             s = score(image, reference, mask)
