@@ -401,3 +401,14 @@ def test_a_glb_whose_texture_image_is_damaged_is_one_line(room, tmp_path):
     with pytest.raises(InputError, match="not a readable image"):
         load_scene_file(broken)
     assert_one_line_error(illusio("render", broken, "-o", tmp_path / "x.png"), "broken.glb", "texture")
+
+
+def test_an_obj_whose_texture_coordinates_give_u_alone_is_refused_in_words(tmp_path):
+    """vt lines with one number (the fuzzer's cut of a cube's) read as one column: an InputError that
+    says what is wrong, not NumPy's reshape error."""
+    from illusio.core.errors import InputError
+
+    text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0\nvt 1\nvt 0.5\nf 1/1 2/2 3/3\n"
+    (tmp_path / "u.obj").write_text(text)
+    with pytest.raises(InputError, match=r"\(u, v\) pairs"):
+        load_scene_file(tmp_path / "u.obj")

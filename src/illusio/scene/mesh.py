@@ -48,7 +48,13 @@ class Mesh:
             self.normals = vertex_normals(self.vertices, self.faces)
         self.normals = np.ascontiguousarray(self.normals, dtype=np.float32).reshape(-1, 3)
         if self.uvs is not None:
-            self.uvs = np.ascontiguousarray(self.uvs, dtype=np.float32).reshape(-1, 2)
+            uvs = np.asarray(self.uvs, dtype=np.float32)
+            if (uvs.ndim == 2 and uvs.shape[1] != 2) or uvs.size % 2:
+                # (an OBJ whose vt lines give u alone reads as one column)
+                raise InputError(
+                    f"{self.name}: texture coordinates must be (u, v) pairs, got an array of shape {uvs.shape}"
+                )
+            self.uvs = np.ascontiguousarray(uvs).reshape(-1, 2)
         if len(self.normals) != len(self.vertices) or (self.uvs is not None and len(self.uvs) != len(self.vertices)):
             raise InputError(f"{self.name}: normals/uvs must have one row per vertex")
         if self.source_index is not None:
