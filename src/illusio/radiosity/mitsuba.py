@@ -22,32 +22,37 @@ __all__ = ["render_mitsuba", "score", "Score"]
 
 
 def _scene_dict(polygons: Polygons, folder: Path) -> dict:
+    """Mitsuba's scene of ``polygons``: one mesh a shape — the polygons of one texture, or the
+    untextured ones of one exitance and sidedness — holding only its own vertices; an untextured
+    shape's reflectance is a face attribute (each triangle its polygon's), so a scene whose polygons
+    each carry their own reflectance (``without_textures``) stays a handful of shapes."""
     import trimesh
 
+    mi = load_mitsuba()
     out: dict = {"type": "scene"}
     uv = polygons.corner_uv()
     side = polygons.sides()
     textured = np.isin(polygons.group, list(polygons.textures)) & np.isfinite(uv).all(axis=(1, 2))
-    # untextured polygons grouped by material; a textured one by its texture (its own material); a
-    # two-sided surface is its front with Mitsuba's twosided BSDF (its twin, at the same place, left out)
-    material = np.c_[np.where(textured[:, None], -1.0, polygons.reflectance), polygons.exitance]
-    material = np.c_[material, np.where(textured, polygons.group, -1), side]
+    # a textured polygon is grouped by its texture; a two-sided surface is its front with Mitsuba's
+    # twosided BSDF (its twin, at the same place, left out)
+    material = np.c_[polygons.exitance, np.where(textured, polygons.group, -1), side]
     _, group = np.unique(np.round(material, 9), axis=0, return_inverse=True)
     group = np.where(side == 2, -1, group.reshape(-1))
     vertices, faces = polygons.triangles()
     face_polygon = np.r_[np.arange(len(polygons)), np.flatnonzero(~polygons.triangle)]
     for g in np.unique(group[group >= 0]):
         members = np.flatnonzero(group == g)
-        take = np.isin(face_polygon, members)
+        take = np.flatnonzero(np.isin(face_polygon, members))
+        used, local = np.unique(faces[take], return_inverse=True)
         path = folder / f"group-{g}.ply"
-        mesh = trimesh.Trimesh(vertices.astype(np.float64), faces[take], process=False)
+        mesh = trimesh.Trimesh(vertices[used].astype(np.float64), local.reshape(-1, 3), process=False)
         k = members[0]
-        reflectance = rgb(polygons.reflectance[k])
         if textured[k]:  # the reflectance image through the uvs (Mitsuba's v runs down the image)
-            mi = load_mitsuba()
-            mesh.visual = trimesh.visual.TextureVisuals(uv=uv.reshape(-1, 2))
+            mesh.visual = trimesh.visual.TextureVisuals(uv=uv.reshape(-1, 2)[used])
             image = np.ascontiguousarray(polygons.textures[int(polygons.group[k])][::-1], np.float32)
             reflectance = {"type": "bitmap", "bitmap": mi.Bitmap(image), "raw": True}
+        else:
+            reflectance = {"type": "mesh_attribute", "name": "face_reflectance"}
         mesh.export(path)
         bsdf = {"type": "diffuse", "reflectance": reflectance}
         shape = {
@@ -58,6 +63,9 @@ def _scene_dict(polygons: Polygons, folder: Path) -> dict:
         }
         if polygons.exitance[k].max() > 0:
             shape["emitter"] = {"type": "area", "radiance": rgb(polygons.exitance[k] / np.pi)}
+        shape = mi.load_dict(shape)
+        if not textured[k]:
+            shape.add_attribute("face_reflectance", 3, polygons.reflectance[face_polygon[take]].ravel().tolist())
         out[f"group_{g}"] = shape
     return out
 
