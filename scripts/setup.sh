@@ -46,5 +46,5 @@ constraints=()
 .venv/bin/python -m pip install -q "${constraints[@]}" --upgrade pip >/dev/null
 .venv/bin/python -m pip install -q "${constraints[@]}" -e ".${extra:+[$extra]}"
 # numba's kernels compiled into their cache now, so the first command does not wait a minute for them
-echo "setup: compiling the numba kernels once (about 30 s)" >&2
+echo "setup: compiling the numba kernels once (about 45 s)" >&2
 .venv/bin/illusio --quiet compile >/dev/null

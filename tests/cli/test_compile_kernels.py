@@ -1,5 +1,6 @@
 """illusio compile (issue 45, cold start): numba's kernels are compiled into their disk cache, so a
-first command after setup loads them instead of compiling them."""
+first command after setup loads them instead of compiling them: the curvature's, the radiosity's
+on a box and on the office (clusters' links, textures' means) and its edits' (a moved object)."""
 
 from __future__ import annotations
 
@@ -12,8 +13,9 @@ import pytest
 CHECK = (
     "from illusio.core.kernels import cached_on_disk\n"
     "from illusio.lines import curvature\n"
-    "from illusio.radiosity import formfactor, links\n"
-    "kernels = (curvature._fit_all, curvature._smooth_tensors, formfactor._point_polygon, links._scatter_gather)\n"
+    "from illusio.radiosity import clusters, dynamic, formfactor, links, texture_reflectance\n"
+    "kernels = (curvature._fit_all, curvature._smooth_tensors, formfactor._point_polygon, links._scatter_gather,\n"
+    "    clusters._cluster_rays, texture_reflectance._mean_kernel, dynamic._links_in_shafts)\n"
     "print(cached_on_disk(*kernels))"
 )
 
