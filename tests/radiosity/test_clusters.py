@@ -144,6 +144,24 @@ def test_transfer_bound_is_conservative():
     assert checked >= 20
 
 
+def test_transfer_bound_in_slices_is_the_bound_of_each_pair(rng, monkeypatch):
+    """Re-testing every cluster link bounds them a slice at a time (bounded memory): the same value
+    per pair as one pair at a time, in the pairs' order."""
+    from illusio.radiosity import clusters
+
+    polygons = scene_polygons(room_with_sphere(12))
+    h = Hierarchy(polygons)
+    tree = ClusterTree.build(h)
+    b = rng.random(len(h)) + 0.1
+    b_cluster = tree.member_max(b)
+    nodes = np.r_[cluster_node(np.arange(len(tree))), h.roots]
+    recv, src = rng.choice(nodes, 200), rng.choice(nodes, 200)
+    monkeypatch.setattr(clusters, "BOUND_SLICE", 7)
+    sliced = transfer_bound(h, tree, recv, src, b, b_cluster)
+    single = [transfer_bound(h, tree, recv[i : i + 1], src[i : i + 1], b, b_cluster)[0] for i in range(200)]
+    np.testing.assert_array_equal(sliced, single)
+
+
 def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
     """The fused kernels of cluster visibility (the rays between two nodes' sample points, which count)
     and of the nodes' boxes, against the same written as NumPy over the hierarchy's own arrays."""
@@ -219,7 +237,9 @@ def test_cluster_links_grow_in_place_and_keep_what_was_added(rng):
                  rng.random((size, 3)))  # fmt: skip
         links.extend(*batch)
         batches.append(batch)
-    whole = [np.concatenate([b[f] for b in batches]) for f in range(5)]
+    # stored in 32 bits: what was added, as the store's types hold it
+    whole = [np.concatenate([b[f] for b in batches]).astype(getattr(links, name).dtype)
+             for f, name in enumerate(ClusterLinks._FIELDS)]  # fmt: skip
     drop = rng.random(len(links)) < 0.3
     gone = links.remove(drop)
     for name, column in zip(ClusterLinks._FIELDS, whole):
@@ -250,12 +270,16 @@ def test_clustered_gather_equals_the_plain_reference(two_sided):
     direction = rng.normal(size=(k, 3))
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
     b = rng.random((n, 3))
-    gather = ClusteredGather(Links().gather_operator(n), ClusterLinks(recv, src, kernel, vis, direction), tree, h)
+    links = ClusterLinks(recv, src, kernel, vis, direction)
+    gather = ClusteredGather(Links().gather_operator(n), links, tree, h)
+    # the reference given the values as stored (32 bits), in float64
+    kernel, vis, direction = (np.asarray(a, np.float64) for a in (links.kernel, links.visibility, links.direction))
     plain = reference.cluster_gather(
         [tree.members(c) for c in range(len(tree))], recv, src, kernel, vis, direction, h.area, h.normal, b, n, twins(h)
     )
     assert twins(h).any() == two_sided
-    assert np.allclose(gather @ b, plain, rtol=1e-10, atol=1e-12)
+    # (the gather's weights G·V are float32 products: a relative 1e-7 each)
+    assert np.allclose(gather @ b, plain, rtol=1e-6, atol=1e-12)
 
 
 @pytest.fixture(scope="module")
