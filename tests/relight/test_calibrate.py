@@ -6,6 +6,7 @@ import json
 
 import numpy as np
 import pytest
+from scipy.spatial import Delaunay
 
 pytest.importorskip("cv2", reason="calibration uses OpenCV (the photo extra)")
 
@@ -45,7 +46,9 @@ def test_a_known_camera_is_found_from_its_projections(rng):
     """30 points clicked a fifth of a pixel off: over 40 seeds f within 1.1 %, c within 4.1 px, the
     position within 2.7 cm; asserted with some room. k1 is loosely held by points at most 10 px from
     the border (0.08 off at worst), so what is asserted of the lens is what it does: 30 other points
-    land where the true camera puts them (median under 0.4 px)."""
+    land where the true camera puts them (median under 0.4 px), those among the clicked ones (inside
+    their hull in the image) within 1 px — over 300 seeds at most 0.69 px. Outside the hull the lens
+    is extrapolated: one session's seed put a point near the border 7.3 px off (k2 0.42 for 0)."""
     xyz = model_points(60, rng)
     uv = project(xyz[:30]) + rng.normal(0, 0.2, (30, 2))
     result = calibrate(uv, xyz[:30], SIZE)
@@ -56,7 +59,8 @@ def test_a_known_camera_is_found_from_its_projections(rng):
     assert i.distortion[0] < 0 and i.distortion[2:] == (0.0, 0.0)
     assert np.linalg.norm(np.subtract(result.view.pose.position, VIEW.pose.position)) < 0.05
     held_out = np.linalg.norm(project(xyz[30:], result.view, i) - project(xyz[30:]), axis=1)
-    assert np.median(held_out) < 0.4 and held_out.max() < 5  # 60 seeds: at most 0.19 and 1.9 px
+    among_clicked = Delaunay(uv).find_simplex(project(xyz[30:])) >= 0
+    assert np.median(held_out) < 0.4 and held_out[among_clicked].max() < 1.0
 
 
 def test_few_points_fit_one_focal_length_and_the_centre(rng):
