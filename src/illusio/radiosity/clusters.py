@@ -338,22 +338,22 @@ def _range_max(values, start, end):
 class ClusterLinks:
     """Links with a cluster at one end or both: ``receiver`` and ``source`` nodes, ``kernel`` (n, 2)
     G_ij and G'_ij (1/m², the module docstring: what the source's fronts and its twins send;
-    G' = 0 for an element source), ``visibility`` V_ij and ``direction`` (n, 3), the unit vector
-    from the receiver's centre toward the source's (what a receiving cluster's push orients by).
+    G' = 0 for an element source) and ``visibility`` V_ij. The direction a receiving cluster's push
+    orients by, the unit vector from the receiver's centre toward the source's, is not stored: the
+    gather takes it from the two nodes' centres (12 bytes a link less).
     The fields are views of buffers with room to grow (read them again after an edit): refinement
     extends them a chunk of pairs at a time, and a copy of the whole store per chunk made the Graz
-    office's build quadratic. Stored in 32 bits (32 bytes a link; the gather sums in float64): the
-    Graz office at RenderPark's element count holds 7.9M of them, 64-bit fields made them 0.9 GB."""
+    office's build quadratic. Stored in 32 bits (20 bytes a link; the gather sums in float64): the
+    Graz office at RenderPark's element count holds 7.9M of them, 64-bit fields and a stored direction
+    made them 0.9 GB."""
 
-    _FIELDS = ("receiver", "source", "kernel", "visibility", "direction")
+    _FIELDS = ("receiver", "source", "kernel", "visibility")
     _SHAPES = {"receiver": ((), np.int32), "source": ((), np.int32), "kernel": ((2,), np.float32),
-               "visibility": ((), np.float32), "direction": ((3,), np.float32)}  # fmt: skip
+               "visibility": ((), np.float32)}  # fmt: skip
 
-    def __init__(self, receiver=(), source=(), kernel=(), visibility=(), direction=None):
+    def __init__(self, receiver=(), source=(), kernel=(), visibility=()):
         receiver = np.asarray(receiver, np.int64).reshape(-1)
-        if direction is None:
-            direction = np.zeros((len(receiver), 3))
-        values = (receiver, source, kernel, visibility, direction)
+        values = (receiver, source, kernel, visibility)
         self._buffers = {
             name: np.array(value, dtype).reshape((-1,) + shape)
             for (name, (shape, dtype)), value in zip(self._SHAPES.items(), values)
@@ -364,12 +364,11 @@ class ClusterLinks:
     source = property(lambda self: self._buffers["source"][: self._n])
     kernel = property(lambda self: self._buffers["kernel"][: self._n])
     visibility = property(lambda self: self._buffers["visibility"][: self._n])
-    direction = property(lambda self: self._buffers["direction"][: self._n])
 
     def __len__(self) -> int:
         return self._n
 
-    def extend(self, receiver, source, kernel, visibility, direction) -> None:
+    def extend(self, receiver, source, kernel, visibility) -> None:
         k = len(receiver)
         if self._n + k > len(self._buffers["receiver"]):
             capacity = max(self._n + k, int(len(self._buffers["receiver"]) * 1.5) + 16)
@@ -377,7 +376,7 @@ class ClusterLinks:
                 grown = np.empty((capacity,) + old.shape[1:], old.dtype)
                 grown[: self._n] = old[: self._n]
                 self._buffers[name] = grown
-        for name, value in zip(self._FIELDS, (receiver, source, kernel, visibility, direction)):
+        for name, value in zip(self._FIELDS, (receiver, source, kernel, visibility)):
             self._buffers[name][self._n : self._n + k] = value
         self._n += k
 
@@ -410,6 +409,8 @@ class ClusteredGather:
         self.element_gather, self.links, self.tree = element_gather, links, tree
         self.area = h.area.copy()
         self.normal = h.normal.copy()
+        # each node's centre, elements' then clusters' (node −1 − c at row n + c): the links' directions
+        self.centre = np.concatenate([h.centre, tree.centre]).astype(np.float64)
         self.shape = (len(self.area), len(self.area))
         self.weight = links.kernel * links.visibility[:, None]
 
@@ -426,7 +427,7 @@ class ClusteredGather:
             L.receiver,
             L.source,
             self.weight,
-            L.direction,
+            self.centre,
             self.area,
             np.ascontiguousarray(b, np.float64),
             fronts,
@@ -447,12 +448,21 @@ class ClusteredGather:
 
 
 @numba.njit(cache=True)
-def _cluster_gather(receiver, source, weight, direction, area, b, fronts, twins, element, moments):
+def _cluster_gather(receiver, source, weight, centre, area, b, fronts, twins, element, moments):
     """Each link's V·(G·P + G'·P') goes to its receiver: an element's row, or a cluster's moments
-    (one pass, where NumPy's gathers and bincounts cost 20× the element gather)."""
+    along the unit direction from its centre to the source's (``centre``: elements' rows, then
+    clusters'), as cluster_kernel takes it (one pass, where NumPy's gathers and bincounts cost 20×
+    the element gather)."""
+    n = area.shape[0]
     for k in range(len(receiver)):
         j, i, w, w_twin = source[k], receiver[k], weight[k, 0], weight[k, 1]
-        d0, d1, d2 = direction[k, 0], direction[k, 1], direction[k, 2]
+        d0 = d1 = d2 = 0.0
+        if i < 0:
+            rj = j if j >= 0 else n - 1 - j
+            ri = n - 1 - i
+            d0, d1, d2 = centre[rj, 0] - centre[ri, 0], centre[rj, 1] - centre[ri, 1], centre[rj, 2] - centre[ri, 2]
+            length = np.sqrt(max(d0 * d0 + d1 * d1 + d2 * d2, 1e-300))
+            d0, d1, d2 = d0 / length, d1 / length, d2 / length
         for c in range(3):
             flow = w * area[j] * b[j, c] if j >= 0 else w * fronts[-1 - j, c] + w_twin * twins[-1 - j, c]
             if i >= 0:
@@ -780,12 +790,12 @@ def refine_nodes(
         accept = bound <= threshold
         if accept.any():
             r, s = recv[accept], src[accept]
-            kernel, direction = cluster_kernel(h, tree, r, s)
+            kernel, _ = cluster_kernel(h, tree, r, s)
             vis, seen = cluster_visibility(h, tree, visibility, r, s, counted_rays=True)
             # no sampled ray leaves a front toward a front: the two face away from each other (as
             # refine drops a pair of elements that do not face)
             faces = (seen > 0) & (kernel.max(axis=1) > 0)
-            cluster_links.extend(r[faces], s[faces], kernel[faces], vis[faces], direction[faces])
+            cluster_links.extend(r[faces], s[faces], kernel[faces], vis[faces])
         recv, src = recv[~accept], src[~accept]
         if not len(recv):
             continue
