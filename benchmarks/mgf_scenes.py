@@ -35,7 +35,7 @@ QUICK_SCENES = ("cube", "office2")
 def link_bytes(solution) -> tuple[float, float]:
     """Bytes a link takes in the store: the item sizes of the element links' arrays (receiver, source,
     form factor, visibility, tag, rays) and of the cluster links' (receiver, source, the two kernels,
-    visibility, direction)."""
+    visibility)."""
     links, cluster = solution.links, solution.cluster_links
     element = sum(
         getattr(links, n).itemsize for n in ("receiver", "source", "form_factor", "visibility", "tag", "rays")
