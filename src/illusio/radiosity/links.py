@@ -74,7 +74,7 @@ class Links:
     """The links as six arrays of one length, read as ``receiver``, ``source``, ``form_factor``,
     ``visibility``, ``tag`` and ``rays`` (views of buffers with room to grow: an edit appends and removes in
     place, without the fresh memory a copy per edit would fault in; read them again after an edit).
-    ``tag``: an int64 per link that a cache keyed on links may set (corner_cache.CornerGather: the
+    ``tag``: an int32 per link that a cache keyed on links may set (corner_cache.CornerGather: the
     link's block of form factors), carried through :meth:`remove` and :meth:`take`, -1 for links
     added since; ``tag_owner`` says which cache set the tags (another reads them as -1). ``rays``: what
     the link's rays gave when it was last recast (:meth:`Visibility.recast`), NO_RAYS (-1) for none."""
@@ -83,11 +83,12 @@ class Links:
         #: the most links refinement may make (radiosity.refine stops with an InputError past it); None: no bound
         self.budget: int | None = None
         self._n = len(receiver)
-        self._receiver = np.array(receiver, np.int64).reshape(-1)
-        self._source = np.array(source, np.int64).reshape(-1)
+        # elements and blocks in 32 bits (36 bytes a link): millions of links at RenderPark's scale
+        self._receiver = np.array(receiver, np.int32).reshape(-1)
+        self._source = np.array(source, np.int32).reshape(-1)
         self._form_factor = np.array(form_factor, np.float64).reshape(-1)
         self._visibility = np.array(visibility, np.float64).reshape(-1)
-        self._tag = np.full(self._n, -1, np.int64) if tag is None or len(tag) != self._n else np.array(tag, np.int64)
+        self._tag = np.full(self._n, -1, np.int32) if tag is None or len(tag) != self._n else np.array(tag, np.int32)
         self.tag_owner = tag_owner
         self._rays = (
             np.full(self._n, -1, np.int64) if rays is None or len(rays) != self._n else np.array(rays, np.int64)
