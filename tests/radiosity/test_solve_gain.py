@@ -74,3 +74,23 @@ def test_the_lamps_light_is_never_scaled_only_the_reflected_light_is():
     lamp = 0.9 * 0.7 * 2.0
     reflected = 0.9 * scale[0] * (k[0, 1:5].toarray() @ b[1:5])[0]
     np.testing.assert_allclose(b[0], lamp + reflected, rtol=1e-8)
+
+
+def test_the_engine_keeps_the_scale_while_the_links_and_reflectances_stay():
+    """A lamp change re-solves with the same links: the engine hands the solve the scale it kept (the
+    same array, equal to a fresh form_factor_scale); once the reflectances change (relight estimates
+    them) it is computed again."""
+    from illusio.radiosity import HierarchyParams, Radiosity
+
+    sol = Radiosity(closed_cube(0.999, 1.0), HierarchyParams(epsilon=1e-3)).build()
+    h, matrix = sol.hierarchy, sol.matrix()
+    kept = sol.result.scale
+    assert (kept < 1).any()  # the cap acts in a closed white box
+    sol.solve()
+    assert sol.result.scale is kept
+    np.testing.assert_array_equal(kept, form_factor_scale(h, matrix, h.by_level()))
+    h.reflectance[:] *= 0.5
+    sol.solve()
+    assert sol.result.scale is not kept
+    np.testing.assert_array_equal(sol.result.scale, form_factor_scale(h, matrix, h.by_level()))
+    assert (sol.result.scale == 1).all()  # a gain of 0.5: nothing capped

@@ -185,6 +185,7 @@ def solve(
     start: np.ndarray | None = None,
     reach: np.ndarray | None = None,
     krylov: bool = True,
+    scale: np.ndarray | None = None,
 ) -> SolveResult:
     """From ``start`` (default: the hierarchy's B), gather + push-pull iterations until the largest
     change of B is below ``tolerance`` × the largest reflected radiosity max(B − E); leaves B and H in
@@ -192,13 +193,14 @@ def solve(
     more than GATHER_STEPS_LEFT more (a bright room from a cold start; an edit's warm start finishes
     with the gather steps: on the relighting drag, GMRES's set-up cost as much as the rest of a move).
     ``matrix``: K with H = K @ B (a scipy matrix or :class:`links.LinkGather`); ``reach``:
-    form_factor_scale's. The iterations counted are the products of K, GMRES's included."""
+    form_factor_scale's; ``scale``: form_factor_scale(h, matrix, levels, reach) where the caller kept
+    it. The iterations counted are the products of K, GMRES's included."""
     if not np.any(exitance):  # nothing emits: B = 0 (the relative change below would never settle)
         h.radiosity[:] = 0.0
         h.irradiance[:] = 0.0
         return SolveResult(0, 0.0, True)
     levels = h.by_level()
-    gather_scale = form_factor_scale(h, matrix, levels, reach)
+    gather_scale = form_factor_scale(h, matrix, levels, reach) if scale is None else scale
     kept = lamp_light_kept(h, matrix, exitance, levels, gather_scale)
     b = (h.radiosity if start is None else start).copy()
     k, changes, change, irradiance = 0, [], np.inf, None
