@@ -32,10 +32,17 @@ arrives — Σ E, Σ E·d, Σ E·d dᵀ — and each member k gains Σ E_l·f(n_
 cluster above it, f(x) = 3/32 + x/2 + 15/32·x² the clamped cosine to order 2 (exact for light from
 one hemisphere or from all around, linear in the light: :func:`member_irradiance`). A source
 cluster's power is pulled from its members' B at every gather, so a member taken out of its
-cluster (an object moved or removed) stops counting at once. V_ij is the clear fraction of rays
-between random points of the two nodes (area-weighted over a cluster's members), counting only
-rays that leave the front of one surface and reach the front of the other, from a receiving point
-that is exposed (Visibility.exposed: not in contact with another face, not inside an object).
+cluster (an object moved or removed) stops counting at once. V_ij is the visible share of the
+light the link carries, estimated from rays between random points x of the receiver and y of the
+source (area-weighted over a cluster's members): each ray counts with the weight
+ρ(x)·cos θ_x·cos θ_y·B(y) (ρ and B the largest channel of the member it starts or ends on, B the
+radiosity estimate the link is made with), only rays that leave the front of one surface and reach
+the front of the other, from a receiving point that is exposed (Visibility.exposed: not in contact
+with another face, not inside an object); where every weight is 0 (no estimate of B yet), the plain
+clear fraction. Unweighted, a cluster's V was its members' mean visibility: a roller blind's box
+counted its inner faces (two-sided, lit from nowhere) and its black window glass, and its lit front
+received half the light it sees; a lit ceiling in a cluster with dim walls, as much of the dim
+members' visibility as of its own.
 
 Refinement (:func:`refine_nodes`), with the conservative bound on what a link can carry,
 
@@ -604,17 +611,35 @@ def _node_samples(h, tree, nodes, k, rng):
 
 
 @numba.njit(parallel=True, cache=True)
-def _cluster_rays(corners, triangle, normal, roots_a, uv_a, roots_b, uv_b, offset, origin, unit, dist, counted):
+def _cluster_rays(
+    corners,
+    triangle,
+    normal,
+    reflect,
+    bright,
+    roots_a,
+    uv_a,
+    roots_b,
+    uv_b,
+    offset,
+    origin,
+    unit,
+    dist,
+    counted,
+    weight,
+):
     """Per sample s of pair p (row i = p·k + s): the ray from the point on roots_a[p, s] to the
     point on roots_b[p, s], both lifted by ``offset`` along their normals (origin, unit direction,
-    length short of the target by ``offset``, float32, as Embree takes them), and whether the ray
-    counts: both points exist, it leaves the receiver's front toward the source's front, and it is
-    longer than 2·offset."""
+    length short of the target by ``offset``, float32, as Embree takes them), whether the ray
+    counts — both points exist, it leaves the receiver's front toward the source's front, and it is
+    longer than 2·offset — and its weight in V, ρ_a·cos θ_a·cos θ_b·B_b (``reflect``, ``bright``: per
+    element; 0 where it does not count)."""
     n, k = roots_a.shape
     for p in numba.prange(n):
         for s in range(k):
             i = p * k + s
             ea, eb = roots_a[p, s], roots_b[p, s]
+            weight[i] = 0.0
             if ea < 0 or eb < 0:
                 counted[i] = False
                 continue
@@ -627,19 +652,20 @@ def _cluster_rays(corners, triangle, normal, roots_a, uv_a, roots_b, uv_b, offse
             length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
             norm = max(length, 1e-300)
             u0, u1, u2 = d0 / norm, d1 / norm, d2 / norm
-            counted[i] = (
-                normal[ea, 0] * u0 + normal[ea, 1] * u1 + normal[ea, 2] * u2 > 0
-                and normal[eb, 0] * u0 + normal[eb, 1] * u1 + normal[eb, 2] * u2 < 0
-                and length > 2 * offset
-            )
+            cos_a = normal[ea, 0] * u0 + normal[ea, 1] * u1 + normal[ea, 2] * u2
+            cos_b = -(normal[eb, 0] * u0 + normal[eb, 1] * u1 + normal[eb, 2] * u2)
+            counted[i] = cos_a > 0 and cos_b > 0 and length > 2 * offset
+            if counted[i]:
+                weight[i] = reflect[ea] * cos_a * cos_b * bright[eb]
             origin[i, 0], origin[i, 1], origin[i, 2] = o0, o1, o2
             unit[i, 0], unit[i, 1], unit[i, 2] = u0, u1, u2
             dist[i] = max(length - offset, 0.0)
 
 
-def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bool = False):
-    """V_ij per pair: the clear fraction of rays between random points of the two nodes that leave
-    one surface's front toward the other's front (0 where no sampled ray does); with
+def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bool = False, radiosity=None):
+    """V_ij per pair: the weighted clear share of rays between random points of the two nodes that
+    leave one surface's front toward the other's front (the module docstring; 0 where no sampled ray
+    does), weighted by ``radiosity`` (the B estimate, default the hierarchy's); with
     ``counted_rays``, (V, how many rays counted)."""
     n, k = len(receivers), visibility.samples
     if n == 0:
@@ -648,10 +674,13 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     roots_b, uv_b = _node_samples(h, tree, sources, k, visibility.rng)
     origin, unit = np.empty((n * k, 3), np.float32), np.empty((n * k, 3), np.float32)
     dist, counted = np.empty(n * k, np.float32), np.empty(n * k, np.bool_)
+    weight = np.empty(n * k)
     _cluster_rays(
         h.corners,
         h.triangle,
         h.normal,
+        channel_max(h.reflectance),
+        channel_max(h.radiosity if radiosity is None else radiosity),
         roots_a,
         uv_a,
         roots_b,
@@ -661,6 +690,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         unit,
         dist,
         counted,
+        weight,
     )
     chosen = np.flatnonzero(counted)
     if len(chosen):
@@ -677,7 +707,10 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
             clear[chosen] = np.asarray(hit) < 0
             visibility.rays += len(chosen)
     seen = counted.reshape(n, k).sum(axis=1)
-    v = np.where(seen > 0, clear.reshape(n, k).sum(axis=1) / np.maximum(seen, 1), 0.0)
+    plain = np.where(seen > 0, clear.reshape(n, k).sum(axis=1) / np.maximum(seen, 1), 0.0)
+    weight = np.where(counted, weight, 0.0).reshape(n, k)
+    total = weight.sum(axis=1)
+    v = np.where(total > 0, (weight * clear.reshape(n, k)).sum(axis=1) / np.maximum(total, 1e-300), plain)
     return (v, seen) if counted_rays else v
 
 
@@ -791,7 +824,7 @@ def refine_nodes(
         if accept.any():
             r, s = recv[accept], src[accept]
             kernel, _ = cluster_kernel(h, tree, r, s)
-            vis, seen = cluster_visibility(h, tree, visibility, r, s, counted_rays=True)
+            vis, seen = cluster_visibility(h, tree, visibility, r, s, counted_rays=True, radiosity=radiosity)
             # no sampled ray leaves a front toward a front: the two face away from each other (as
             # refine drops a pair of elements that do not face)
             faces = (seen > 0) & (kernel.max(axis=1) > 0)
