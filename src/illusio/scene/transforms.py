@@ -73,16 +73,22 @@ def transform_normals(matrix: np.ndarray, normals: np.ndarray) -> np.ndarray:
     return (n / np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-30)).astype(np.float32)
 
 
+def _cross(a, b) -> np.ndarray:
+    """a × b of two 3-vectors (np.cross's axis handling costs ~25 µs a call: a camera's matrix is
+    made several times a frame)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
 def look_at(eye, target, up=(0.0, 1.0, 0.0)) -> np.ndarray:
     """World -> camera matrix: camera at ``eye`` looking at ``target`` down its −z axis."""
     eye = np.asarray(eye, dtype=np.float64)
     f = np.asarray(target, dtype=np.float64) - eye
-    f /= np.linalg.norm(f)
-    s = np.cross(f, np.asarray(up, dtype=np.float64))
-    if np.linalg.norm(s) < 1e-9:  # looking along up: pick any perpendicular
-        s = np.cross(f, [1.0, 0.0, 0.0] if abs(f[0]) < 0.9 else [0.0, 0.0, 1.0])
-    s /= np.linalg.norm(s)
-    u = np.cross(s, f)
+    f /= np.sqrt(f @ f)
+    s = _cross(f, np.asarray(up, dtype=np.float64))
+    if np.sqrt(s @ s) < 1e-9:  # looking along up: pick any perpendicular
+        s = _cross(f, [1.0, 0.0, 0.0] if abs(f[0]) < 0.9 else [0.0, 0.0, 1.0])
+    s /= np.sqrt(s @ s)
+    u = _cross(s, f)
     m = np.eye(4)
     m[0, :3], m[1, :3], m[2, :3] = s, u, -f
     m[:3, 3] = -m[:3, :3] @ eye
