@@ -35,14 +35,15 @@ cluster's power is pulled from its members' B at every gather, so a member taken
 cluster (an object moved or removed) stops counting at once. V_ij is the visible share of the
 light the link carries, estimated from rays between random points x of the receiver and y of the
 source (area-weighted over a cluster's members): each ray counts with the weight
-ρ(x)·cos θ_x·cos θ_y·B(y) (ρ and B the largest channel of the member it starts or ends on, B the
-radiosity estimate the link is made with), only rays that leave the front of one surface and reach
+ρ(x)·o(x)·cos θ_x·cos θ_y·B(y)·o(y) (ρ and B the largest channel of the member it starts or ends
+on, B the radiosity estimate the link is made with, o a cluster member's openness,
+:meth:`Visibility.openness`: 0 for the inner faces of a closed two-sided object, which the exposure
+probe cannot tell from outer ones), only rays that leave the front of one surface and reach
 the front of the other, from a receiving point that is exposed (Visibility.exposed: not in contact
 with another face, not inside an object); where every weight is 0 (no estimate of B yet), the plain
-clear fraction. Unweighted, a cluster's V was its members' mean visibility: a roller blind's box
+clear fraction. Unweighted, a cluster's V was its members' mean visibility: a roller blind's tube
 counted its inner faces (two-sided, lit from nowhere) and its black window glass, and its lit front
-received half the light it sees; a lit ceiling in a cluster with dim walls, as much of the dim
-members' visibility as of its own.
+received half the light it sees; a luminaire's cluster, its dark fixture as much as its lamp.
 
 Refinement (:func:`refine_nodes`), with the conservative bound on what a link can carry,
 
@@ -675,12 +676,22 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     origin, unit = np.empty((n * k, 3), np.float32), np.empty((n * k, 3), np.float32)
     dist, counted = np.empty(n * k, np.float32), np.empty(n * k, np.bool_)
     weight = np.empty(n * k)
+    reflect = channel_max(h.reflectance)
+    bright = channel_max(h.radiosity if radiosity is None else radiosity)
+    # a cluster's members weigh by their openness too: a closed box's inner faces and a board's
+    # back against a wall neither receive nor send what the cluster carries
+    members = np.r_[roots_a[receivers < 0].ravel(), roots_b[sources < 0].ravel()]
+    members = members[members >= 0]
+    if len(members):
+        open_share = visibility.openness(members)
+        reflect[members] *= open_share
+        bright[members] *= open_share
     _cluster_rays(
         h.corners,
         h.triangle,
         h.normal,
-        channel_max(h.reflectance),
-        channel_max(h.radiosity if radiosity is None else radiosity),
+        reflect,
+        bright,
         roots_a,
         uv_a,
         roots_b,

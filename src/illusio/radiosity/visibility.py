@@ -288,6 +288,12 @@ def _fraction_and_masks(clear, exposed, samples, epoch, keep, facing):
     return visibility, rays
 
 
+#: openness: how far (× the scene's extent) a ray from an element must travel to count as open, and
+#: the rays per element (Visibility.openness)
+OPEN_DISTANCE = 0.02
+OPEN_RAYS = 8
+OPEN_SLICE = 16_384
+
 #: the most one-sided faces, as a share of the scene's triangles, for which the exposure probe runs
 #: in parts (Visibility._probe): in a scene of one-sided faces one first hit is cheaper
 SPLIT_PROBE_SHARE = 0.1
@@ -334,10 +340,12 @@ class Visibility:
         self.reflects = np.r_[reflects, reflects[~tri]]
         extent = np.ptp(h.corners[h.roots].reshape(-1, 3), axis=0).max() if len(h.roots) else 1.0
         self.offset = 1e-5 * max(float(extent), 1e-6)
-        self.contact = 2e-3 * max(float(extent), 1e-6)
+        self.extent = max(float(extent), 1e-6)
+        self.contact = 2e-3 * self.extent
         if self._lifts != (self.offset, self.contact):  # the rays a link kept were cast otherwise
             self._lifts, self.epoch = (self.offset, self.contact), self.epoch + 1
         self.version += 1
+        self._open = np.full(0, np.nan)  # openness per element, measured against this scene
         self.scene = rtcore_scene.EmbreeScene()
         if len(tris):
             TriangleMesh(self.scene, tris.astype(np.float32))
@@ -449,6 +457,35 @@ class Visibility:
         counted = exposed.sum(axis=1)
         hits = (seen.reshape(n, rays) & exposed).sum(axis=1)
         return np.where(counted > 0, hits / np.maximum(counted, 1), np.nan)
+
+    def openness(self, elements: np.ndarray) -> np.ndarray:
+        """Per element (n,): the share of cosine-weighted rays from its jittered points that travel
+        farther than OPEN_DISTANCE × the scene's extent (or leave it): 0 for the inner faces of a
+        closed two-sided box (the exposure probe finds no back on a two-sided face) and for a face a
+        few centimetres from another, ~1 for a face open to a room. Each element is measured once
+        per scene (again after a rebuild), with its own generator (a hash of the seed and the
+        element), so the answer does not depend on the order elements are asked in."""
+        elements = np.asarray(elements, np.int64)
+        if self.empty or not len(elements):
+            return np.ones(len(elements))
+        if len(self._open) <= elements.max():
+            grown = np.full(max(int(elements.max()) + 1, 2 * len(self._open)), np.nan)
+            grown[: len(self._open)] = self._open
+            self._open = grown
+        unknown = np.isnan(self._open[elements])
+        if unknown.any():  # (asked for every cluster link's samples: the known ones cost a lookup)
+            fresh, h, k = np.unique(elements[unknown]), self.hierarchy, OPEN_RAYS
+            for at in range(0, len(fresh), OPEN_SLICE):  # ~0.5 kB of points and rays an element
+                part = fresh[at : at + OPEN_SLICE]
+                uv_points, uv_rays = pair_grids(part, part, k, self.seed ^ 0x0BE7)
+                normal = h.normal[part]
+                directions = _cosine_directions(normal, uv_rays).reshape(-1, 3).astype(np.float32)
+                origins = (h.sample_points(part, uv_points) + self.offset * normal[:, None]).reshape(-1, 3)
+                hit = cast(self.scene, origins.astype(np.float32), directions)
+                self.rays += len(origins)
+                far = (np.asarray(hit["primID"]) < 0) | (np.asarray(hit["tfar"]) > OPEN_DISTANCE * self.extent)
+                self._open[part] = far.reshape(len(part), k).mean(axis=1)
+        return self._open[elements]
 
     def recast(
         self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list
