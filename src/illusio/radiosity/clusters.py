@@ -420,7 +420,6 @@ class ClusteredGather:
         # each node's centre, elements' then clusters' (node −1 − c at row n + c): the links' directions
         self.centre = np.concatenate([h.centre, tree.centre]).astype(np.float64)
         self.shape = (len(self.area), len(self.area))
-        self.weight = links.kernel * links.visibility[:, None]
 
     def cluster_irradiance(self, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(element rows (n, 3), cluster moments (C, 3, 10)) of what the cluster links bring: an
@@ -434,7 +433,8 @@ class ClusteredGather:
         _cluster_gather(
             L.receiver,
             L.source,
-            self.weight,
+            L.kernel,
+            L.visibility,
             self.centre,
             self.area,
             np.ascontiguousarray(b, np.float64),
@@ -456,14 +456,15 @@ class ClusteredGather:
 
 
 @numba.njit(cache=True)
-def _cluster_gather(receiver, source, weight, centre, area, b, fronts, twins, element, moments):
+def _cluster_gather(receiver, source, kernel, visibility, centre, area, b, fronts, twins, element, moments):
     """Each link's V·(G·P + G'·P') goes to its receiver: an element's row, or a cluster's moments
     along the unit direction from its centre to the source's (``centre``: elements' rows, then
     clusters'), as cluster_kernel takes it (one pass, where NumPy's gathers and bincounts cost 20×
-    the element gather)."""
+    the element gather). V·G is formed here, not stored: 8 bytes a link the solve does not hold."""
     n = area.shape[0]
     for k in range(len(receiver)):
-        j, i, w, w_twin = source[k], receiver[k], weight[k, 0], weight[k, 1]
+        j, i = source[k], receiver[k]
+        w, w_twin = kernel[k, 0] * visibility[k], kernel[k, 1] * visibility[k]  # float32, as stored
         d0 = d1 = d2 = 0.0
         if i < 0:
             rj = j if j >= 0 else n - 1 - j
