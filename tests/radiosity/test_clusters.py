@@ -146,7 +146,7 @@ def test_transfer_bound_is_conservative():
 
 def test_transfer_bound_in_slices_is_the_bound_of_each_pair(rng, monkeypatch):
     """Re-testing every cluster link bounds them a slice at a time (bounded memory): the same value
-    per pair as one pair at a time, in the pairs' order."""
+    per pair as one pair at a time, in the pairs' order, and with ``above`` the same pairs over it."""
     from illusio.radiosity import clusters
 
     polygons = scene_polygons(room_with_sphere(12))
@@ -160,6 +160,11 @@ def test_transfer_bound_in_slices_is_the_bound_of_each_pair(rng, monkeypatch):
     sliced = transfer_bound(h, tree, recv, src, b, b_cluster)
     single = [transfer_bound(h, tree, recv[i : i + 1], src[i : i + 1], b, b_cluster)[0] for i in range(200)]
     np.testing.assert_array_equal(sliced, single)
+    # the build's re-test asks for the mask alone, in the same slices
+    threshold = float(np.median(sliced))
+    over = transfer_bound(h, tree, recv, src, b, b_cluster, above=threshold)
+    assert over.dtype == bool and 0 < over.sum() < len(over)
+    np.testing.assert_array_equal(over, sliced > threshold)
 
 
 def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):

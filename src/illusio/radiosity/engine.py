@@ -15,6 +15,7 @@ import numpy as np
 
 from ..core.errors import InputError, did_you_mean
 from ..core.kernels import compile_note
+from ..core.memory import release_free_heap
 from ..core.progress import phase
 from .clusters import ClusteredGather, ClusterLinks, ClusterTree, refine_nodes, transfer_bound
 from .display import corner_average
@@ -234,16 +235,22 @@ class Radiosity:
                         links=self.links,
                     )
             self.stats.add_time("refine", time.perf_counter() - t)
+            # refinement's freed batches back to the system before the solve's working set (and the
+            # solve's before the next round's refinement): the glibc heap keeps them otherwise
+            release_free_heap()
             with phase(f"radiosity: solve, round 1 of {rounds}"):
                 self.solve(tolerance, max_iterations)
+            release_free_heap()
             next_round()
             for k in range(2, rounds + 1):
                 with phase(f"radiosity: refine, round {k} of {rounds}"):
                     refined = self.rerefine()
+                release_free_heap()
                 if not refined:
                     break
                 with phase(f"radiosity: solve, round {k} of {rounds}"):
                     self.solve(tolerance, max_iterations)
+                release_free_heap()
                 next_round()
 
     def relink(self, tolerance: float = 1e-4, max_iterations: int = 200) -> None:
@@ -260,6 +267,16 @@ class Radiosity:
         """Re-test existing links (all, or those where the mask ``links``) against the criterion with
         the current B; refine those that fail. Returns how many were refined."""
         t = time.perf_counter()
+        if links is None:  # a build's round: the gather kept from the last solve (copies of every
+            # link, 60 MB at RenderPark's element count) need not sit under refinement's working set
+            self._matrix = self._scale_kept = None
+        redone = self._rerefine_elements(links)  # its working arrays gone before the clusters' turn
+        if links is None and len(self.cluster_links):
+            redone += self._rerefine_clusters()
+        self.stats.add_time("refine", time.perf_counter() - t)
+        return redone
+
+    def _rerefine_elements(self, links: np.ndarray | None) -> int:
         h, L = self.hierarchy, self.links
         tested = np.arange(len(L)) if links is None else np.flatnonzero(links)  # (a drag tests a few)
         r, s = L.receiver[tested], L.source[tested]
@@ -268,16 +285,13 @@ class Radiosity:
         fail &= (h.area[r] / 4 >= self.min_area) | (h.area[s] / 4 >= self.min_area)
         mask = np.zeros(len(L), bool)
         mask[tested[fail]] = True
+        del tested, r, s, transfer, fail
         gone = L.remove(mask)
         if len(gone):
             # the pairs re-enter refinement one level down, so an accepted pair is not re-accepted as is
             self._split_and_refine(gone.receiver, gone.source)
             self._matrix = None
-        redone = len(gone)
-        if links is None and len(self.cluster_links):
-            redone += self._rerefine_clusters()
-        self.stats.add_time("refine", time.perf_counter() - t)
-        return redone
+        return len(gone)
 
     def _refine_nodes(self, receivers, sources) -> None:
         refine_nodes(
@@ -299,11 +313,14 @@ class Radiosity:
         them, their bound being above the threshold)."""
         h, tree, C = self.hierarchy, self.tree, self.cluster_links
         b = np.max(h.radiosity, axis=1)
-        bound = transfer_bound(h, tree, C.receiver, C.source, b, tree.member_max(b) if len(tree) else b[:0])
-        gone = C.remove(bound > self.threshold)
-        if len(gone):
-            self._refine_nodes(gone.receiver, gone.source)
-        return len(gone)
+        member_max = tree.member_max(b) if len(tree) else b[:0]
+        gone = C.remove(transfer_bound(h, tree, C.receiver, C.source, b, member_max, above=self.threshold))
+        # refinement holds only the pairs: the removed links' kernels and V go first
+        count, receivers, sources = len(gone), gone.receiver, gone.source
+        del gone
+        if count:
+            self._refine_nodes(receivers, sources)
+        return count
 
     def _split_and_refine(self, recv, src) -> None:
         h = self.hierarchy
