@@ -267,9 +267,6 @@ class Radiosity:
         """Re-test existing links (all, or those where the mask ``links``) against the criterion with
         the current B; refine those that fail. Returns how many were refined."""
         t = time.perf_counter()
-        if links is None:  # a build's round: the gather kept from the last solve (copies of every
-            # link, 60 MB at RenderPark's element count) need not sit under refinement's working set
-            self._matrix = self._scale_kept = None
         redone = self._rerefine_elements(links)  # its working arrays gone before the clusters' turn
         if links is None and len(self.cluster_links):
             redone += self._rerefine_clusters()
@@ -288,10 +285,15 @@ class Radiosity:
         del tested, r, s, transfer, fail
         gone = L.remove(mask)
         if len(gone):
+            self._drop_gather()
             # the pairs re-enter refinement one level down, so an accepted pair is not re-accepted as is
             self._split_and_refine(gone.receiver, gone.source)
-            self._matrix = None
         return len(gone)
+
+    def _drop_gather(self) -> None:
+        """The links change: the gather operator and the scale kept with it go before refinement
+        (copies of every link, 60 MB at RenderPark's element count, under its working set)."""
+        self._matrix = self._scale_kept = None
 
     def _refine_nodes(self, receivers, sources) -> None:
         refine_nodes(
@@ -319,6 +321,7 @@ class Radiosity:
         count, receivers, sources = len(gone), gone.receiver, gone.source
         del gone
         if count:
+            self._drop_gather()
             self._refine_nodes(receivers, sources)
         return count
 
