@@ -1,5 +1,6 @@
 """Links edited in place (numba compaction, growable buffers) equal the plain NumPy masks and
-concatenations, tags and kept rays included, over random edits."""
+concatenations, tags and kept rays included, over random edits; refinement's per-row channel max
+against NumPy's."""
 
 import numpy as np
 
@@ -92,3 +93,16 @@ def test_a_link_is_36_bytes_and_keeps_element_indices_to_two_billion(rng):
     assert sum(getattr(links, name).itemsize for name in names) == 36
     np.testing.assert_array_equal(links.receiver, receiver)
     np.testing.assert_array_equal(links.source, receiver[::-1])
+
+
+def test_channel_max_is_the_largest_channel_of_each_row(rng):
+    """refine.channel_max (a numba pass over the rows) against NumPy's max over the channels, on
+    float64 and float32 rows and on a view of the first rows of a larger buffer (the hierarchy's
+    fields are such views)."""
+    from illusio.radiosity.refine import channel_max
+
+    buffer = rng.random((3000, 3)) * rng.choice([0.0, 1.0, 1e3], (3000, 3))
+    for rgb in (buffer, buffer.astype(np.float32), buffer[:1234], buffer[:0]):
+        out = channel_max(rgb)
+        assert out.dtype == np.float64 and out.shape == (len(rgb),)
+        np.testing.assert_array_equal(out, rgb.max(axis=1))

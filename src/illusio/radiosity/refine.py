@@ -19,6 +19,7 @@ cosines taken as 1) exceeds ε·Φ. No element is split below ``min_area``.
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from ..core.errors import InputError
@@ -37,8 +38,20 @@ CHUNK = 50_000
 
 
 def channel_max(rgb: np.ndarray) -> np.ndarray:
-    """max over RGB of (n, 3): three columns compared (a reduction along the short axis costs 10×)."""
-    return np.maximum(np.maximum(rgb[:, 0], rgb[:, 1]), rgb[:, 2])
+    """max over RGB of (n, 3), float64 (n,). Refinement asks it of every element per batch of pairs
+    (9k calls in the Graz office's build at RenderPark's element count): one numba pass over the rows
+    is 0.13 ms at 305k elements, three strided NumPy columns 0.9–2 ms (8 s of that build), a
+    reduction along the short axis 8 ms."""
+    return _channel_max(rgb)
+
+
+@numba.njit(cache=True)
+def _channel_max(rgb):
+    out = np.empty(rgb.shape[0])
+    for i in range(rgb.shape[0]):
+        m = max(rgb[i, 0], rgb[i, 1])
+        out[i] = max(m, rgb[i, 2])
+    return out
 
 
 def transfer_estimate(h: Hierarchy, receiver, source, form_factor, radiosity=None) -> np.ndarray:
