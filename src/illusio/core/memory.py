@@ -21,7 +21,7 @@ def _malloc_trim():
     """glibc's malloc_trim, or None (musl, macOS, Windows: nothing of the kind to call)."""
     try:
         libc = ctypes.CDLL(None)  # the C library the interpreter is linked with
-    except OSError:  # Windows: no process-wide handle
+    except (OSError, TypeError):  # Windows: no process-wide handle (LoadLibrary wants a name)
         return None
     trim = getattr(libc, "malloc_trim", None)
     if trim is not None:
