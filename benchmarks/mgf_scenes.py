@@ -10,13 +10,23 @@ arrays' item sizes), the store's megabytes, the build's microseconds per link, a
 peak resident memory after the scene (the scenes run in growing order, so each peak is that scene's
 or below).
 
+At RenderPark's element count (issue 45: its figures from a build of its sources on a 2-core
+machine, with the command line in RESULTS — the Graz office 309k elements, 3.2M links, 67–85 s,
+0.91 GB): the Graz office again with ``MATCHED`` (ε 10⁻⁵, minimum element area 6·10⁻⁴ m², 305k
+elements), its build alone in a fresh process (time after the file's parsing; peak resident memory
+of that process, as RenderPark's is of its own), then drawn here and scored as the others. Not
+with ``--quick``.
+
 One build per scene (a build is seconds to a minute; ``--repeat`` is not used). The scenes are read
 from ../shared/data/scenes/mgf (ILLUSIO_MGF), never copied; missing scenes are skipped. ``--quick``:
 the cube and office2 at 48×36 and 64 paths a pixel."""
 
 from __future__ import annotations
 
+import json
 import resource
+import subprocess
+import sys
 import time
 import warnings
 
@@ -30,6 +40,26 @@ from .runner import Timing
 
 SCENES = ("cube", "office2", "office3", "graz")
 QUICK_SCENES = ("cube", "office2")
+#: the Graz office at RenderPark's element count: HierarchyParams' fields, and RenderPark's figures
+MATCHED = {"epsilon": 1e-5, "min_area": 6e-4}
+RENDERPARK_GRAZ = {"elements": 309_000, "links": 3.2e6, "seconds": (67.0, 85.0), "peak GB": 0.91}
+
+# the build alone in its own process: prints its counts, seconds and peak resident memory as JSON
+_BUILD_ALONE = """
+import json, resource, sys, time, warnings
+from illusio.radiosity import HierarchyParams, Radiosity, scene_polygons
+from illusio.scene.mgf import load_mgf
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore")
+    polygons = scene_polygons(load_mgf(sys.argv[1]))
+    start = time.perf_counter()
+    solution = Radiosity(polygons, HierarchyParams(**json.loads(sys.argv[2]))).build()
+    seconds = time.perf_counter() - start
+stats = solution.stats
+print(json.dumps({"elements": stats.elements, "links": stats.links, "cluster links": stats.cluster_links,
+                  "seconds": seconds, "converged": bool(solution.result.converged),
+                  "peak GB": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6}))
+"""
 
 
 def link_bytes(solution) -> tuple[float, float]:
@@ -44,18 +74,43 @@ def link_bytes(solution) -> tuple[float, float]:
     return float(element), float(per_cluster)
 
 
+def build_alone(path, label: str, ratios: dict) -> None:
+    """The build with MATCHED in a fresh process (its own peak memory): its counts, seconds and peak,
+    and their ratios to RenderPark's figures (RENDERPARK_GRAZ; its fastest time)."""
+    out = subprocess.run(
+        [sys.executable, "-c", _BUILD_ALONE, str(path), json.dumps(MATCHED)], capture_output=True, text=True, check=True
+    )
+    got = json.loads(out.stdout.strip().splitlines()[-1])
+    for key in ("elements", "links", "cluster links", "seconds", "peak GB"):
+        ratios[f"{label}, the build alone in its own process: {key}"] = float(got[key])
+    ratios[f"{label}, the build alone: converged (1 yes)"] = float(got["converged"])
+    ratios[f"{label}, the build alone: elements / RenderPark's"] = got["elements"] / RENDERPARK_GRAZ["elements"]
+    ratios[f"{label}, the build alone: time / RenderPark's fastest (goal <= 1)"] = (
+        got["seconds"] / RENDERPARK_GRAZ["seconds"][0]
+    )
+    ratios[f"{label}, the build alone: peak memory / RenderPark's (goal <= 1)"] = (
+        got["peak GB"] / RENDERPARK_GRAZ["peak GB"]
+    )
+
+
 def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], dict[str, float]]:
     from illusio.passes.mitsuba import mitsuba_available
-    from illusio.radiosity import RadiosityParams, RadiosityRenderer
+    from illusio.radiosity import HierarchyParams, RadiosityParams, RadiosityRenderer
     from illusio.radiosity.mitsuba import render_mitsuba, score
     from illusio.scene.mgf import load_mgf
 
     size, samples = ((48, 36), 64) if quick else ((96, 72), 1024)
     timings, ratios = [], {}
-    for name in QUICK_SCENES if quick else SCENES:
+    cases = [(name, name, RadiosityParams()) for name in (QUICK_SCENES if quick else SCENES)]
+    if not quick:
+        cases.append(("graz at RenderPark's elements", "graz", RadiosityParams(hierarchy=HierarchyParams(**MATCHED))))
+    references = {}  # per scene: Mitsuba's two renders, the same polygons whatever the refinement
+    for label, name, params in cases:
         path = MGF / f"{name}.mgf"
         if not path.is_file():
             continue
+        if params.hierarchy != HierarchyParams():
+            build_alone(path, label, ratios)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # the files' unused entities and rd 1, said by the reader
             scene = load_mgf(path)
@@ -64,7 +119,7 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
         try:
             renderer.prepare(scene)
             start = time.perf_counter()
-            image, emitter = renderer.radiance(Frame(view, size), RadiosityParams(), 2)
+            image, emitter = renderer.radiance(Frame(view, size), params, 2)
             seconds = time.perf_counter() - start
             solution, polygons = renderer.result(), renderer.polygons
         finally:
@@ -74,29 +129,34 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             f"{len(polygons):,} polygons (twins included), {stats.elements:,} elements, {stats.links:,} links, "
             f"{stats.iterations} iterations"
         )
+        what = "at the defaults" if label == name else "(ε 1e-5, minimum area 6e-4 m²)"
         timings.append(
-            Timing(f"{name}: build and draw at the defaults", 1, seconds * 1000, seconds * 1000, seconds * 1000, notes)
+            Timing(f"{label}: build and draw {what}", 1, seconds * 1000, seconds * 1000, seconds * 1000, notes)
         )
-        ratios[f"{name}: elements"] = float(stats.elements)
-        ratios[f"{name}: links"] = float(stats.links)
+        ratios[f"{label}: elements"] = float(stats.elements)
+        ratios[f"{label}: links"] = float(stats.links)
         element_bytes, cluster_bytes = link_bytes(solution)
-        ratios[f"{name}: bytes per element link"] = element_bytes
-        ratios[f"{name}: bytes per cluster link"] = cluster_bytes
-        ratios[f"{name}: link store MB"] = (
+        ratios[f"{label}: bytes per element link"] = element_bytes
+        ratios[f"{label}: bytes per cluster link"] = cluster_bytes
+        ratios[f"{label}: link store MB"] = (
             len(solution.links) * element_bytes + len(solution.cluster_links) * cluster_bytes
         ) / 1e6
-        ratios[f"{name}: build microseconds per link"] = seconds * 1e6 / max(stats.links, 1)
-        ratios[f"{name}: peak resident memory GB"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+        ratios[f"{label}: build microseconds per link"] = seconds * 1e6 / max(stats.links, 1)
+        ratios[f"{label}: peak resident memory GB"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1e6
+        del solution
         if mitsuba_available():
-            reference = render_mitsuba(polygons, view, size, samples, seed=1)
+            if name not in references:
+                references[name] = [render_mitsuba(polygons, view, size, samples, seed=1)]
+                if not quick:
+                    references[name].append(render_mitsuba(polygons, view, size, samples, seed=2))
+            reference = references[name][0]
             lit = ~emitter
-            ratios[f"{name}: error against Mitsuba, 4×4 blocks"] = score(
+            ratios[f"{label}: error against Mitsuba, 4×4 blocks"] = score(
                 image, reference, lit, block=4
             ).mean_relative_error
-            ratios[f"{name}: mean radiance / Mitsuba's"] = float(image[lit].mean() / reference[lit].mean())
-            if not quick:
-                other = render_mitsuba(polygons, view, size, samples, seed=2)
-                ratios[f"{name}: the reference's own noise, 4×4 blocks"] = (
-                    score(other, reference, lit, block=4).mean_relative_error / 2**0.5
+            ratios[f"{label}: mean radiance / Mitsuba's"] = float(image[lit].mean() / reference[lit].mean())
+            if len(references[name]) > 1:
+                ratios[f"{label}: the reference's own noise, 4×4 blocks"] = (
+                    score(references[name][1], reference, lit, block=4).mean_relative_error / 2**0.5
                 )
     return timings, ratios
