@@ -129,7 +129,11 @@ def run(ctx: Context, repeat: int, quick: bool = False) -> tuple[list[Timing], d
             f"{len(polygons):,} polygons (twins included), {stats.elements:,} elements, {stats.links:,} links, "
             f"{stats.iterations} iterations"
         )
-        what = "at the defaults" if label == name else "(ε 1e-5, minimum area 6e-4 m²)"
+        what = (
+            "at the defaults"
+            if label == name
+            else f"(ε {MATCHED['epsilon']:g}, minimum area {MATCHED['min_area']:g} m²)"
+        )
         timings.append(
             Timing(f"{label}: build and draw {what}", 1, seconds * 1000, seconds * 1000, seconds * 1000, notes)
         )
