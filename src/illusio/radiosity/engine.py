@@ -24,7 +24,7 @@ from .hierarchy import Hierarchy
 from .links import Links
 from .params import HierarchyParams
 from .polygons import MAX_POLYGONS, Polygons, polygon_areas
-from .refine import needs_refinement, refine, transfer_estimate
+from .refine import channel_max, needs_refinement, refine, transfer_estimate
 from .solve import SolveResult, form_factor_scale, push_pull, reflecting_sums, solve
 from .visibility import Visibility
 
@@ -314,7 +314,7 @@ class Radiosity:
         """Cluster links whose bound fails with the current B go back to refinement (which splits
         them, their bound being above the threshold)."""
         h, tree, C = self.hierarchy, self.tree, self.cluster_links
-        b = np.max(h.radiosity, axis=1)
+        b = channel_max(h.radiosity)
         member_max = tree.member_max(b) if len(tree) else b[:0]
         gone = C.remove(transfer_bound(h, tree, C.receiver, C.source, b, member_max, above=self.threshold))
         # refinement holds only the pairs: the removed links' kernels and V go first
