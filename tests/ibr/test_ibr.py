@@ -294,6 +294,44 @@ def test_disocclusion_fill_matches_reference(ctx, rng):
     ctx.release(depth)
 
 
+def test_single_lit_pass_fills_disocclusions_as_the_separate_passes(ctx, room):
+    """The single pass lit in its own draw (SelectPass.shaded, single_pass) and its fill draw over the
+    marked pixels only give what the separate selection, fill (tested against renderer.fill_hits)
+    and lit resolve give: one reference seen from another view leaves disocclusions to fill."""
+    scene, refs = room
+    view = orbit_views(scene, 7)[5]
+    truth = SceneRenderer(ctx)
+    truth.prepare(scene)
+    g = truth.gbuffer(Frame(view, SIZE))
+    hit = ctx.readback(g["object_id"])[..., 0] > 0.5
+    depth = np.where(hit, ctx.readback(g["depth"])[..., 0], 0.0).astype(np.float32)
+    g.release()
+    tex = ctx.upload(depth, filter="nearest")
+    arrays = ReferenceArrays(ctx, refs.views[:1])  # one reference: no ties between references
+    emitters = emitters_from_lights(refs.lights, False, MAX_EMITTERS)
+    shading = ShadingParams(refs.ambient, refs.background, 1.0)
+    select = SelectPass(ctx)
+    out = {}
+    for single_pass in (True, False):
+        for fill in (0, 6):
+            radiance, source = select.shaded(tex, view, arrays, emitters, shading, fill=fill, single_pass=single_pass)
+            out[single_pass, fill] = ctx.readback(radiance)[..., :3], np.rint(ctx.readback(source)[..., 0])
+            ctx.release(radiance, source)
+    select.release()
+    tex.release()
+    arrays.release()
+    unfilled, filled = out[True, 0][1], out[True, 6][1]
+    opened = (unfilled == 0) & (depth > 0)
+    assert opened.sum() > 200 and (filled[opened] > 0).mean() > 0.5  # disocclusions, most of them filled
+    assert ((filled == 0) & (depth > 0)).any()  # some farther than 6 pixels from any hit stay open
+    for fill in (0, 6):
+        np.testing.assert_array_equal(out[True, fill][1], out[False, fill][1])
+        np.testing.assert_allclose(out[True, fill][0], out[False, fill][0], rtol=1e-5, atol=1e-6)
+    np.testing.assert_array_equal(filled[~opened], unfilled[~opened])  # only the opened pixels change
+    background = np.broadcast_to(np.asarray(refs.background, np.float32), (*SIZE[::-1], 3))
+    np.testing.assert_allclose(out[True, 6][0][depth <= 0], background[depth <= 0], atol=1e-6)
+
+
 def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ctx, tmp_path, capsys):
     """Path-traced references: depth along the view axis, normals and albedo agree with our
     G-buffer away from edges; drawn at a reference's own view, the photographic output is the

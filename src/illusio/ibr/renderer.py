@@ -121,6 +121,7 @@ class IbrRenderer(Renderer):
             self._arrays = None
         self._drop_depth()
         self.reconstruct.release()
+        self.select.release()
         self._mesh_key = None
         self.refs = None
 

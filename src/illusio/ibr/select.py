@@ -87,6 +87,8 @@ class SelectPass:
         self.fill_program = ctx.program("ibr/shaders/fill.glsl", HITS=1)
         self.resolve = ctx.program("ibr/shaders/select.glsl", RESOLVE=1)
         self.resolve_shaded = ctx.program("ibr/shaders/select.glsl", RESOLVE=1, SHADE=1, MAX_EMITTERS=MAX_EMITTERS)
+        self.fill_shaded = ctx.program("ibr/shaders/select.glsl", RESOLVE=1, SHADE=1, FILL=1, MAX_EMITTERS=MAX_EMITTERS)
+        self._marks: moderngl.Texture | None = None  # the single lit pass's pixels left for the fill
 
     def __call__(
         self,
@@ -130,17 +132,100 @@ class SelectPass:
         """The same choice as ``__call__``, lit in the resolve draw itself by ``emitters`` seen from
         the new eye (what ShadingPass makes of the G-buffer, without writing and reading one):
         (radiance RGBA32F linear × exposure, background in holes; source R32F: reference index + 1,
-        0 = hole), both pooled."""
+        0 = hole), both pooled. ``single_pass``: the selection lights its choice in the same draw,
+        and a second draw fills and lights only the disocclusions (select.glsl)."""
+        if photographic and not references.has_colour:
+            raise InputError("these references hold no recorded colour: relight them (IbrParams.relight)")
+        if single_pass:
+            return self._selected_and_lit(
+                reconstructed, view, references, emitters, shading, use_3d, bilinear, max_distance, photographic, fill
+            )
         hits = self.hits(
             reconstructed, view, references, use_3d, bilinear, max_distance, photographic, single_pass, fill
         )
         radiance, source = self.ctx.acquire(hits.size, 4, "f4"), self.ctx.acquire(hits.size, 1, "f4")
         prog = self.resolve_shaded
-        set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
-        set_uniform(prog, "background", tuple(shading.background))
-        bind_emitters(prog, emitters, shading, None, None, 0, unit=0)
+        self._bind_lighting(prog, view, emitters, shading)
         self._resolve(prog, hits, [radiance, source], view, references, photographic)
         return radiance, source
+
+    def _bind_lighting(self, prog, view: View, emitters: Emitters, shading: ShadingParams) -> None:
+        set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
+        set_uniform(prog, "background", tuple(shading.background))
+        bind_emitters(prog, emitters, shading, None, None, 0, unit=0)  # (no shadow atlas: no unit taken)
+
+    def _selected_and_lit(
+        self,
+        reconstructed: moderngl.Texture,
+        view: View,
+        references: ReferenceArrays,
+        emitters: Emitters,
+        shading: ShadingParams,
+        use_3d: bool,
+        bilinear: bool,
+        max_distance: float,
+        photographic: bool,
+        fill: int,
+    ) -> tuple[moderngl.Texture, moderngl.Texture]:
+        """The single-pass selection lit in its own draw, which marks in a depth texture the pixels
+        with reconstructed depth and no reference (1); then, with ``fill``, one draw with the depth
+        test over those pixels only, filling each from the rings around it and lighting it."""
+        ctx = self.ctx
+        size = reconstructed.size
+        radiance, source, hits = ctx.acquire(size, 4, "f4"), ctx.acquire(size, 1, "f4"), ctx.acquire(size, 4, "f4")
+        unfilled = self._unfilled_marks(size)
+        fbo = ctx.framebuffer([radiance, source, hits], depth=unfilled)
+        fbo.use()
+        fbo.viewport = (0, 0, *size)
+        prog = ctx.program(
+            "ibr/shaders/select.glsl",
+            SINGLE_PASS=1,
+            SHADE=1,
+            MAX_EMITTERS=MAX_EMITTERS,
+            DISTANCE_3D=int(use_3d),
+            BILINEAR=int(bilinear),
+        )
+        self._bind_selection(prog, reconstructed, view, references, max_distance, photographic)
+        set_uniform(prog, "photographic", bool(photographic))
+        self._bind_lighting(prog, view, emitters, shading)
+        ctx.gl.enable(moderngl.DEPTH_TEST)
+        try:
+            ctx.gl.depth_func = "1"  # always: every pixel writes its mark
+            ctx.fullscreen.draw(prog)
+            if fill > 0:
+                out = ctx.framebuffer([radiance, source], depth=unfilled)
+                out.use()
+                out.viewport = (0, 0, *size)
+                out.depth_mask = False
+                prog = self.fill_shaded
+                hits.use(0)
+                set_uniform(prog, "hits", 0)
+                set_uniform(prog, "radius", int(fill))
+                references.bind(prog, first_unit=1, photographic=photographic)
+                set_uniform(prog, "photographic", bool(photographic))
+                self._bind_lighting(prog, view, emitters, shading)
+                ctx.gl.depth_func = "<"  # the full-screen triangle's 0.5 passes the marked pixels' 1 only
+                ctx.fullscreen.draw(prog)
+                out.depth_mask = True
+        finally:
+            ctx.gl.depth_func = "<"
+            ctx.gl.disable(moderngl.DEPTH_TEST)
+        ctx.release(hits)
+        return radiance, source
+
+    def _unfilled_marks(self, size) -> moderngl.Texture:
+        """The depth texture of the pixels left for the fill (kept, remade when the size changes)."""
+        if self._marks is None or self._marks.size != tuple(size):
+            self.release()
+            self.ctx.make_current()
+            self._marks = self.ctx.gl.depth_texture(tuple(size))
+        return self._marks
+
+    def release(self) -> None:
+        """Drop the kept depth texture of the pixels left for the fill."""
+        if self._marks is not None:
+            self._marks.release()
+            self._marks = None
 
     def hits(
         self,
@@ -168,19 +253,9 @@ class SelectPass:
         prog = self.ctx.program(
             "ibr/shaders/select.glsl", SINGLE_PASS=int(single_pass), DISTANCE_3D=int(use_3d), BILINEAR=int(bilinear)
         )
-        reconstructed.use(0)
-        set_uniform(prog, "reconstructed", 0)
-        references.bind(prog)
-        set_uniform(prog, "new_inverse_view", np.linalg.inv(view.view_matrix().astype(np.float64)).astype(np.float32))
-        set_uniform(prog, "new_view_projection", view.view_projection((w, h)))
-        set_uniform(prog, "new_projection", projection_terms(view, (w, h)))
-        set_uniform(prog, "new_eye", tuple(float(v) for v in view.pose.position))
-        set_uniform(prog, "max_distance", float(max_distance))
+        self._bind_selection(prog, reconstructed, view, references, max_distance)
         count = len(references.views)
-        matrices = np.stack([v.view_projection(references.size).astype(np.float32).T for v in references.views])
-        prog["ref_view_projection"].write(np.pad(matrices, ((0, MAX_REFERENCES - count), (0, 0), (0, 0))).tobytes())
         if single_pass:
-            set_uniform(prog, "count", count)
             ctx.fullscreen.draw(prog)
         else:
             ctx.gl.enable(moderngl.DEPTH_TEST)
@@ -192,6 +267,31 @@ class SelectPass:
             finally:
                 ctx.gl.disable(moderngl.DEPTH_TEST)
         return self.fill_hits(hits, reconstructed, fill)
+
+    def _bind_selection(
+        self,
+        prog,
+        reconstructed: moderngl.Texture,
+        view: View,
+        references: ReferenceArrays,
+        max_distance: float,
+        photographic: bool = False,
+    ) -> None:
+        """The selection's textures (the reconstructed depth on unit 0, the references after it, the
+        recorded colour as emission where ``photographic``) and uniforms."""
+        size = reconstructed.size
+        reconstructed.use(0)
+        set_uniform(prog, "reconstructed", 0)
+        references.bind(prog, photographic=photographic)
+        set_uniform(prog, "new_inverse_view", np.linalg.inv(view.view_matrix().astype(np.float64)).astype(np.float32))
+        set_uniform(prog, "new_view_projection", view.view_projection(size))
+        set_uniform(prog, "new_projection", projection_terms(view, size))
+        set_uniform(prog, "new_eye", tuple(float(v) for v in view.pose.position))
+        set_uniform(prog, "max_distance", float(max_distance))
+        count = len(references.views)
+        matrices = np.stack([v.view_projection(references.size).astype(np.float32).T for v in references.views])
+        prog["ref_view_projection"].write(np.pad(matrices, ((0, MAX_REFERENCES - count), (0, 0), (0, 0))).tobytes())
+        set_uniform(prog, "count", count)  # (the single pass's loop; the multi-pass draws set "layer")
 
     def _resolve(
         self, prog, hits: moderngl.Texture, targets: list, view: View, references: ReferenceArrays, photographic: bool
