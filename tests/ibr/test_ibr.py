@@ -332,6 +332,37 @@ def test_single_lit_pass_fills_disocclusions_as_the_separate_passes(ctx, room):
     np.testing.assert_allclose(out[True, 6][0][depth <= 0], background[depth <= 0], atol=1e-6)
 
 
+@pytest.mark.parametrize("name, emits", [("cornell-box", False), ("living-room", True)])
+def test_emission_fetch_compiled_out_only_where_no_reference_emits(ctx, name, emits):
+    """ReferenceArrays.emits says whether any reference texel emits; the lit pass without the
+    emission's fetch draws what the one with it draws where nothing emits, and not where lamps do."""
+    scene = load_scene(name)
+    refs = capture(scene, orbit_views(scene, 3), (96, 72), ctx)
+    view = orbit_views(scene, 5)[1]
+    truth = SceneRenderer(ctx)
+    truth.prepare(scene)
+    g = truth.gbuffer(Frame(view, (96, 72)))
+    hit = ctx.readback(g["object_id"])[..., 0] > 0.5
+    depth = np.where(hit, ctx.readback(g["depth"])[..., 0], 0.0).astype(np.float32)
+    g.release()
+    tex = ctx.upload(depth, filter="nearest")
+    arrays = ReferenceArrays(ctx, refs.views)
+    assert arrays.emits == emits
+    emitters = emitters_from_lights(refs.lights, False, MAX_EMITTERS)
+    shading = ShadingParams(refs.ambient, refs.background, 1.0)
+    select = SelectPass(ctx)
+    images = []
+    for arrays.emits in (True, False):
+        radiance, source = select.shaded(tex, view, arrays, emitters, shading, single_pass=True, fill=4)
+        images.append(ctx.readback(radiance)[..., :3])
+        ctx.release(radiance, source)
+    select.release()
+    tex.release()
+    arrays.release()
+    differ = (np.abs(images[0] - images[1]) > 1e-6).any(-1)
+    assert differ.any() == emits
+
+
 def test_mitsuba_photographs_agree_with_the_rasteriser_and_render_as_recorded(ctx, tmp_path, capsys):
     """Path-traced references: depth along the view axis, normals and albedo agree with our
     G-buffer away from edges; drawn at a reference's own view, the photographic output is the

@@ -51,6 +51,8 @@ class ReferenceArrays:
         self.albedo, self.normal = array("albedo", 4), array("normal", 4)
         self.emission, self.depth = array("emission", 3), array("depth", 1, moderngl.NEAREST)
         self.has_colour = all(v.colour is not None for v in views)
+        #: any emitting texel in any view (none: the resolve compiles the emission's fetch out)
+        self.emits = any(np.any(np.asarray(v.emission) > 0) for v in views)
         self.colour = array("colour", 3) if self.has_colour else self.emission
 
     def bind(self, program, first_unit: int = 1, photographic: bool = False) -> None:
@@ -85,9 +87,6 @@ class SelectPass:
     def __init__(self, ctx: Context):
         self.ctx = ctx
         self.fill_program = ctx.program("ibr/shaders/fill.glsl", HITS=1)
-        self.resolve = ctx.program("ibr/shaders/select.glsl", RESOLVE=1)
-        self.resolve_shaded = ctx.program("ibr/shaders/select.glsl", RESOLVE=1, SHADE=1, MAX_EMITTERS=MAX_EMITTERS)
-        self.fill_shaded = ctx.program("ibr/shaders/select.glsl", RESOLVE=1, SHADE=1, FILL=1, MAX_EMITTERS=MAX_EMITTERS)
         self._marks: moderngl.Texture | None = None  # the single lit pass's pixels left for the fill
 
     def __call__(
@@ -112,7 +111,8 @@ class SelectPass:
         )
         w, h = hits.size
         textures = {name: self.ctx.acquire((w, h), comps, dtype) for name, comps, dtype in LAYOUT}
-        self._resolve(self.resolve, hits, list(textures.values()), view, references, photographic)
+        prog = self._program(references, photographic, RESOLVE=1)
+        self._resolve(prog, hits, list(textures.values()), view, references, photographic)
         return GBuffer(self.ctx, textures, (w, h))
 
     def shaded(
@@ -144,10 +144,19 @@ class SelectPass:
             reconstructed, view, references, use_3d, bilinear, max_distance, photographic, single_pass, fill
         )
         radiance, source = self.ctx.acquire(hits.size, 4, "f4"), self.ctx.acquire(hits.size, 1, "f4")
-        prog = self.resolve_shaded
+        prog = self._program(references, photographic, RESOLVE=1, SHADE=1)
         self._bind_lighting(prog, view, emitters, shading)
         self._resolve(prog, hits, [radiance, source], view, references, photographic)
         return radiance, source
+
+    def _program(self, references: ReferenceArrays, photographic: bool, **defines):
+        """select.glsl with ``defines``, lit (SHADE) with the emitters' array size, its emission
+        fetch compiled out where it reads nothing (no reference emits and the output is not
+        photographic)."""
+        if defines.get("SHADE"):
+            defines["MAX_EMITTERS"] = MAX_EMITTERS
+        emission = photographic or references.emits
+        return self.ctx.program("ibr/shaders/select.glsl", EMISSION=int(emission), **defines)
 
     def _bind_lighting(self, prog, view: View, emitters: Emitters, shading: ShadingParams) -> None:
         set_uniform(prog, "camera_position", np.asarray(view.pose.position, np.float32))
@@ -177,13 +186,8 @@ class SelectPass:
         fbo = ctx.framebuffer([radiance, source, hits], depth=unfilled)
         fbo.use()
         fbo.viewport = (0, 0, *size)
-        prog = ctx.program(
-            "ibr/shaders/select.glsl",
-            SINGLE_PASS=1,
-            SHADE=1,
-            MAX_EMITTERS=MAX_EMITTERS,
-            DISTANCE_3D=int(use_3d),
-            BILINEAR=int(bilinear),
+        prog = self._program(
+            references, photographic, SINGLE_PASS=1, SHADE=1, DISTANCE_3D=int(use_3d), BILINEAR=int(bilinear)
         )
         self._bind_selection(prog, reconstructed, view, references, max_distance, photographic)
         set_uniform(prog, "photographic", bool(photographic))
@@ -197,7 +201,7 @@ class SelectPass:
                 out.use()
                 out.viewport = (0, 0, *size)
                 out.depth_mask = False
-                prog = self.fill_shaded
+                prog = self._program(references, photographic, RESOLVE=1, SHADE=1, FILL=1)
                 hits.use(0)
                 set_uniform(prog, "hits", 0)
                 set_uniform(prog, "radius", int(fill))

@@ -20,7 +20,8 @@
 // source, and the hits for the fill; the four depths of the chosen texel, already gathered, decide
 // its filtering), the pixels with reconstructed depth and no reference marked in the depth buffer
 // (1; others 0); then RESOLVE=1 SHADE=1 FILL=1 draws with the depth test only over those, each
-// filling its hit from the rings around it (rings.glsl, as fill.glsl) and lighting it. NumPy
+// filling its hit from the rings around it (rings.glsl, as fill.glsl) and lighting it. EMISSION=0:
+// no reference emits and the output is not photographic, so the emission's fetch is left out. NumPy
 // references: ibr.reference.select, ibr.renderer.fill_hits, passes.reference.shading.
 #include "common/fullscreen.glsl"
 #define MAX_REFERENCES 16
@@ -44,6 +45,9 @@
 #endif
 #ifndef FILL
 #define FILL 0
+#endif
+#ifndef EMISSION
+#define EMISSION 1
 #endif
 
 #if defined(FRAGMENT_SHADER)
@@ -92,7 +96,11 @@ void attributes_at(vec4 h, int k, vec4 corners, out vec4 albedo, out vec4 normal
     albedo = texture(ref_albedo, at) * (photographic ? 0.0 : 1.0);
     // a recorded colour is an image of the light, not an attribute of one surface: resampled
     // bilinearly everywhere, as a camera's pixels blend what they cover (silhouettes included)
+#if EMISSION
     emission = texture(ref_emission, photographic ? vec3(h.xy, float(k)) : at).rgb;
+#else
+    emission = vec3(0.0);  // no reference emits, and the output is not photographic: nothing to read
+#endif
 }
 
 // the same, its four depths gathered here
