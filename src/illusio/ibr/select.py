@@ -197,24 +197,16 @@ class SelectPass:
             ctx.gl.depth_func = "1"  # always: every pixel writes its mark
             ctx.fullscreen.draw(prog)
             if fill > 0:
-                out = ctx.framebuffer([radiance, source], depth=unfilled)
-                out.use()
-                out.viewport = (0, 0, *size)
-                out.depth_mask = False
                 prog = self._program(references, photographic, RESOLVE=1, SHADE=1, FILL=1)
-                hits.use(0)
-                set_uniform(prog, "hits", 0)
                 set_uniform(prog, "radius", int(fill))
-                references.bind(prog, first_unit=1, photographic=photographic)
-                set_uniform(prog, "photographic", bool(photographic))
                 self._bind_lighting(prog, view, emitters, shading)
                 ctx.gl.depth_func = "<"  # the full-screen triangle's 0.5 passes the marked pixels' 1 only
-                ctx.fullscreen.draw(prog)
-                out.depth_mask = True
+                self._resolve(prog, hits, [radiance, source], view, references, photographic, depth=unfilled)
+            else:
+                ctx.release(hits)
         finally:
             ctx.gl.depth_func = "<"
             ctx.gl.disable(moderngl.DEPTH_TEST)
-        ctx.release(hits)
         return radiance, source
 
     def _unfilled_marks(self, size) -> moderngl.Texture:
@@ -298,10 +290,18 @@ class SelectPass:
         set_uniform(prog, "count", count)  # (the single pass's loop; the multi-pass draws set "layer")
 
     def _resolve(
-        self, prog, hits: moderngl.Texture, targets: list, view: View, references: ReferenceArrays, photographic: bool
+        self,
+        prog,
+        hits: moderngl.Texture,
+        targets: list,
+        view: View,
+        references: ReferenceArrays,
+        photographic: bool,
+        depth: moderngl.Texture | None = None,
     ) -> None:
-        """The resolve draw of ``prog`` from ``hits`` (released) into ``targets``."""
-        out = self.ctx.framebuffer(targets)
+        """The resolve draw of ``prog`` from ``hits`` (released) into ``targets``; ``depth``: a depth
+        attachment for the depth test the caller set (the single lit pass's marks)."""
+        out = self.ctx.framebuffer(targets, depth=depth if depth is not None else False)
         out.use()
         out.viewport = (0, 0, *hits.size)
         hits.use(0)  # (no shadow atlas: the emitters take no unit)
