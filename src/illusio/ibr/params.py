@@ -94,6 +94,8 @@ class IbrParams:
         "grazing": "the default capture's proxy mesh has few triangles seen that obliquely: under 2/255",
         "fill_radius": "fills holes: the default view between the references has none",
         "fill_disocclusions": "fills disocclusions: the default view between the references has none",
+        "relight": "the default view is the middle reference's, its lamps the ones relighting shades with: "
+        "relit and captured colours agree within rounding (under 2/255)",
         "settings.shadows": "the image comes from the references, their shadows in them",
         "settings.shadow_tile_size": "the image comes from the references, their shadows in them",
         "settings.forward": "the same image by design; speed only",

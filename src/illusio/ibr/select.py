@@ -20,6 +20,8 @@ from ..scene.camera import View
 __all__ = ["SelectPass", "ReferenceArrays", "projection_terms", "MAX_REFERENCES"]
 
 MAX_REFERENCES = 16
+HALF_MAX = float(np.finfo(np.float16).max)
+DTYPES = {"f2": np.float16, "f4": np.float32}
 
 
 def projection_terms(view: View, size) -> tuple[float, float, float, float]:
@@ -29,7 +31,9 @@ def projection_terms(view: View, size) -> tuple[float, float, float, float]:
 
 
 class ReferenceArrays:
-    """The reference views on the GPU, one texture array per attribute (a layer per view)."""
+    """The reference views on the GPU, one texture array per attribute (a layer per view): albedo,
+    normal, emission and recorded colour in half floats where their values fit (float32 where
+    not), depth in float32."""
 
     def __init__(self, ctx: Context, views):
         # (a recorded colour array, "colour", when every view has one; else the emission array stands in)
@@ -39,17 +43,23 @@ class ReferenceArrays:
         self.size = views[0].size
         w, h = self.size
 
-        def array(name, components, filter=moderngl.LINEAR):
+        def array(name, components, filter=moderngl.LINEAR, precise=False):
             data = np.stack(
                 [np.asarray(getattr(v, name), np.float32).reshape(h, w, -1)[::-1, :, :components] for v in views]
             )
-            tex = ctx.gl.texture_array((w, h, len(views)), components, np.ascontiguousarray(data).tobytes(), dtype="f4")
+            # attributes in half floats, as the G-buffer the rasteriser's captures come from holds
+            # them (so nothing is lost there): half the texel reads' bytes. Depth, and values past
+            # half's range (a Mitsuba capture's bright emitter), in float32
+            dtype = "f4" if precise or np.abs(data).max(initial=0.0) > HALF_MAX else "f2"
+            tex = ctx.gl.texture_array(
+                (w, h, len(views)), components, np.ascontiguousarray(data, DTYPES[dtype]).tobytes(), dtype=dtype
+            )
             tex.filter = (filter, filter)  # linear: the resolve's one-sample bilinear attributes
             tex.repeat_x = tex.repeat_y = False  # as the reference's clamped texel indices
             return tex
 
         self.albedo, self.normal = array("albedo", 4), array("normal", 4)
-        self.emission, self.depth = array("emission", 3), array("depth", 1, moderngl.NEAREST)
+        self.emission, self.depth = array("emission", 3), array("depth", 1, moderngl.NEAREST, precise=True)
         self.has_colour = all(v.colour is not None for v in views)
         #: any emitting texel in any view (none: the resolve compiles the emission's fetch out)
         self.emits = any(np.any(np.asarray(v.emission) > 0) for v in views)
@@ -71,9 +81,9 @@ class ReferenceArrays:
             set_uniform(program, name, unit)
         count = len(self.views)
         inverse = np.stack([np.linalg.inv(v.view_matrix().astype(np.float64)).T for v in self.views]).astype(np.float32)
-        program["ref_inverse_view"].write(np.pad(inverse, ((0, MAX_REFERENCES - count), (0, 0), (0, 0))).tobytes())
+        set_uniform(program, "ref_inverse_view", np.pad(inverse, ((0, MAX_REFERENCES - count), (0, 0), (0, 0))))
         terms = np.array([projection_terms(v, self.size) for v in self.views], np.float32)
-        program["ref_projection"].write(np.pad(terms, ((0, MAX_REFERENCES - count), (0, 0))).tobytes())
+        set_uniform(program, "ref_projection", np.pad(terms, ((0, MAX_REFERENCES - count), (0, 0))))
 
     def release(self) -> None:
         for t in {self.albedo, self.normal, self.emission, self.depth, self.colour}:
@@ -287,6 +297,9 @@ class SelectPass:
         count = len(references.views)
         matrices = np.stack([v.view_projection(references.size).astype(np.float32).T for v in references.views])
         prog["ref_view_projection"].write(np.pad(matrices, ((0, MAX_REFERENCES - count), (0, 0), (0, 0))).tobytes())
+        # each reference's eye in the new view's clip space (the seen points lie on the rays from them)
+        eyes = np.c_[[v.pose.position for v in references.views], np.ones(count)] @ view.view_projection(size).T
+        set_uniform(prog, "ref_eye_clip", np.pad(eyes.astype(np.float32), ((0, MAX_REFERENCES - count), (0, 0))))
         set_uniform(prog, "count", count)  # (the single pass's loop; the multi-pass draws set "layer")
 
     def _resolve(

@@ -78,11 +78,18 @@ vec4 depth_corners(vec2 t, ivec2 ref_size, int k, out ivec2 t0) {
 #if RESOLVE || SHADE
 uniform bool photographic;             // the recorded colour as emission, no albedo
 
+// the point reference k saw at the hit h (uv, depth read)
+vec3 seen_at(vec4 h, int k) {
+    ivec2 ref_size = textureSize(ref_depth, 0).xy;
+    vec2 ref_pixel = vec2(h.x * float(ref_size.x), (1.0 - h.y) * float(ref_size.y));
+    return unproject(ref_pixel, vec2(ref_size), h.z, ref_projection[k], ref_inverse_view[k]);
+}
+
 // reference k's attributes at the hit h (uv, depth read), `corners` its four depths around h.xy
 // (depth_corners): bilinear where they lie on one surface (within 1 %), else the nearest texel —
 // one linear-filtered sample either way (at the nearest texel's centre the filter returns that
-// texel: cheaper on llvmpipe than fetching four and choosing); `seen`: the point
-void attributes_at(vec4 h, int k, vec4 corners, out vec4 albedo, out vec4 normal, out vec3 emission, out vec3 seen) {
+// texel: cheaper on llvmpipe than fetching four and choosing)
+void attributes_at(vec4 h, int k, vec4 corners, out vec4 albedo, out vec4 normal, out vec3 emission) {
     ivec2 ref_size = textureSize(ref_depth, 0).xy;
     vec2 t = h.xy * vec2(ref_size) - 0.5;
     ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
@@ -90,8 +97,6 @@ void attributes_at(vec4 h, int k, vec4 corners, out vec4 albedo, out vec4 normal
     float lo = min(min(c.x, c.y), min(c.z, c.w)), hi = max(max(c.x, c.y), max(c.z, c.w));
     bool on_one_surface = lo > 0.0 && hi <= lo * 1.01;
     vec3 at = vec3(on_one_surface ? h.xy : (vec2(nearest) + 0.5) / vec2(ref_size), float(k));
-    vec2 ref_pixel = vec2(h.x * float(ref_size.x), (1.0 - h.y) * float(ref_size.y));
-    seen = unproject(ref_pixel, vec2(ref_size), h.z, ref_projection[k], ref_inverse_view[k]);
     normal = texture(ref_normal, at);
     albedo = texture(ref_albedo, at) * (photographic ? 0.0 : 1.0);
     // a recorded colour is an image of the light, not an attribute of one surface: resampled
@@ -108,7 +113,8 @@ void attributes(vec4 h, int k, out vec4 albedo, out vec4 normal, out vec3 emissi
     ivec2 ref_size = textureSize(ref_depth, 0).xy;
     ivec2 t0;
     vec4 corners = depth_corners(h.xy * vec2(ref_size) - 0.5, ref_size, k, t0);
-    attributes_at(h, k, corners, albedo, normal, emission, seen);
+    attributes_at(h, k, corners, albedo, normal, emission);
+    seen = seen_at(h, k);
 }
 
 #if SHADE
@@ -120,11 +126,11 @@ uniform float exposure;
 layout(location = 0) out vec4 out_radiance;
 layout(location = 1) out float out_id;
 
-// the radiance the deferred shading makes of reference k's attributes at the hit h
-vec4 lit(vec4 h, int k, vec4 corners) {
+// the radiance the deferred shading makes of reference k's attributes at the hit h, the point `seen`
+vec4 lit(vec4 h, int k, vec4 corners, vec3 seen) {
     vec4 albedo, normal;
-    vec3 emission, seen;
-    attributes_at(h, k, corners, albedo, normal, emission, seen);
+    vec3 emission;
+    attributes_at(h, k, corners, albedo, normal, emission);
     vec3 total = direct_light(seen, normalize(normal.xyz), normalize(camera_position - seen), albedo.rgb, albedo.a, normal.a);
     return vec4((total + ambient * albedo.rgb + emission) * exposure, 1.0);
 }
@@ -138,6 +144,7 @@ uniform vec4 new_projection;
 uniform mat4 new_view_projection;
 uniform vec3 new_eye;
 uniform mat4 ref_view_projection[MAX_REFERENCES];
+uniform vec4 ref_eye_clip[MAX_REFERENCES];  // each reference's eye in the new view's clip space
 uniform int layer;                      // the reference of this draw (multi-pass)
 uniform int count;                      // the references (single pass)
 uniform float max_distance;
@@ -148,9 +155,9 @@ out vec4 hit;                           // uv in the reference, its depth there,
 #endif
 
 // reference `k` seeing the new view's `point` (at `pixel`): its distance to the point the reference
-// saw there, what the draw writes and the four depths around it (depth_corners); false where the
-// reference does not see it
-bool candidate(int k, vec3 point, vec2 pixel, vec2 size, out float distance, out vec4 found, out vec4 corners) {
+// saw there, what the draw writes, the four depths around it (depth_corners) and that point; false
+// where the reference does not see it
+bool candidate(int k, vec3 point, vec4 point_clip, vec2 pixel, vec2 size, out float distance, out vec4 found, out vec4 corners, out vec3 seen) {
     vec4 clip = ref_view_projection[k] * vec4(point, 1.0);
     if (clip.w <= 0.0) return false;
     vec2 uv = clip.xy / clip.w * 0.5 + 0.5;
@@ -167,13 +174,16 @@ bool candidate(int k, vec3 point, vec2 pixel, vec2 size, out float distance, out
     if (min(min(c.x, c.y), min(c.z, c.w)) > 0.0) d = mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
 #endif
     if (d <= 0.0) return false;
-    vec2 ref_pixel = vec2(uv.x * float(ref_size.x), (1.0 - uv.y) * float(ref_size.y));
-    vec3 seen = unproject(ref_pixel, vec2(ref_size), d, ref_projection[k], ref_inverse_view[k]);
+    // the point the reference saw: on its ray through ours (the texel's), at depth d along its
+    // axis, where ours is at clip.w (unproject's result without its matrix product)
+    vec3 eye = ref_inverse_view[k][3].xyz;
+    float along = d / clip.w;
+    seen = eye + (point - eye) * along;
     if (dot(fetch(ref_normal, nearest, k).xyz, new_eye - seen) <= 0.0) return false;  // the other side
 #if DISTANCE_3D
     distance = length(seen - point);
 #else
-    vec4 s = new_view_projection * vec4(seen, 1.0);
+    vec4 s = mix(ref_eye_clip[k], point_clip, along);  // = new_view_projection * (seen, 1): linear
     if (s.w <= 0.0) return false;
     vec2 seen_pixel = vec2((s.x / s.w * 0.5 + 0.5) * size.x, (0.5 - s.y / s.w * 0.5) * size.y);
     distance = length(seen_pixel - pixel);
@@ -200,18 +210,22 @@ void main() {
 #endif
     vec2 pixel = vec2(gl_FragCoord.x, size.y - gl_FragCoord.y);   // top-left origin, centre
     vec3 point = unproject(pixel, size, z, new_projection, new_inverse_view);
+    vec4 point_clip = new_view_projection * vec4(point, 1.0);
     float distance;
     vec4 found, corners;
+    vec3 seen;
 #if SINGLE_PASS
     float best = max_distance * 2.0;
     vec4 best_corners = vec4(0.0);
+    vec3 best_seen = vec3(0.0);
     hit = vec4(0.0);
     for (int k = 0; k < count; ++k) {
         // strictly nearer, as the depth test LESS over draws in reference order
-        if (candidate(k, point, pixel, size, distance, found, corners) && distance < best) {
+        if (candidate(k, point, point_clip, pixel, size, distance, found, corners, seen) && distance < best) {
             best = distance;
             hit = found;
             best_corners = corners;
+            best_seen = seen;
         }
     }
 #if SHADE
@@ -221,14 +235,14 @@ void main() {
         gl_FragDepth = 1.0;
         return;
     }
-    out_radiance = lit(hit, int(hit.w + 0.5) - 1, best_corners);
+    out_radiance = lit(hit, int(hit.w + 0.5) - 1, best_corners, best_seen);
     out_id = hit.w;
     gl_FragDepth = 0.0;
 #else
     if (hit.w == 0.0) discard;
 #endif
 #else
-    if (!candidate(layer, point, pixel, size, distance, found, corners)) discard;
+    if (!candidate(layer, point, point_clip, pixel, size, distance, found, corners, seen)) discard;
     gl_FragDepth = distance / max_distance * 0.999;
     hit = found;
 #endif
@@ -260,7 +274,7 @@ void main() {
     }
     ivec2 ref_size = textureSize(ref_depth, 0).xy;
     ivec2 t0;
-    out_radiance = lit(h, k, depth_corners(h.xy * vec2(ref_size) - 0.5, ref_size, k, t0));
+    out_radiance = lit(h, k, depth_corners(h.xy * vec2(ref_size) - 0.5, ref_size, k, t0), seen_at(h, k));
 #else
     vec4 albedo, normal;
     vec3 emission, seen;
