@@ -319,3 +319,30 @@ def test_an_inside_out_two_sided_room_against_mitsuba(tmp_path, ctx):
     s = score(image, reference, lit, block=4)
     print(f"inside-out room: mean {mean_error:.4f}, blocks {s.mean_relative_error:.4f}")
     assert mean_error < 0.03 and s.mean_relative_error < 0.10
+
+
+def test_rasterising_a_scene_lit_only_by_emitting_surfaces_says_so(mgf_scenes, tmp_path, capsys, ctx):
+    """office2.mgf has no lamp and no ambient light, only an emitting luminaire: `illusio render`
+    draws it (the luminaire's own glow) and says in one warning line why the room is dark and what
+    lights it (radiosity). A scene with lamps says nothing; one with neither lamps nor glow is said
+    to draw black."""
+    from dataclasses import replace
+
+    from illusio.passes.scene_renderer import SceneRenderer, UnlitSceneWarning
+
+    code, cap = call_cli(
+        ["render", str(mgf_scenes / "office2.mgf"), "-o", str(tmp_path / "o.png"), "--size", "64x48"], capsys
+    )
+    assert code == 0, cap.err
+    said = [line for line in cap.err.splitlines() if "warning:" in line]
+    assert len(said) == 1 and "office2: no lamp and no ambient light" in said[0] and "radiosity" in said[0], cap.err
+    renderer = SceneRenderer(ctx)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        renderer.prepare(load_scene("living-room"))  # lamps: nothing to say
+    room = load_scene("living-room")
+    nodes = [replace(node, material=replace(node.material, emission=(0.0, 0.0, 0.0))) for node in room.nodes]
+    dark = replace(room, nodes=nodes, lights=[], ambient=(0.0, 0.0, 0.0))
+    with pytest.warns(UnlitSceneWarning, match="draws it black"):
+        renderer.prepare(dark)
+    renderer.release()

@@ -7,6 +7,8 @@ set-up cost. Techniques that draw a scene keep one inside their own renderer.
 
 from __future__ import annotations
 
+import warnings
+
 import moderngl
 import numpy as np
 
@@ -23,7 +25,13 @@ from .settings import RenderSettings
 from .shading import MAX_EMITTERS, ShadingParams, ShadingPass
 from .shadows import ShadowPass
 
-__all__ = ["SceneRenderer", "RenderSettings", "render_scene", "MAX_SIZE", "check_size"]
+__all__ = ["SceneRenderer", "RenderSettings", "render_scene", "MAX_SIZE", "check_size", "UnlitSceneWarning"]
+
+
+class UnlitSceneWarning(UserWarning):
+    """A scene the rasteriser is given with no lamp and no ambient light: it draws only what emitting
+    surfaces give off themselves (an MGF scene's light comes from its emitting surfaces, which only
+    radiosity and path tracing carry to the rest)."""
 
 
 class SceneRenderer(Renderer):
@@ -52,6 +60,19 @@ class SceneRenderer(Renderer):
             raise InputError(f"SceneRenderer draws a Scene, got {type(scene).__name__}")
         self.scene = scene
         self._gpu_scene = GpuScene(self.ctx, scene)
+        if not scene.lights and not any(scene.ambient):
+            glows = any(node.visible and max(node.material.emission) > 0 for node in scene.nodes)
+            warnings.warn(
+                f"{scene.name}: no lamp and no ambient light: "
+                + (
+                    "the rasteriser draws only its emitting surfaces' own glow (their light reaches the "
+                    "rest by radiosity: illusio radiosity, or a path-traced capture)"
+                    if glows
+                    else "the rasteriser draws it black"
+                ),
+                UnlitSceneWarning,
+                stacklevel=3,
+            )
 
     def _unload(self) -> None:
         super()._unload()
