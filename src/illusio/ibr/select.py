@@ -21,7 +21,6 @@ __all__ = ["SelectPass", "ReferenceArrays", "projection_terms", "MAX_REFERENCES"
 
 MAX_REFERENCES = 16
 HALF_MAX = float(np.finfo(np.float16).max)
-DTYPES = {"f2": np.float16, "f4": np.float32}
 
 
 def projection_terms(view: View, size) -> tuple[float, float, float, float]:
@@ -52,7 +51,7 @@ class ReferenceArrays:
             # half's range (a Mitsuba capture's bright emitter), in float32
             dtype = "f4" if precise or np.abs(data).max(initial=0.0) > HALF_MAX else "f2"
             tex = ctx.gl.texture_array(
-                (w, h, len(views)), components, np.ascontiguousarray(data, DTYPES[dtype]).tobytes(), dtype=dtype
+                (w, h, len(views)), components, np.ascontiguousarray(data, dtype).tobytes(), dtype=dtype
             )
             tex.filter = (filter, filter)  # linear: the resolve's one-sample bilinear attributes
             tex.repeat_x = tex.repeat_y = False  # as the reference's clamped texel indices

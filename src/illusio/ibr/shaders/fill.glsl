@@ -11,7 +11,6 @@
 #define HITS 0
 #endif
 
-
 #if defined(FRAGMENT_SHADER)
 #include "rings.glsl"
 uniform int radius;
