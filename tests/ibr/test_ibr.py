@@ -110,6 +110,37 @@ def test_select_pass_matches_reference(ctx, room, rng, use_3d, bilinear, single_
     np.testing.assert_allclose(got_radiance[empty], np.broadcast_to(refs.background, lit.shape)[empty], atol=1e-6)
 
 
+@pytest.mark.parametrize("single_pass", [False, True])
+def test_a_reference_that_saw_the_other_side_gives_way_to_the_next_nearest(ctx, room, single_pass):
+    """A reference whose stored normal faces away from the new eye saw the other side of a thin
+    surface: where it is the nearest candidate, the next nearest that faces us is chosen (the single
+    pass tests only its nearest and looks again where that fails), as in reference.select. Here
+    the first reference's normals are all turned round, so it is the other side everywhere."""
+    from dataclasses import replace
+
+    scene, refs = room
+    turned = replace(
+        refs, views=[replace(refs.views[0], normal=refs.views[0].normal * [-1, -1, -1, 1])] + refs.views[1:]
+    )
+    view = orbit_views(scene, 5)[1]  # between the first two references
+    truth = SceneRenderer(ctx)
+    truth.prepare(scene)
+    g = truth.gbuffer(Frame(view, SIZE))
+    depth = np.where(ctx.readback(g["object_id"])[..., 0] > 0.5, ctx.readback(g["depth"])[..., 0], 0.0)
+    g.release()
+    tex = ctx.upload(depth.astype(np.float32), filter="nearest")
+    arrays = ReferenceArrays(ctx, turned.views)
+    gbuf = SelectPass(ctx)(tex, view, arrays, single_pass=single_pass)
+    source = np.rint(ctx.readback(gbuf["object_id"])[..., 0]).astype(int)
+    gbuf.release()
+    tex.release()
+    arrays.release()
+    assert (reference.select(depth, view, refs.views)["source"] == 1).mean() > 0.2  # it was the nearest
+    want = reference.select(depth, view, turned.views)["source"]
+    assert not (want == 1).any() and (want > 1).mean() > 0.5  # the others took its pixels
+    assert (source == want).mean() > 0.99, f"{(source != want).sum()} pixels differ"
+
+
 def test_references_reproduce_their_own_views_and_views_between_them(ctx, room):
     scene, refs = room
     renderer = IbrRenderer(ctx)

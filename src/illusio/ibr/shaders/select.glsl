@@ -156,7 +156,7 @@ out vec4 hit;                           // uv in the reference, its depth there,
 
 // reference `k` seeing the new view's `point` (at `pixel`): its distance to the point the reference
 // saw there, what the draw writes, the four depths around it (depth_corners) and that point; false
-// where the reference does not see it
+// where the reference does not see it. Whether it saw the side facing us is faces_us's question
 bool candidate(int k, vec3 point, vec4 point_clip, vec2 pixel, vec2 size, out float distance, out vec4 found, out vec4 corners, out vec3 seen) {
     vec4 clip = ref_view_projection[k] * vec4(point, 1.0);
     if (clip.w <= 0.0) return false;
@@ -168,7 +168,6 @@ bool candidate(int k, vec3 point, vec4 point_clip, vec2 pixel, vec2 size, out fl
     vec4 c = depth_corners(t, ref_size, k, t0);
     corners = c;
     vec2 f = clamp(t - vec2(t0), 0.0, 1.0);
-    ivec2 nearest = clamp(ivec2(floor(t + 0.5)), ivec2(0), ref_size - 1);
     float d = f.y < 0.5 ? (f.x < 0.5 ? c.x : c.y) : (f.x < 0.5 ? c.z : c.w);
 #if BILINEAR
     if (min(min(c.x, c.y), min(c.z, c.w)) > 0.0) d = mix(mix(c.x, c.y, f.x), mix(c.z, c.w, f.x), f.y);
@@ -179,7 +178,6 @@ bool candidate(int k, vec3 point, vec4 point_clip, vec2 pixel, vec2 size, out fl
     vec3 eye = ref_inverse_view[k][3].xyz;
     float along = d / clip.w;
     seen = eye + (point - eye) * along;
-    if (dot(fetch(ref_normal, nearest, k).xyz, new_eye - seen) <= 0.0) return false;  // the other side
 #if DISTANCE_3D
     distance = length(seen - point);
 #else
@@ -191,6 +189,15 @@ bool candidate(int k, vec3 point, vec4 point_clip, vec2 pixel, vec2 size, out fl
     if (distance > max_distance) return false;
     found = vec4(uv, d, float(k + 1));
     return true;
+}
+
+// whether the reference of hit `found` (candidate's), its normal at the nearest texel, faces the new
+// eye from `seen`: a reference whose stored normal faces away saw the other side of a thin surface
+bool faces_us(vec4 found, vec3 seen) {
+    int k = int(found.w + 0.5) - 1;
+    ivec2 ref_size = textureSize(ref_depth, 0).xy;
+    ivec2 nearest = clamp(ivec2(floor(found.xy * vec2(ref_size))), ivec2(0), ref_size - 1);
+    return dot(fetch(ref_normal, nearest, k).xyz, new_eye - seen) > 0.0;
 }
 
 void main() {
@@ -215,18 +222,29 @@ void main() {
     vec4 found, corners;
     vec3 seen;
 #if SINGLE_PASS
-    float best = max_distance * 2.0;
+    // the nearest candidate that faces us: the nearest of all, its side tested; where that fails
+    // (rare: thin surfaces), the nearest of the rest, and so on. The same choice as testing every
+    // candidate's side, for one normal fetch a pixel instead of one a reference (llvmpipe runs an
+    // if's body whatever its pixels decide, but leaves a loop once none of them goes round again)
     vec4 best_corners = vec4(0.0);
     vec3 best_seen = vec3(0.0);
-    hit = vec4(0.0);
-    for (int k = 0; k < count; ++k) {
-        // strictly nearer, as the depth test LESS over draws in reference order
-        if (candidate(k, point, point_clip, pixel, size, distance, found, corners, seen) && distance < best) {
-            best = distance;
-            hit = found;
-            best_corners = corners;
-            best_seen = seen;
+    int away = 0;  // bit k: reference k saw the other side
+    for (int round = 0; round < count; ++round) {
+        float best = max_distance * 2.0;
+        hit = vec4(0.0);
+        for (int k = 0; k < count; ++k) {
+            // strictly nearer, as the depth test LESS over draws in reference order
+            if ((away & (1 << k)) == 0 && candidate(k, point, point_clip, pixel, size, distance, found, corners, seen)
+                    && distance < best) {
+                best = distance;
+                hit = found;
+                best_corners = corners;
+                best_seen = seen;
+            }
         }
+        if (hit.w == 0.0 || faces_us(hit, best_seen)) break;
+        away |= 1 << (int(hit.w + 0.5) - 1);
+        hit = vec4(0.0);  // (the last round's other side: no reference)
     }
 #if SHADE
     if (hit.w == 0.0) {  // seen by no reference: the fill's (the depth test lets only these through)
@@ -242,7 +260,7 @@ void main() {
     if (hit.w == 0.0) discard;
 #endif
 #else
-    if (!candidate(layer, point, point_clip, pixel, size, distance, found, corners, seen)) discard;
+    if (!candidate(layer, point, point_clip, pixel, size, distance, found, corners, seen) || !faces_us(found, seen)) discard;
     gl_FragDepth = distance / max_distance * 0.999;
     hit = found;
 #endif
