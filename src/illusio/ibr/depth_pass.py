@@ -1,6 +1,7 @@
-"""The first pass on the GPU: the reconstruction mesh and the points it leaves out drawn into the
-new view's linear depth (shaders/reconstruct.glsl), then its holes filled from the nearest ring around them
-(shaders/fill.glsl). References:
+"""The first pass on the GPU: the reconstruction mesh drawn into the new view's linear depth
+(shaders/reconstruct.glsl), the points it leaves out scattered over it by a compute pass
+(shaders/points.glsl), then its holes filled from the nearest ring around them (shaders/fill.glsl).
+References:
 passes.reference.gbuffer (ray casting the mesh), ibr.reference.point_depth (the points) and
 :func:`illusio.ibr.renderer.fill_holes`."""
 
@@ -16,6 +17,8 @@ from .proxy_mesh import Reconstruction
 
 __all__ = ["ReconstructPass"]
 
+GL_R32UI = 0x8236  # the R32F depth seen as one word per texel (points.glsl's atomics)
+
 
 class ReconstructPass:
     """``load(reconstruction)`` once per reference set; ``(view, size, fill_radius)`` → R32F depth (pooled)."""
@@ -24,6 +27,7 @@ class ReconstructPass:
         self.ctx = ctx
         self.program = ctx.program("ibr/shaders/reconstruct.glsl")
         self.fill_program = ctx.program("ibr/shaders/fill.glsl")
+        self.points_program = ctx.program("ibr/shaders/points.glsl")
         self._buffers = None
 
     def load(self, shape: Reconstruction) -> None:
@@ -40,8 +44,7 @@ class ReconstructPass:
                 [np.asarray(points, np.float32).reshape(-1, 3), np.asarray(footprint, np.float32).reshape(-1, 1)],
                 axis=1,
             )
-            pbo = gl.buffer(np.ascontiguousarray(interleaved).tobytes())
-            self._buffers += (pbo, gl.vertex_array(self.program, [(pbo, "3f 1f", "in_position", "in_footprint")]))
+            self._buffers += (gl.buffer(np.ascontiguousarray(interleaved).tobytes()),)
 
     def __call__(self, view: View, size: tuple[int, int], fill_radius: int = 0) -> moderngl.Texture:
         ctx = self.ctx
@@ -56,13 +59,26 @@ class ReconstructPass:
         ctx.gl.enable(moderngl.DEPTH_TEST)
         ctx.gl.disable(moderngl.CULL_FACE)
         self._buffers[2].render(moderngl.TRIANGLES)
-        if len(self._buffers) > 3:
-            set_uniform(self.program, "focal_px", float(view.projection_matrix(w / h)[0, 0] * w / 2))
-            ctx.gl.enable(moderngl.PROGRAM_POINT_SIZE)
-            self._buffers[4].render(moderngl.POINTS)
-            ctx.gl.disable(moderngl.PROGRAM_POINT_SIZE)
         ctx.gl.disable(moderngl.DEPTH_TEST)
+        if len(self._buffers) > 3:
+            self._scatter_points(view, depth)
         return self.fill(depth, fill_radius)
+
+    def _scatter_points(self, view: View, depth: moderngl.Texture) -> None:
+        """The points into ``depth`` after the mesh, nearest winning (shaders/points.glsl)."""
+        w, h = depth.size
+        prog, points = self.points_program, self._buffers[3]
+        count = points.size // 16
+        set_uniform(prog, "view_matrix", view.view_matrix())
+        set_uniform(prog, "projection_matrix", view.projection_matrix(w / h))
+        set_uniform(prog, "focal_px", float(view.projection_matrix(w / h)[0, 0] * w / 2))
+        set_uniform(prog, "near", float(view.camera.near))
+        set_uniform(prog, "count", count)
+        points.bind_to_storage_buffer(0)
+        depth.bind_to_image(0, read=True, write=True, format=GL_R32UI)
+        prog.run(group_x=-(-count // 64))
+        # the fill and the selection read it as a texture
+        self.ctx.gl.memory_barrier(moderngl.TEXTURE_FETCH_BARRIER_BIT | moderngl.SHADER_IMAGE_ACCESS_BARRIER_BIT)
 
     def fill(self, depth: moderngl.Texture, radius: int) -> moderngl.Texture:
         """``depth`` (pooled; released) with holes up to ``radius`` pixels filled, in one draw: a new
