@@ -224,8 +224,9 @@ void main() {
 #if SINGLE_PASS
     // the nearest candidate that faces us: the nearest of all, its side tested; where that fails
     // (rare: thin surfaces), the nearest of the rest, and so on. The same choice as testing every
-    // candidate's side, for one normal fetch a pixel instead of one a reference (llvmpipe runs an
-    // if's body whatever its pixels decide, but leaves a loop once none of them goes round again)
+    // candidate's side, for one normal fetch a pixel instead of one a reference (on llvmpipe an if
+    // around the fetch measured no cheaper than the fetch itself, the compiler flattening a small
+    // branch, but a loop is left once none of a group's pixels goes round again)
     vec4 best_corners = vec4(0.0);
     vec3 best_seen = vec3(0.0);
     int away = 0;  // bit k: reference k saw the other side
