@@ -38,23 +38,36 @@ def time_case(name: str, fn: Callable[[], object], repeat: int = 10, warmup: int
 
 
 def time_interleaved(
-    cases: dict[str, tuple[Callable[[], object], str]], repeat: int = 10, warmup: int = 2
+    cases: dict[str, tuple[Callable[[], object], str]],
+    repeat: int = 10,
+    warmup: int = 2,
+    samples: dict[str, list[float]] | None = None,
 ) -> list[Timing]:
     """Time ``cases`` ({name: (fn, notes)}) one run of each in turn, ``repeat`` rounds: cases whose
-    ratio is a goal, on a machine whose speed drifts between cases run one after another."""
+    ratio is a goal, on a machine whose speed drifts between cases run one after another.
+    ``samples``, given: filled with each case's times (ms), a round each, for :func:`paired_ratio`."""
     for _ in range(warmup):
         for fn, _ in cases.values():
             fn()
-    samples: dict[str, list[float]] = {name: [] for name in cases}
+    got: dict[str, list[float]] = {name: [] for name in cases}
     for _ in range(repeat):
         for name, (fn, _) in cases.items():
             t0 = time.perf_counter()
             fn()
-            samples[name].append((time.perf_counter() - t0) * 1000)
+            got[name].append((time.perf_counter() - t0) * 1000)
+    if samples is not None:
+        samples.update(got)
     return [
-        Timing(name, repeat, statistics.median(samples[name]), min(samples[name]), max(samples[name]), notes)
+        Timing(name, repeat, statistics.median(got[name]), min(got[name]), max(got[name]), notes)
         for name, (_, notes) in cases.items()
     ]
+
+
+def paired_ratio(samples: dict[str, list[float]], numerator: str, denominator: str) -> float:
+    """The median over rounds of ``numerator``'s time over ``denominator``'s in the same round
+    (time_interleaved's ``samples``): each pair ran seconds apart, so a slowdown of the machine that
+    lasts a few frames moves one round's ratio, not the medians of the two cases apart."""
+    return float(statistics.median(a / b for a, b in zip(samples[numerator], samples[denominator])))
 
 
 def machine(ctx) -> dict:
