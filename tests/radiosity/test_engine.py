@@ -393,9 +393,12 @@ def test_shaft_test_over_links_matches_the_reference(rng):
 @pytest.mark.parametrize("scene, name, epsilon", [("cornell-box", "short-block", 1e-4), ("office", "chair-seat", 2e-4)])
 def test_moving_an_object_matches_a_full_rebuild(scene, name, epsilon):
     """Move an object with the dynamic update and rebuild the moved scene from scratch: the mean
-    radiosity of every surface agrees (area-weighted mean difference under 2 %)."""
+    radiosity of every surface agrees (area-weighted mean difference under 2 %). Compared polygon by
+    polygon, so without the contact cuts: a build makes them where the objects stand then, and a move
+    keeps the polygons it was built with (the moved short block runs into the tall one, and the
+    rebuild would cut both blocks along where they meet)."""
     p = scene_polygons(load_scene(scene))
-    params = HierarchyParams(epsilon=epsilon)
+    params = HierarchyParams(epsilon=epsilon, contact_cuts=False)
     sol = Radiosity(p, params).build()
     move = np.eye(4)
     move[:3, 3] = (0.08, 0.0, 0.05)

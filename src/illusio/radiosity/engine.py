@@ -18,6 +18,7 @@ from ..core.kernels import compile_note
 from ..core.memory import release_free_heap
 from ..core.progress import phase
 from .clusters import ClusteredGather, ClusterLinks, ClusterTree, refine_nodes, transfer_bound
+from .contacts import cut_at_contacts
 from .display import corner_average
 from .dynamic import add_lamp, add_object, move_object, remove_object
 from .hierarchy import Hierarchy
@@ -118,7 +119,9 @@ class Radiosity:
     def __init__(self, polygons: Polygons, params: HierarchyParams = HierarchyParams()):
         self.params = params
         self._auto_min_area = AUTO_MIN_AREA * float(polygon_areas(polygons.corners, polygons.triangle).sum())
-        if params.sliver_piece > 0:  # self.polygons are then the cut ones: h.polygon indexes them
+        if params.contact_cuts:  # self.polygons are then the cut ones: h.polygon indexes them
+            polygons = cut_at_contacts(polygons, self.min_area)
+        if params.sliver_piece > 0:
             polygons = polygons.split_slivers(params.sliver_piece * np.sqrt(self.min_area))
         if len(polygons) > MAX_POLYGONS and not params.clusters:
             counts = np.bincount(polygons.group, minlength=len(polygons.names))

@@ -83,7 +83,10 @@ def fresh_solution(s) -> None:
     rho_map = old.reflectance[np.maximum(s.pixel_element, 0)]
     model = dataclasses.replace(s.model, reflectance=old.reflectance[old.roots[: len(s.model)]].copy())
     sol = Radiosity(
-        model, dataclasses.replace(s.params.final_hierarchy, lights_to_leaves=True, sliver_piece=0.0, reach_rays=0)
+        model,
+        dataclasses.replace(
+            s.params.final_hierarchy, lights_to_leaves=True, sliver_piece=0.0, contact_cuts=False, reach_rays=0
+        ),
     ).build()
     s.solution, s._gather = sol, CornerGather()
     h = sol.hierarchy

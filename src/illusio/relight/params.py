@@ -86,7 +86,7 @@ class RelightParams:
     (4.3.3): the mesh and links made again with ``final_hierarchy`` (default: BFV, as the
     chapter has it) over the final textures, D computed with the lamps' links at the leaves, then B with
     the links where the criterion puts them. Both keep the model's own polygons (their sliver_piece is
-    taken as 0: the photograph's textures and pixels are keyed to the input polygons) and their
+    taken as 0 and contact_cuts as off: the photograph's textures and pixels are keyed to the input polygons) and their
     links' own form-factor sums (reach_rays taken as 0: the estimates were measured with them). lamp_scales: (lamp name,
     factor on its estimated
     exitance) pairs. exposure: factor on the displayed radiance."""
@@ -134,6 +134,7 @@ class RelightParams:
         "hierarchy.lights_to_leaves": "loscos, the default method, pushes the lamps' links to the leaves (4.3.2)",
         "hierarchy.clusters": "refused: relighting reads element links, its solutions take clusters=False",
         "hierarchy.sliver_piece": "relighting keeps the model's own polygons (taken as 0)",
+        "hierarchy.contact_cuts": "relighting keeps the model's own polygons (taken as off)",
         "hierarchy.reach_rays": "relighting keeps its links' own form-factor sums, which its photograph "
         "estimates were measured with (taken as 0)",
         "hierarchy.max_links": "a budget: the default scene stays far below it (at its low end, refused)",

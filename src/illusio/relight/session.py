@@ -50,7 +50,7 @@ class RelightSession:
         self.renderer.prepare(self.model)
         # the model's own polygons, uncut: the photograph's textures and pixels are keyed to them
         self.hierarchy_params = self.strategy.hierarchy(
-            dataclasses.replace(params.hierarchy, sliver_piece=0.0, reach_rays=0)
+            dataclasses.replace(params.hierarchy, sliver_piece=0.0, contact_cuts=False, reach_rays=0)
         )
         self.solution = self.renderer.solve(RadiosityParams(self.hierarchy_params))
         self.display = DisplayPass(self.ctx)
