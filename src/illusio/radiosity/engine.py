@@ -120,7 +120,9 @@ class Radiosity:
         self.params = params
         self._auto_min_area = AUTO_MIN_AREA * float(polygon_areas(polygons.corners, polygons.triangle).sum())
         if params.contact_cuts:  # self.polygons are then the cut ones: h.polygon indexes them
-            polygons = cut_at_contacts(polygons, self.min_area)
+            # at the automatic A_ε whatever min_area is: a finer mesh cuts the same room shell (at
+            # RenderPark's 6·10⁻⁴ m² the Graz office's furniture made 19k more roots and 35 % more time)
+            polygons = cut_at_contacts(polygons, self._auto_min_area)
         if params.sliver_piece > 0:
             polygons = polygons.split_slivers(params.sliver_piece * np.sqrt(self.min_area))
         if len(polygons) > MAX_POLYGONS and not params.clusters:

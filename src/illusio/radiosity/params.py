@@ -40,10 +40,10 @@ class HierarchyParams:
     the polygon count, at most MAX_POLYGONS). sliver_piece: a quad longer than max(4 × its width,
     sliver_piece·√A_ε) is cut along its length into pieces that long (Polygons.split_slivers; 0: never),
     since an element narrower than √A_ε is never split however the light varies along it.
-    contact_cuts: quads of at least 4·A_ε cut along the lines where other polygons touch or cross
-    them (radiosity.contacts: a ceiling that runs on under a wall is cut at the wall's face, so no
-    element averages its lit part with the part inside the wall; the Graz office 11.2 → 8.4 %
-    against Mitsuba). max_links:
+    contact_cuts: quads of at least 4× the automatic A_ε cut along the lines where other polygons
+    touch or cross them (radiosity.contacts: a ceiling that runs on under a wall is cut at the wall's
+    face, so no element averages its lit part with the part inside the wall; the Graz office 11.2 →
+    8.4 % against Mitsuba). max_links:
     the refinement's budget: past it the refinement stops with an error naming it (a scene whose links
     run away would grow until memory runs out). reach_rays: cosine-weighted rays per leaf measuring
     its reach (Visibility.reach: the share of its hemisphere that meets a reflecting surface), to
