@@ -147,14 +147,13 @@ def contact_segments(polygons: Polygons, min_area: float) -> tuple[np.ndarray, n
     candidates = np.flatnonzero(~polygons.triangle & (areas >= CUT_AREA * min_area))
     if not len(candidates):
         return np.zeros(0, np.int64), np.zeros((0, 3)), np.zeros((0, 3))
-    corners = np.where(polygons.triangle[:, None, None], np.concatenate([c[:, :3], c[:, 2:3]], axis=1), c)
-    return _contact_segments(
-        np.ascontiguousarray(corners),
+    return _contact_segments(  # a triangle's corner 3 repeats its corner 2: the boxes need no case
+        np.ascontiguousarray(c),
         polygons.triangle,
         np.ascontiguousarray(polygons.normals()),
         candidates.astype(np.int64),
-        corners.min(axis=1),
-        corners.max(axis=1),
+        c.min(axis=1),
+        c.max(axis=1),
         PLANE_TOLERANCE * max(extent, 1e-9),
     )
 

@@ -86,10 +86,10 @@ class RelightParams:
     (4.3.3): the mesh and links made again with ``final_hierarchy`` (default: BFV, as the
     chapter has it) over the final textures, D computed with the lamps' links at the leaves, then B with
     the links where the criterion puts them. Both keep the model's own polygons (their sliver_piece is
-    taken as 0 and contact_cuts as off: the photograph's textures and pixels are keyed to the input polygons) and their
-    links' own form-factor sums (reach_rays taken as 0: the estimates were measured with them). lamp_scales: (lamp name,
-    factor on its estimated
-    exitance) pairs. exposure: factor on the displayed radiance."""
+    taken as 0 and contact_cuts as off: the photograph's textures and pixels are keyed to the input
+    polygons) and their links' own form-factor sums (reach_rays taken as 0: the estimates were
+    measured with them). lamp_scales: (lamp name, factor on its estimated exitance) pairs. exposure:
+    factor on the displayed radiance."""
 
     PANEL: ClassVar[str] = "Relighting"  # its options' panel in --help
 
