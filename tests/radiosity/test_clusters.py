@@ -13,6 +13,7 @@ from illusio.radiosity.clusters import (
     ClusteredGather,
     ClusterLinks,
     ClusterTree,
+    _clear_shares,
     _cluster_rays,
     _node_boxes,
     _node_samples,
@@ -168,8 +169,9 @@ def test_transfer_bound_in_slices_is_the_bound_of_each_pair(rng, monkeypatch):
 
 
 def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
-    """The fused kernels of cluster visibility (the rays between two nodes' sample points, which count)
-    and of the nodes' boxes, against the same written as NumPy over the hierarchy's own arrays."""
+    """The fused kernels of cluster visibility (the rays between two nodes' sample points, which count,
+    their weights with a cluster's members' openness; V from the samples) and of the nodes' boxes,
+    against the same written as NumPy over the hierarchy's own arrays."""
     h = Hierarchy(scene_polygons(room_with_sphere(12)))
     h.subdivide(rng.choice(h.roots, 20, replace=False))
     tree = ClusterTree.build(h)
@@ -182,15 +184,18 @@ def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
     receivers, sources = nodes(), nodes()
     roots_a, uv_a = _node_samples(h, tree, receivers, k, rng)
     roots_b, uv_b = _node_samples(h, tree, sources, k, rng)
-    origin, unit = np.empty((n * k, 3), np.float32), np.empty((n * k, 3), np.float32)
+    origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
     dist, counted, weight = np.empty(n * k, np.float32), np.empty(n * k, bool), np.empty(n * k)
-    reflect, bright = rng.random(len(h)), rng.random(len(h))
+    reflect, bright, open_share = rng.random(len(h)), rng.random(len(h)), rng.random(len(h))
     _cluster_rays(
         h.corners,
         h.triangle,
         h.normal,
         reflect,
         bright,
+        open_share,
+        receivers,
+        sources,
         roots_a,
         uv_a,
         roots_b,
@@ -198,6 +203,7 @@ def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
         offset,
         origin,
         unit,
+        up,
         dist,
         counted,
         weight,
@@ -215,12 +221,30 @@ def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
     np.testing.assert_array_equal(counted, expected)
     np.testing.assert_allclose(origin[valid], a[valid] + offset * na[valid], atol=1e-6)
     np.testing.assert_allclose(unit[valid], u[valid], atol=1e-6)
+    np.testing.assert_allclose(up[valid], na[valid], atol=1e-6)
     np.testing.assert_allclose(dist[valid], np.maximum(length - offset, 0)[valid], rtol=1e-6)
-    # the weight in V: ρ at the receiving point × both cosines × B at the source point, where it counts
+    # the weight in V: ρ at the receiving point × both cosines × B at the source point, where it
+    # counts, each end's value times its member's openness where that end is a cluster
     ra, rb = np.maximum(roots_a, 0).ravel(), np.maximum(roots_b, 0).ravel()
-    plain = reflect[ra] * (na * u).sum(axis=1) * -(nb * u).sum(axis=1) * bright[rb]
+    opens_a = np.where(np.repeat(receivers < 0, k), open_share[ra], 1.0)
+    opens_b = np.where(np.repeat(sources < 0, k), open_share[rb], 1.0)
+    plain = reflect[ra] * opens_a * (na * u).sum(axis=1) * -(nb * u).sum(axis=1) * bright[rb] * opens_b
     np.testing.assert_allclose(weight[expected], plain[expected], rtol=1e-5)
     assert (weight[~expected] == 0).all()
+    # V: the weighted clear share of the counted samples, unweighted where the weights sum to 0
+    clear = rng.random(n * k) < 0.6
+    weight[rng.random(n * k) < 0.02] = 0.0
+    unweighted = np.flatnonzero(counted.reshape(n, k).any(axis=1))[:5]
+    weight.reshape(n, k)[unweighted] = 0.0
+    v, seen = _clear_shares(counted, clear, weight, k)
+    w = np.where(counted, weight, 0.0).reshape(n, k)
+    hits = (counted & clear).reshape(n, k)
+    np.testing.assert_array_equal(seen, counted.reshape(n, k).sum(axis=1))
+    plain_v = np.where(seen > 0, hits.sum(axis=1) / np.maximum(seen, 1), 0.0)
+    total = w.sum(axis=1)
+    expected_v = np.where(total > 0, (w * hits).sum(axis=1) / np.maximum(total, 1e-300), plain_v)
+    np.testing.assert_allclose(v, expected_v, rtol=1e-12)
+    assert len(unweighted) == 5 and (total[unweighted] == 0).all()  # the unweighted fallback is exercised
     lo, hi, centre, area, normal = _node_boxes(h, tree, receivers)
     element, cluster = receivers >= 0, -1 - receivers[receivers < 0]
     corners = h.corners[receivers[element]]

@@ -89,5 +89,5 @@ def test_the_blinds_cluster_reads_the_visibility_of_its_open_faces(graz):
     assert 0.3 < seen.mean() < 0.7
     assert cluster_v(visibility) == pytest.approx(seen.mean(), abs=0.2)
     alike = Visibility(h, 16, seed=0)
-    alike.openness = lambda elements: np.ones(len(elements))
+    alike.openness_array = lambda elements: np.ones(len(h))  # every member weighs 1
     assert abs(cluster_v(alike) - seen.mean()) > 0.2

@@ -60,7 +60,7 @@ cluster link's error at most ε·Φ, the same as an element link's.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numba
 import numpy as np
@@ -143,6 +143,9 @@ class ClusterTree:
     front_normal: np.ndarray | None = None
     twin_normal: np.ndarray | None = None
     twin_area: np.ndarray | None = None
+    #: the included members' cumulative area along ``order`` (sample_members' draw; the roots' areas
+    #: are fixed for the tree's life), made on first use and dropped by exclude
+    _cumulative_area: np.ndarray | None = field(default=None, repr=False)
 
     @classmethod
     def build(cls, h: Hierarchy, roots: np.ndarray | None = None) -> ClusterTree:
@@ -222,6 +225,7 @@ class ClusterTree:
     def exclude(self, roots: np.ndarray) -> None:
         """``roots`` stop counting as members of their clusters (their object moved or went)."""
         self.included[np.isin(self.order, roots)] = False
+        self._cumulative_area = None
 
     def member_sums(self, per_root: np.ndarray) -> np.ndarray:
         """Σ over each cluster's included members of ``per_root`` (indexed by element; (n,) or (n, k))."""
@@ -259,8 +263,9 @@ class ClusterTree:
     def sample_members(self, h: Hierarchy, clusters: np.ndarray, k: int, rng: np.random.Generator) -> np.ndarray:
         """(n, k) member roots of ``clusters`` drawn in proportion to their area (included ones; a
         cluster with none gives −1)."""
-        area = np.where(self.included, h.area[self.order], 0.0)
-        cum = np.r_[0.0, np.cumsum(area)]
+        if self._cumulative_area is None:  # a cluster link batch asks it twice (0.2 ms at 44k roots)
+            self._cumulative_area = np.r_[0.0, np.cumsum(np.where(self.included, h.area[self.order], 0.0))]
+        cum = self._cumulative_area
         clusters = np.asarray(clusters, np.int64)
         roots = np.empty((len(clusters), k), np.int64)
         _draw_members(
@@ -646,6 +651,9 @@ def _cluster_rays(
     normal,
     reflect,
     bright,
+    open_share,
+    receivers,
+    sources,
     roots_a,
     uv_a,
     roots_b,
@@ -653,16 +661,18 @@ def _cluster_rays(
     offset,
     origin,
     unit,
+    up,
     dist,
     counted,
     weight,
 ):
     """Per sample s of pair p (row i = p·k + s): the ray from the point on roots_a[p, s] to the
     point on roots_b[p, s], both lifted by ``offset`` along their normals (origin, unit direction,
-    length short of the target by ``offset``, float32, as Embree takes them), whether the ray
-    counts — both points exist, it leaves the receiver's front toward the source's front, and it is
-    longer than 2·offset — and its weight in V, ρ_a·cos θ_a·cos θ_b·B_b (``reflect``, ``bright``: per
-    element; 0 where it does not count)."""
+    the receiver's normal ``up``, length short of the target by ``offset``, float32, as Embree takes
+    them), whether the ray counts — both points exist, it leaves the receiver's front toward the
+    source's front, and it is longer than 2·offset — and its weight in V, ρ_a·cos θ_a·cos θ_b·B_b
+    (``reflect``, ``bright``: per element; 0 where it does not count), ρ_a and B_b times the member's
+    ``open_share`` where that end (``receivers[p]``, ``sources[p]``) is a cluster."""
     n, k = roots_a.shape
     for p in numba.prange(n):
         for s in range(k):
@@ -672,6 +682,7 @@ def _cluster_rays(
             if ea < 0 or eb < 0:
                 counted[i] = False
                 continue
+            up[i, 0], up[i, 1], up[i, 2] = normal[ea, 0], normal[ea, 1], normal[ea, 2]
             a0, a1, a2 = point_on(corners, triangle, ea, uv_a[p, s, 0], uv_a[p, s, 1])
             b0, b1, b2 = point_on(corners, triangle, eb, uv_b[p, s, 0], uv_b[p, s, 1])
             o0, o1, o2 = a0 + offset * normal[ea, 0], a1 + offset * normal[ea, 1], a2 + offset * normal[ea, 2]
@@ -685,7 +696,12 @@ def _cluster_rays(
             cos_b = -(normal[eb, 0] * u0 + normal[eb, 1] * u1 + normal[eb, 2] * u2)
             counted[i] = cos_a > 0 and cos_b > 0 and length > 2 * offset
             if counted[i]:
-                weight[i] = reflect[ea] * cos_a * cos_b * bright[eb]
+                receiving, sending = reflect[ea], bright[eb]
+                if receivers[p] < 0:
+                    receiving *= open_share[ea]
+                if sources[p] < 0:
+                    sending *= open_share[eb]
+                weight[i] = receiving * cos_a * cos_b * sending
             origin[i, 0], origin[i, 1], origin[i, 2] = o0, o1, o2
             unit[i, 0], unit[i, 1], unit[i, 2] = u0, u1, u2
             dist[i] = max(length - offset, 0.0)
@@ -699,27 +715,25 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     n, k = len(receivers), visibility.samples
     if n == 0:
         return (np.zeros(0), np.zeros(0, np.int64)) if counted_rays else np.zeros(0)
+    receivers, sources = np.asarray(receivers, np.int64), np.asarray(sources, np.int64)
     roots_a, uv_a = _node_samples(h, tree, receivers, k, visibility.rng)
     roots_b, uv_b = _node_samples(h, tree, sources, k, visibility.rng)
-    origin, unit = np.empty((n * k, 3), np.float32), np.empty((n * k, 3), np.float32)
+    origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
     dist, counted = np.empty(n * k, np.float32), np.empty(n * k, np.bool_)
     weight = np.empty(n * k)
-    reflect = channel_max(h.reflectance)
-    bright = channel_max(h.radiosity if radiosity is None else radiosity)
     # a cluster's members weigh by their openness too: a closed box's inner faces and a board's
-    # back against a wall neither receive nor send what the cluster carries
-    members = np.r_[roots_a[receivers < 0].ravel(), roots_b[sources < 0].ravel()]
-    members = members[members >= 0]
-    if len(members):
-        open_share = visibility.openness(members)
-        reflect[members] *= open_share
-        bright[members] *= open_share
+    # back against a wall neither receive nor send what the cluster carries (every included
+    # member measured once; after that a lookup)
+    open_share = visibility.openness_array(tree.order[tree.included]) if len(tree) else np.ones(len(h))
     _cluster_rays(
         h.corners,
         h.triangle,
         h.normal,
-        reflect,
-        bright,
+        channel_max(h.reflectance),
+        channel_max(h.radiosity if radiosity is None else radiosity),
+        open_share,
+        receivers,
+        sources,
         roots_a,
         uv_a,
         roots_b,
@@ -727,6 +741,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         visibility.offset,
         origin,
         unit,
+        up,
         dist,
         counted,
         weight,
@@ -735,7 +750,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     if len(chosen):
         # a receiving point in contact with something (a face against another, inside a closed
         # object) is not part of a visible surface: left out, as the element links' V leaves it
-        counted[chosen] = visibility.exposed(origin[chosen], h.normal[roots_a.ravel()[chosen]])
+        counted[chosen] = visibility.exposed(origin[chosen], up[chosen])
         chosen = chosen[counted[chosen]]
     clear = np.zeros(n * k, bool)
     if len(chosen):
@@ -745,12 +760,32 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
             hit = cast(visibility.scene, origin[chosen], unit[chosen], dist[chosen], "OCCLUDED")
             clear[chosen] = np.asarray(hit) < 0
             visibility.rays += len(chosen)
-    seen = counted.reshape(n, k).sum(axis=1)
-    plain = np.where(seen > 0, clear.reshape(n, k).sum(axis=1) / np.maximum(seen, 1), 0.0)
-    weight = np.where(counted, weight, 0.0).reshape(n, k)
-    total = weight.sum(axis=1)
-    v = np.where(total > 0, (weight * clear.reshape(n, k)).sum(axis=1) / np.maximum(total, 1e-300), plain)
+    v, seen = _clear_shares(counted, clear, weight, k)
     return (v, seen) if counted_rays else v
+
+
+@numba.njit(parallel=True, cache=True)
+def _clear_shares(counted, clear, weight, k):
+    """(V, rays counted) per pair from its k samples (rows p·k … p·k + k − 1): the clear share
+    of the counted samples weighted by ``weight``; unweighted where their weights sum to 0; 0 where
+    none counted."""
+    n = len(counted) // k
+    v, seen = np.zeros(n), np.zeros(n, np.int64)
+    for p in numba.prange(n):
+        count, hits, total, carried = 0, 0, 0.0, 0.0
+        for i in range(p * k, p * k + k):
+            if counted[i]:
+                count += 1
+                total += weight[i]
+                if clear[i]:
+                    hits += 1
+                    carried += weight[i]
+        seen[p] = count
+        if total > 0:
+            v[p] = carried / total
+        elif count > 0:
+            v[p] = hits / count
+    return v, seen
 
 
 def cluster_kernel(h, tree, receivers, sources) -> tuple[np.ndarray, np.ndarray]:

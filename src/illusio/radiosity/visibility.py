@@ -487,6 +487,12 @@ class Visibility:
                 self._open[part] = far.reshape(len(part), k).mean(axis=1)
         return self._open[elements]
 
+    def openness_array(self, elements: np.ndarray) -> np.ndarray:
+        """The openness of every element measured so far (indexed by element; NaN where not
+        measured), ``elements`` measured first: for a kernel that looks up many samples' elements."""
+        self.openness(elements)
+        return np.ones(len(self.hierarchy)) if self.empty else self._open
+
     def recast(
         self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list
     ) -> tuple[np.ndarray, np.ndarray]:
