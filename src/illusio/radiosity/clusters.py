@@ -722,9 +722,10 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     dist, counted = np.empty(n * k, np.float32), np.empty(n * k, np.bool_)
     weight = np.empty(n * k)
     # a cluster's members weigh by their openness too: a closed box's inner faces and a board's
-    # back against a wall neither receive nor send what the cluster carries (every included
-    # member measured once; after that a lookup)
-    open_share = visibility.openness_array(tree.order[tree.included]) if len(tree) else np.ones(len(h))
+    # back against a wall neither receive nor send what the cluster carries (the members drawn here
+    # measured, each once a scene: after a move's rebuild only those a recast pair draws)
+    members = np.r_[roots_a[receivers < 0].ravel(), roots_b[sources < 0].ravel()]
+    open_share = visibility.openness_array(members[members >= 0])
     _cluster_rays(
         h.corners,
         h.triangle,

@@ -489,9 +489,10 @@ class Visibility:
 
     def openness_array(self, elements: np.ndarray) -> np.ndarray:
         """The openness of every element measured so far (indexed by element; NaN where not
-        measured), ``elements`` measured first: for a kernel that looks up many samples' elements."""
+        measured, and no longer than the largest element measured), ``elements`` measured first:
+        for a kernel that looks up many samples' elements, ``elements`` among them."""
         self.openness(elements)
-        return np.ones(len(self.hierarchy)) if self.empty else self._open
+        return np.ones(len(self.hierarchy)) if self.empty or not len(self._open) else self._open
 
     def recast(
         self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list
