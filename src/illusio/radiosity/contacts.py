@@ -138,11 +138,16 @@ def _contact_segments(corners, triangle, normal, candidates, lo, hi, tol):
     return ps, sa, sb
 
 
+def _tolerance(polygons: Polygons) -> float:
+    """PLANE_TOLERANCE × the scene's extent (m)."""
+    extent = float(np.ptp(polygons.corners.reshape(-1, 3), axis=0).max()) if len(polygons) else 1.0
+    return PLANE_TOLERANCE * max(extent, 1e-9)
+
+
 def contact_segments(polygons: Polygons, min_area: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(polygon (m,), a (m, 3), b (m, 3)): each segment, inside a quad of at least CUT_AREA × ``min_area``
     m², where another polygon touches or crosses the quad's plane (not one in the same plane)."""
     c = polygons.corners
-    extent = float(np.ptp(c.reshape(-1, 3), axis=0).max()) if len(polygons) else 1.0
     areas = polygon_areas(c, polygons.triangle)
     candidates = np.flatnonzero(~polygons.triangle & (areas >= CUT_AREA * min_area))
     if not len(candidates):
@@ -154,7 +159,7 @@ def contact_segments(polygons: Polygons, min_area: float) -> tuple[np.ndarray, n
         candidates.astype(np.int64),
         c.min(axis=1),
         c.max(axis=1),
-        PLANE_TOLERANCE * max(extent, 1e-9),
+        _tolerance(polygons),
     )
 
 
@@ -201,8 +206,7 @@ def cut_at_contacts(polygons: Polygons, min_area: float) -> Polygons:
     owner, seg_a, seg_b = contact_segments(polygons, min_area)
     if not len(owner):
         return polygons
-    extent = float(np.ptp(polygons.corners.reshape(-1, 3), axis=0).max())
-    tol = PLANE_TOLERANCE * extent
+    tol = _tolerance(polygons)
     normals = polygons.normals()
     uv_all = polygons.corner_uv()
     cut_quads, cut_uv, cut_from = [], [], []
