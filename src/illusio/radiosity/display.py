@@ -217,15 +217,30 @@ def corner_average(h: Hierarchy, leaves: np.ndarray, values: np.ndarray) -> np.n
     return _average_at(vertex, corner_of_tri, np.repeat(np.asarray(values, np.float64)[:, None], 4, axis=1))
 
 
-def texture_factor(h: Hierarchy, leaves: np.ndarray) -> np.ndarray:
-    """(n, 4, 1) at each leaf corner: the surface's mean reflectance / ρ there for textured leaves
-    (ρ of the leaves meeting at the corner, averaged as B is), 1 for the others."""
+def flat_reflectance(h: Hierarchy, leaves: np.ndarray) -> np.ndarray:
+    """(n, 3): the mean reflectance of the texture of each textured leaf's surface (what the texture
+    modulation divides by), NaN for the others."""
     polygons = h.polygons
     group = polygons.group[h.polygon[leaves]]
     flat = np.full((len(leaves), 3), np.nan)
     for g, image in polygons.textures.items():
         flat[group == g] = image.reshape(-1, 3).mean(axis=0)
-    textured = np.isfinite(flat).all(axis=1) & np.isfinite(h.uv[leaves]).all(axis=(1, 2))
+    flat[~np.isfinite(h.uv[leaves]).all(axis=(1, 2))] = np.nan
+    return flat
+
+
+def drawn_reflectance(h: Hierarchy) -> np.ndarray:
+    """(len(h), 3): ρ as the image is drawn before the texture modulation — a textured element's
+    surface mean (the modulation turns it into the texel's), the others' own ρ."""
+    flat = flat_reflectance(h, np.arange(len(h)))
+    return np.where(np.isfinite(flat).all(axis=1)[:, None], flat, h.reflectance[: len(h)])
+
+
+def texture_factor(h: Hierarchy, leaves: np.ndarray) -> np.ndarray:
+    """(n, 4, 1) at each leaf corner: the surface's mean reflectance / ρ there for textured leaves
+    (ρ of the leaves meeting at the corner, averaged as B is), 1 for the others."""
+    flat = flat_reflectance(h, leaves)
+    textured = np.isfinite(flat).all(axis=1)
     rho = corner_average(h, leaves, h.reflectance[leaves])
     ratio = np.where(
         textured[:, None, None] & (rho > 1e-6), np.nan_to_num(flat)[:, None, :] / np.maximum(rho, 1e-6), 1.0

@@ -257,6 +257,22 @@ class Hierarchy:
         )
         return out
 
+    def leaf_at(self, roots: np.ndarray, points: np.ndarray) -> np.ndarray:
+        """The leaf of each of ``roots`` (n,) that holds each of ``points`` (n, 3) (on the root's plane,
+        metres): the root's parameters (u, v) at the point — :func:`point_on` inverted —, then down
+        the quadtree, each split halving them; −1 where the root is −1. A point off the root is taken
+        at its nearest parameters (clamped to the root)."""
+        out = np.empty(len(roots), np.int64)
+        _leaves_at(
+            self._corners,
+            self._triangle,
+            self._child,
+            np.ascontiguousarray(roots, np.int64),
+            np.ascontiguousarray(points, np.float64),
+            out,
+        )
+        return out
+
 
 @numba.njit(cache=True, inline="always")
 def point_on(corners, triangle, e, u, v):
@@ -285,6 +301,81 @@ def _sample_points(corners, triangle, elements, uv, out):
             out[p, s, 0], out[p, s, 1], out[p, s, 2] = point_on(
                 corners, triangle, elements[p], uv[p, s, 0], uv[p, s, 1]
             )
+
+
+@numba.njit(cache=True)
+def _parameters(c, triangle, p):
+    """(u, v) of point ``p`` on the element with corners ``c`` (4, 3), as :func:`point_on` maps them:
+    least squares on the edges from corner 0 (exact on a triangle and a parallelogram), then Newton
+    on the bilinear map of a quad (scalars throughout: no temporary arrays in the loop)."""
+    last = 2 if triangle else 3
+    e1x, e1y, e1z = c[1, 0] - c[0, 0], c[1, 1] - c[0, 1], c[1, 2] - c[0, 2]
+    e2x, e2y, e2z = c[last, 0] - c[0, 0], c[last, 1] - c[0, 1], c[last, 2] - c[0, 2]
+    # a quad's departure from a parallelogram
+    tx, ty, tz = (
+        c[2, 0] - c[1, 0] - c[3, 0] + c[0, 0],
+        c[2, 1] - c[1, 1] - c[3, 1] + c[0, 1],
+        c[2, 2] - c[1, 2] - c[3, 2] + c[0, 2],
+    )
+    dx, dy, dz = p[0] - c[0, 0], p[1] - c[0, 1], p[2] - c[0, 2]
+    a11, a12, a22 = (
+        e1x * e1x + e1y * e1y + e1z * e1z,
+        e1x * e2x + e1y * e2y + e1z * e2z,
+        e2x * e2x + e2y * e2y + e2z * e2z,
+    )
+    det = a11 * a22 - a12 * a12
+    if det <= 0:
+        return 0.0, 0.0
+    b1, b2 = dx * e1x + dy * e1y + dz * e1z, dx * e2x + dy * e2y + dz * e2z
+    u, v = (a22 * b1 - a12 * b2) / det, (a11 * b2 - a12 * b1) / det
+    if triangle or tx * tx + ty * ty + tz * tz <= 1e-24 * a11:
+        return u, v
+    for _ in range(6):
+        ux, uy, uz = e1x + v * tx, e1y + v * ty, e1z + v * tz
+        vx, vy, vz = e2x + u * tx, e2y + u * ty, e2z + u * tz
+        fx = u * e1x + v * e2x + u * v * tx - dx
+        fy = u * e1y + v * e2y + u * v * ty - dy
+        fz = u * e1z + v * e2z + u * v * tz - dz
+        a11, a12, a22 = ux * ux + uy * uy + uz * uz, ux * vx + uy * vy + uz * vz, vx * vx + vy * vy + vz * vz
+        det = a11 * a22 - a12 * a12
+        if det <= 0:
+            break
+        b1, b2 = -(fx * ux + fy * uy + fz * uz), -(fx * vx + fy * vy + fz * vz)
+        u, v = u + (a22 * b1 - a12 * b2) / det, v + (a11 * b2 - a12 * b1) / det
+    return u, v
+
+
+@numba.njit(cache=True)
+def _leaves_at(corners, triangle, child, roots, points, out):
+    """Hierarchy.leaf_at: the children's order is _split's — a quad's 0: u, v < ½, 1: u ≥ ½ > v,
+    2: both ≥ ½, 3: v ≥ ½ > u; a triangle's 0, 1, 2 at its corners and 3 in the middle (upside down)."""
+    for i in range(len(roots)):
+        e = roots[i]
+        if e < 0:
+            out[i] = -1
+            continue
+        tri = triangle[e]
+        u, v = _parameters(corners[e], tri, points[i])
+        u, v = min(max(u, 0.0), 1.0), min(max(v, 0.0), 1.0)
+        if tri and u + v > 1:
+            s = u + v
+            u, v = u / s, v / s
+        while child[e] >= 0:
+            first = child[e]
+            if tri:
+                if u >= 0.5:
+                    e, u, v = first + 1, 2 * u - 1, 2 * v
+                elif v >= 0.5:
+                    e, u, v = first + 2, 2 * u, 2 * v - 1
+                elif u + v < 0.5:
+                    e, u, v = first, 2 * u, 2 * v
+                else:  # the middle child's corners are the midpoints 01, 12, 20
+                    e, u, v = first + 3, 2 * u + 2 * v - 1, 1 - 2 * u
+            else:
+                right, up = u >= 0.5, v >= 0.5
+                e = first + (2 if right and up else 1 if right else 3 if up else 0)
+                u, v = 2 * u - (1.0 if right else 0.0), 2 * v - (1.0 if up else 0.0)
+        out[i] = e
 
 
 def _split(c: np.ndarray, tri: np.ndarray) -> np.ndarray:

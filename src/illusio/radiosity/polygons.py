@@ -108,6 +108,31 @@ class Polygons:
         """(n,) int8: :attr:`side`, 0 (one-sided) where not given."""
         return self.side if self.side is not None else np.zeros(len(self), np.int8)
 
+    def twins(self) -> np.ndarray:
+        """(n,) int64: each two-sided surface's front (side 1) and reversed twin (side 2) name each
+        other — the same corners and group the other way round —; −1 for a one-sided polygon or one
+        whose twin is missing. (A ray that meets a front from behind has met its twin.)"""
+        side = self.sides()
+        out = np.full(len(self), -1, np.int64)
+        two = np.flatnonzero(side > 0)
+        if not len(two):
+            return out
+        corners = self.corners[two].copy()
+        corners[self.triangle[two], 3] = corners[self.triangle[two], 0]  # both twins' corners alike
+        # the sum of each coordinate's sorted values: the same float for the same corners in any order
+        centre = np.sort(corners, axis=1).sum(axis=1)
+        extent = max(float(np.ptp(self.corners.reshape(-1, 3), axis=0).max()), 1e-9)
+        key = np.c_[np.round(centre / (1e-7 * extent)).astype(np.int64), self.group[two]]
+        _, place = np.unique(key, axis=0, return_inverse=True)
+        order = np.lexsort((side[two], place.reshape(-1)))
+        first, second = order[:-1], order[1:]
+        pair = (
+            (place.reshape(-1)[first] == place.reshape(-1)[second]) & (side[two][first] == 1) & (side[two][second] == 2)
+        )
+        out[two[first[pair]]] = two[second[pair]]
+        out[two[second[pair]]] = two[first[pair]]
+        return out
+
     def corner_uv(self) -> np.ndarray:
         """(n, 4, 2) uvs at the corners, NaN where there are none."""
         return self.uv if self.uv is not None else np.full((len(self), 4, 2), np.nan)

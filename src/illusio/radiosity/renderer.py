@@ -13,8 +13,9 @@ import numpy as np
 
 from ..core.renderer import Frame, Renderer
 from ..scene.scene import Scene
-from .display import DisplayPass, leaf_mesh
+from .display import DisplayPass, drawn_reflectance, leaf_mesh
 from .engine import Radiosity
+from .final_gather import final_gather
 from .params import RadiosityParams
 from .polygons import Polygons, scene_polygons
 from .texture_modulation import TextureModulation
@@ -35,6 +36,7 @@ class RadiosityRenderer(Renderer):
         self._scene: Scene | None = None
         self._state = None  # (hierarchy params, lamp scales, tolerance, smooth) of the loaded mesh
         self._textures: TextureModulation | None = None
+        self._gather_key, self._gather_b = None, None  # the last final gather (see _gathered)
 
     def _load(self, subject) -> None:
         self._scene = subject if isinstance(subject, Scene) else None
@@ -53,6 +55,7 @@ class RadiosityRenderer(Renderer):
             self._textures = None
         self._solution = None
         self._state = None
+        self._gather_key, self._gather_b = None, None
 
     def result(self) -> Radiosity | None:
         """The solution the last frame showed (hierarchy, links, B, stats), or None."""
@@ -99,6 +102,9 @@ class RadiosityRenderer(Renderer):
         if view is None:
             view = self._scene.camera() if self._scene is not None else _framing_view(self.polygons)
         colour, element = self.display(view, frame.size, params.exposure, edges=params.show == "mesh")
+        if params.show == "radiosity" and params.gather_rays > 0:
+            modulated = params.textures and self._textures is not None and self._textures.active
+            self.ctx.upload_into(colour, self._gathered(view, element, params, modulated))
         if self._textures is not None and params.textures and params.show != "mesh":
             colour = self._textures(colour, view)
         if params.show == "links":
@@ -106,6 +112,39 @@ class RadiosityRenderer(Renderer):
             self.display.links(colour, view, solution.hierarchy, lighting(solution, chosen))
         self._keep_maps({"element": element})
         return colour
+
+    def _gathered(self, view, element: moderngl.Texture, params: RadiosityParams, modulated: bool) -> np.ndarray:
+        """exposure × B/π (H, W, 4) of the final gather at the leaves the display drew
+        (radiosity.final_gather), alpha 1 where a leaf is; the last one kept while the solution,
+        the view, the size and the gather's params stay (a viewer's still frames)."""
+        leaves = self.ctx.readback_image(element, 1, clip=False)[..., 0].astype(np.int64)
+        key = (
+            id(self._solution),
+            self._state,
+            view.view_matrix().tobytes(),
+            view.projection_matrix(element.size[0] / element.size[1]).tobytes(),
+            leaves.shape,
+            params.gather_rays,
+            params.shadow_rays,
+            params.hierarchy.seed,
+            modulated,
+        )
+        if self._gather_key != key:
+            h = self._solution.hierarchy
+            b = final_gather(
+                self._solution,
+                view,
+                leaves,
+                params.gather_rays,
+                params.shadow_rays,
+                params.hierarchy.seed,
+                drawn_reflectance(h) if modulated else None,
+            )
+            self._gather_key, self._gather_b = key, b
+        out = np.empty(leaves.shape + (4,), np.float32)
+        out[..., :3] = self._gather_b * (params.exposure / np.pi)
+        out[..., 3] = leaves >= 0
+        return out
 
     def radiance(self, frame: Frame, params: RadiosityParams | None = None, supersample: int = 1):
         """(radiance × exposure, float32 (H, W, 3), unclipped; emitter mask (H, W) bool) of the frame,

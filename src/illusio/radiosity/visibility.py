@@ -333,6 +333,8 @@ class Visibility:
         tris = np.concatenate([c[:, [0, 1, 2]], c[~tri][:, [0, 2, 3]]])
         sided = h.polygons.sides()[h.polygon[roots]] == 1
         self.two_sided = np.r_[sided, sided[~tri]]  # per triangle of the scene, in its order
+        #: the root each triangle of the scene belongs to (a hit's primID → its root)
+        self.triangle_root = np.r_[roots, roots[~tri]].astype(np.int64)
         # reach counts the faces that reflect: what the solve scales is the reflected light (a black
         # lamp's own light is never scaled, so it is no part of the reach)
         polygon = h.polygon[roots]

@@ -31,7 +31,8 @@ class RadiosityMode(Mode):
         self.scene = resolve_scene(self.source)
         self.renderer = RadiosityRenderer(ctx)
         self.renderer.prepare(self.scene)
-        self.params = RadiosityParams(show=self.variant)
+        # a walk draws the corner gather: the final gather (seconds a frame) is for a still, in the panel
+        self.params = RadiosityParams(show=self.variant, gather_rays=0)
 
     def home_view(self):
         return self.scene.camera()
