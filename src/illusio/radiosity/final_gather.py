@@ -29,7 +29,7 @@ import numpy as np
 from ..core.rays import cast
 from ..scene.camera import View
 from .formfactor import point_polygon
-from .visibility import _cosine_directions, jittered_grid
+from .visibility import cosine_directions, jittered_grid
 
 __all__ = ["final_gather", "pixel_points", "reflected_along", "twin_roots"]
 
@@ -123,7 +123,7 @@ def _reflected_light(solution, points, normals, gather_rays: int, twin_root, rng
     n = len(points)
     if solution.visibility.empty or not n:
         return np.zeros((n, 3))
-    directions = _cosine_directions(normals, jittered_grid(n, gather_rays, rng)).reshape(-1, 3)
+    directions = cosine_directions(normals, jittered_grid(n, gather_rays, rng)).reshape(-1, 3)
     origins = np.repeat(points + solution.visibility.offset * normals, gather_rays, axis=0)
     return reflected_along(solution, origins, directions, twin_root).reshape(n, gather_rays, 3).mean(axis=1)
 

@@ -32,7 +32,18 @@ from ..core.rays import cast
 from .formfactor import point_polygon
 from .hierarchy import Hierarchy
 
-__all__ = ["Visibility", "VISIBLE", "PARTIAL", "INVISIBLE", "link_type", "pair_grids", "KEPT_SAMPLES", "NO_RAYS"]
+__all__ = [
+    "Visibility",
+    "VISIBLE",
+    "PARTIAL",
+    "INVISIBLE",
+    "link_type",
+    "pair_grids",
+    "jittered_grid",
+    "cosine_directions",
+    "KEPT_SAMPLES",
+    "NO_RAYS",
+]
 
 #: link types of Loscos 4.3.1
 VISIBLE, PARTIAL, INVISIBLE = 0, 1, 2
@@ -155,7 +166,7 @@ def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: i
     return out_receiver, out_source
 
 
-def _cosine_directions(normal: np.ndarray, uv: np.ndarray) -> np.ndarray:
+def cosine_directions(normal: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """(n, k, 3) unit directions about each ``normal`` (n, 3), cosine-distributed (Malley's method:
     a uniform point ``uv`` (n, k, 2) on the unit disk, lifted to the hemisphere)."""
     t = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
@@ -445,7 +456,7 @@ class Visibility:
         elements = np.asarray(elements, np.int64)
         points = h.sample_points(elements, jittered_grid(n, rays, self.rng))
         normal = h.normal[elements]
-        directions = _cosine_directions(normal, jittered_grid(n, rays, self.rng))
+        directions = cosine_directions(normal, jittered_grid(n, rays, self.rng))
         origins = (points + self.offset * normal[:, None]).reshape(-1, 3).astype(np.float32)
         directions = directions.reshape(-1, 3).astype(np.float32)
         hit = cast(self.scene, origins, directions)
@@ -481,7 +492,7 @@ class Visibility:
                 part = fresh[at : at + OPEN_SLICE]
                 uv_points, uv_rays = pair_grids(part, part, k, self.seed ^ 0x0BE7)
                 normal = h.normal[part]
-                directions = _cosine_directions(normal, uv_rays).reshape(-1, 3).astype(np.float32)
+                directions = cosine_directions(normal, uv_rays).reshape(-1, 3).astype(np.float32)
                 origins = (h.sample_points(part, uv_points) + self.offset * normal[:, None]).reshape(-1, 3)
                 hit = cast(self.scene, origins.astype(np.float32), directions)
                 self.rays += len(origins)
