@@ -26,8 +26,9 @@ def radiosity_showcase(ctx: Context, out_dir: Path, size: tuple[int, int], spp: 
     section = Section(
         "Hierarchical radiosity (Hanrahan et al. 1991; Loscos 1999, ch. 4)",
         "Quadtrees over the scene's polygons, links with form factors and ray-cast visibility, BFV "
-        "refinement, gather and push-pull; left the solution (radiosity gathered at the element "
-        "corners, Gouraud), middle the element mesh, right Mitsuba 3 path tracing the same polygons.",
+        "refinement, gather and push-pull; left the solution (each pixel's light gathered at its own "
+        "point from it: the final gather), middle the element mesh, right Mitsuba 3 path tracing the "
+        "same polygons.",
     )
     renderer = RadiosityRenderer(ctx)
     table = Table(

@@ -1,7 +1,8 @@
 """Hierarchical radiosity (Hanrahan, Salzman & Aupperle 1991) as Loscos' chapter 4 runs it: quadtrees
 over the input polygons, links with form factors and ray-cast visibility, BF/BFV refinement, gather
 and push-pull, interactive re-solves with the links kept, dynamic updates (Drettakis & Sillion 1997),
-Gouraud display on the GPU and path-traced ground truth from Mitsuba 3.
+a final gather at each pixel (or the corners' Gouraud display on the GPU) and path-traced ground
+truth from Mitsuba 3.
 
     from illusio.radiosity import Radiosity, HierarchyParams, scene_polygons
     solution = Radiosity(scene_polygons(builtin_scene("office")), HierarchyParams()).build()

@@ -29,6 +29,7 @@ import numpy as np
 from ..core.rays import cast
 from ..scene.camera import View
 from .formfactor import point_polygon
+from .hierarchy import leaf_of
 from .visibility import cosine_directions, jittered_grid
 
 __all__ = ["final_gather", "pixel_points", "reflected_along", "twin_roots"]
@@ -91,13 +92,11 @@ def _lamp_light(solution, points, normals, shadow_rays: int, rng) -> np.ndarray:
     lamps = roots[exitance[roots].max(axis=1) > 0]
     if not len(lamps) or not n:
         return np.zeros((n, 3))
-    count = len(lamps)
-    form_factor = point_polygon(
-        np.repeat(points, count, axis=0)[:, None],
-        np.repeat(normals, count, axis=0),
-        np.tile(h.corners[lamps], (n, 1, 1)),
-        np.tile(h.triangle[lamps], n),
-    ).reshape(n, count)
+    form_factor = np.empty((n, len(lamps)))
+    for k, lamp in enumerate(lamps):  # one lamp at a time: no (n × lamps) copy of the corners
+        form_factor[:, k] = point_polygon(
+            points[:, None], normals, np.broadcast_to(h.corners[lamp], (n, 4, 3)), np.full(n, h.triangle[lamp])
+        )
     light = np.maximum(form_factor, 0.0)[:, :, None] * exitance[lamps][None]  # E_l·F_x→l (n, L, 3)
     weight = light.mean(axis=2)
     strata = (np.arange(shadow_rays)[None] + rng.random((n, shadow_rays))) / shadow_rays
@@ -125,23 +124,59 @@ def _reflected_light(solution, points, normals, gather_rays: int, twin_root, rng
         return np.zeros((n, 3))
     directions = cosine_directions(normals, jittered_grid(n, gather_rays, rng)).reshape(-1, 3)
     origins = np.repeat(points + solution.visibility.offset * normals, gather_rays, axis=0)
-    return reflected_along(solution, origins, directions, twin_root).reshape(n, gather_rays, 3).mean(axis=1)
+    return _gathered_rays(solution, origins, directions, twin_root, gather_rays)
 
 
 def reflected_along(solution, origins: np.ndarray, directions: np.ndarray, twin_root: np.ndarray) -> np.ndarray:
     """(n, 3) W/m²: B − E of the leaf each ray (``origins``, unit ``directions`` (n, 3)) meets first
     — the front it meets, or a two-sided surface's twin (``twin_root``: :func:`twin_roots`) where it
     meets one from behind —, 0 where it meets a one-sided face's back or nothing."""
+    return _gathered_rays(solution, origins, directions, twin_root, 1)
+
+
+def _gathered_rays(solution, origins, directions, twin_root, rays: int) -> np.ndarray:
+    """(n / rays, 3): the mean of :func:`reflected_along` over each run of ``rays`` rays."""
     h, vis = solution.hierarchy, solution.visibility
     hit = cast(vis.scene, origins, directions)
-    prim = np.asarray(hit["primID"]).astype(np.int64)
-    root = np.where(prim >= 0, vis.triangle_root[np.maximum(prim, 0)], -1)
-    safe = np.maximum(root, 0)
-    front = (directions * h.normal[safe]).sum(axis=1) < 0
-    root = np.where(root < 0, -1, np.where(front, root, twin_root[safe]))
-    leaf = h.leaf_at(root, origins + np.asarray(hit["tfar"], np.float64)[:, None] * directions)
-    reflected = h.radiosity[: len(h)] - solution.exitance()
-    return np.where(leaf[:, None] >= 0, reflected[np.maximum(leaf, 0)], 0.0)
+    out = np.zeros((len(origins) // rays, 3))
+    _mean_of_hits(
+        np.asarray(hit["primID"]),
+        np.asarray(hit["tfar"]),
+        np.ascontiguousarray(origins, np.float64),
+        np.ascontiguousarray(directions, np.float64),
+        vis.triangle_root,
+        h.normal,
+        twin_root,
+        h.corners,
+        h.triangle,
+        h.child,
+        h.radiosity - solution.exitance(),
+        rays,
+        out,
+    )
+    return out
+
+
+@numba.njit(cache=True)
+def _mean_of_hits(
+    prim, tfar, origins, directions, triangle_root, normal, twin_root, corners, triangle, child, reflected, rays, out
+):
+    """reflected_along's leaf and value for each hit, averaged over each sample's ``rays``."""
+    for i in range(out.shape[0]):
+        for r in range(i * rays, (i + 1) * rays):
+            if prim[r] < 0:
+                continue
+            root = triangle_root[prim[r]]
+            d = directions[r]
+            if d[0] * normal[root, 0] + d[1] * normal[root, 1] + d[2] * normal[root, 2] >= 0:
+                root = twin_root[root]  # met from behind: the twin, if the face has one
+                if root < 0:
+                    continue
+            leaf = leaf_of(corners, triangle, child, root, origins[r] + tfar[r] * d)
+            for c in range(3):
+                out[i, c] += reflected[leaf, c]
+        for c in range(3):
+            out[i, c] /= rays
 
 
 def twin_roots(h) -> np.ndarray:

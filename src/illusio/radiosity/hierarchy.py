@@ -16,7 +16,7 @@ import numpy as np
 
 from .polygons import Polygons, polygon_areas
 
-__all__ = ["Hierarchy", "FIELDS", "leaves_under"]
+__all__ = ["Hierarchy", "FIELDS", "leaves_under", "leaf_of"]
 
 # per-element arrays: name → (shape after the element axis, dtype)
 FIELDS = {
@@ -346,36 +346,39 @@ def _parameters(c, triangle, p):
 
 
 @numba.njit(cache=True)
+def leaf_of(corners, triangle, child, root, point):
+    """The leaf under ``root`` holding ``point`` (3,) (Hierarchy.leaf_at, one point). The children's
+    order is _split's — a quad's 0: u, v < ½, 1: u ≥ ½ > v, 2: both ≥ ½, 3: v ≥ ½ > u; a triangle's
+    0, 1, 2 at its corners and 3 in the middle (upside down)."""
+    e = root
+    tri = triangle[e]
+    u, v = _parameters(corners[e], tri, point)
+    u, v = min(max(u, 0.0), 1.0), min(max(v, 0.0), 1.0)
+    if tri and u + v > 1:
+        s = u + v
+        u, v = u / s, v / s
+    while child[e] >= 0:
+        first = child[e]
+        if tri:
+            if u >= 0.5:
+                e, u, v = first + 1, 2 * u - 1, 2 * v
+            elif v >= 0.5:
+                e, u, v = first + 2, 2 * u, 2 * v - 1
+            elif u + v < 0.5:
+                e, u, v = first, 2 * u, 2 * v
+            else:  # the middle child's corners are the midpoints 01, 12, 20
+                e, u, v = first + 3, 2 * u + 2 * v - 1, 1 - 2 * u
+        else:
+            right, up = u >= 0.5, v >= 0.5
+            e = first + (2 if right and up else 1 if right else 3 if up else 0)
+            u, v = 2 * u - (1.0 if right else 0.0), 2 * v - (1.0 if up else 0.0)
+    return e
+
+
+@numba.njit(cache=True)
 def _leaves_at(corners, triangle, child, roots, points, out):
-    """Hierarchy.leaf_at: the children's order is _split's — a quad's 0: u, v < ½, 1: u ≥ ½ > v,
-    2: both ≥ ½, 3: v ≥ ½ > u; a triangle's 0, 1, 2 at its corners and 3 in the middle (upside down)."""
     for i in range(len(roots)):
-        e = roots[i]
-        if e < 0:
-            out[i] = -1
-            continue
-        tri = triangle[e]
-        u, v = _parameters(corners[e], tri, points[i])
-        u, v = min(max(u, 0.0), 1.0), min(max(v, 0.0), 1.0)
-        if tri and u + v > 1:
-            s = u + v
-            u, v = u / s, v / s
-        while child[e] >= 0:
-            first = child[e]
-            if tri:
-                if u >= 0.5:
-                    e, u, v = first + 1, 2 * u - 1, 2 * v
-                elif v >= 0.5:
-                    e, u, v = first + 2, 2 * u, 2 * v - 1
-                elif u + v < 0.5:
-                    e, u, v = first, 2 * u, 2 * v
-                else:  # the middle child's corners are the midpoints 01, 12, 20
-                    e, u, v = first + 3, 2 * u + 2 * v - 1, 1 - 2 * u
-            else:
-                right, up = u >= 0.5, v >= 0.5
-                e = first + (2 if right and up else 1 if right else 3 if up else 0)
-                u, v = 2 * u - (1.0 if right else 0.0), 2 * v - (1.0 if up else 0.0)
-        out[i] = e
+        out[i] = -1 if roots[i] < 0 else leaf_of(corners, triangle, child, roots[i], points[i])
 
 
 def _split(c: np.ndarray, tri: np.ndarray) -> np.ndarray:

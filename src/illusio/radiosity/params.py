@@ -14,7 +14,8 @@ __all__ = ["HierarchyParams", "RadiosityParams", "CRITERIA", "SHOW"]
 #: bf: refine a link when B_j·F_ij·A_i > ε (the chapter's BF: as fine in the shadows as in the light);
 #: bfv: when B_j·F_ij·V_ij·A_i > ε (BFV: a shadowed link counts by its visible part, coarser in shadows)
 CRITERIA = ("bf", "bfv")
-#: radiosity: B/π interpolated to the vertices (Gouraud); mesh: each leaf flat with its edges drawn;
+#: radiosity: B/π of the final gather at each pixel (gather_rays > 0) or interpolated from the leaves'
+#: corners (Gouraud); mesh: each leaf flat with its edges drawn;
 #: links: the radiosity with the links the chosen element receives drawn to their sources
 SHOW = ("radiosity", "mesh", "links")
 
