@@ -97,14 +97,19 @@ def accuracy(ctx: Context, quick: bool, ratios: dict) -> None:
         untextured = renderer.polygons.without_textures()
         halves = [render_mitsuba(untextured, view, size, spp // 2, seed=s) for s in (1, 2)]
         reference = (halves[0] + halves[1]) / 2
+        # the defaults (the final gather at each pixel), the corners' display alone, and a finer mesh
         variants = (
-            {"default": HierarchyParams()}
+            {"default": RadiosityParams(textures=False)}
             if quick
-            else {"default": HierarchyParams(), "ε = 1e-5": HierarchyParams(epsilon=1e-5)}
+            else {
+                "default": RadiosityParams(textures=False),
+                "corner gather (gather_rays 0)": RadiosityParams(textures=False, gather_rays=0),
+                "ε = 1e-5": RadiosityParams(HierarchyParams(epsilon=1e-5), textures=False),
+            }
         )
         mask = None
-        for label, hierarchy in variants.items():
-            image, emitter = renderer.radiance(Frame(view, size), RadiosityParams(hierarchy, textures=False), 4)
+        for label, params in variants.items():
+            image, emitter = renderer.radiance(Frame(view, size), params, 4)
             mask = ~emitter
             s = score(image, reference, mask)
             st = renderer.result().stats

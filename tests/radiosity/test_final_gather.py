@@ -13,6 +13,7 @@ from illusio.radiosity import HierarchyParams, Polygons, Radiosity, RadiosityPar
 from illusio.radiosity.final_gather import final_gather, pixel_points, reflected_along, twin_roots
 from illusio.radiosity.hierarchy import Hierarchy
 from illusio.radiosity.polygons import rectangle
+from illusio.radiosity.visibility import cosine_directions
 from illusio.scene.camera import Camera, Pose, View
 
 
@@ -300,3 +301,26 @@ def test_a_still_view_keeps_its_gather_and_a_lamp_change_gathers_again(ctx, monk
         assert len(calls) == 2
     finally:
         renderer.release()
+
+
+def test_cosine_directions_match_their_plain_statement(rng):
+    """visibility.cosine_directions (numba) against Malley's method in NumPy: a uniform point on the
+    unit disk lifted to the hemisphere about each normal, in the frame normal × (x or y axis); unit
+    directions in the normal's hemisphere whose mean cosine is 2/3 (cosine-distributed)."""
+    normal = rng.normal(size=(400, 3))
+    normal[:50] = [[1.0, 0.0, 0.0]] * 50  # the frame's other axis
+    normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+    uv = rng.random((400, 64, 2))
+    t = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
+    u = np.cross(normal, t)
+    u /= np.linalg.norm(u, axis=1, keepdims=True)
+    v = np.cross(normal, u)
+    r, phi = np.sqrt(uv[..., 0]), 2 * np.pi * uv[..., 1]
+    z = np.sqrt(1 - uv[..., 0])
+    want = (r * np.cos(phi))[..., None] * u[:, None] + (r * np.sin(phi))[..., None] * v[:, None]
+    want += z[..., None] * normal[:, None]
+    got = cosine_directions(normal, uv)
+    np.testing.assert_allclose(got, want, atol=1e-12)
+    np.testing.assert_allclose(np.linalg.norm(got, axis=-1), 1.0, atol=1e-12)
+    cosine = (got * normal[:, None]).sum(axis=-1)
+    assert (cosine >= 0).all() and cosine.mean() == pytest.approx(2 / 3, abs=0.01)

@@ -157,12 +157,12 @@ def _gathered_rays(solution, origins, directions, twin_root, rays: int) -> np.nd
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, parallel=True)
 def _mean_of_hits(
     prim, tfar, origins, directions, triangle_root, normal, twin_root, corners, triangle, child, reflected, rays, out
 ):
     """reflected_along's leaf and value for each hit, averaged over each sample's ``rays``."""
-    for i in range(out.shape[0]):
+    for i in numba.prange(out.shape[0]):
         for r in range(i * rays, (i + 1) * rays):
             if prim[r] < 0:
                 continue

@@ -168,15 +168,33 @@ def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: i
 
 def cosine_directions(normal: np.ndarray, uv: np.ndarray) -> np.ndarray:
     """(n, k, 3) unit directions about each ``normal`` (n, 3), cosine-distributed (Malley's method:
-    a uniform point ``uv`` (n, k, 2) on the unit disk, lifted to the hemisphere)."""
-    t = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-    u = np.cross(normal, t)
-    u /= np.linalg.norm(u, axis=1, keepdims=True)
-    v = np.cross(normal, u)
-    r, phi = np.sqrt(uv[..., 0]), 2 * np.pi * uv[..., 1]
-    x, y = r * np.cos(phi), r * np.sin(phi)
-    z = np.sqrt(np.maximum(1 - uv[..., 0], 0.0))
-    return x[..., None] * u[:, None] + y[..., None] * v[:, None] + z[..., None] * normal[:, None]
+    a uniform point ``uv`` (n, k, 2) on the unit disk — radius √u, angle 2πv —, lifted to the
+    hemisphere: z = √(1 − u)), in the frame u = normal × (x or y axis, whichever is less parallel),
+    v = normal × u."""
+    normal = np.ascontiguousarray(normal, np.float64)
+    out = np.empty(uv.shape[:2] + (3,))
+    _cosine_directions(normal, np.ascontiguousarray(uv, np.float64), out)
+    return out
+
+
+@numba.njit(cache=True)
+def _cosine_directions(normal, uv, out):
+    for i in range(normal.shape[0]):
+        nx, ny, nz = normal[i, 0], normal[i, 1], normal[i, 2]
+        if abs(nx) < 0.9:  # u = n × x
+            ux, uy, uz = 0.0, nz, -ny
+        else:  # u = n × y
+            ux, uy, uz = -nz, 0.0, nx
+        length = np.sqrt(ux * ux + uy * uy + uz * uz)
+        ux, uy, uz = ux / length, uy / length, uz / length
+        vx, vy, vz = ny * uz - nz * uy, nz * ux - nx * uz, nx * uy - ny * ux
+        for k in range(uv.shape[1]):
+            r, phi = np.sqrt(uv[i, k, 0]), 2 * np.pi * uv[i, k, 1]
+            x, y = r * np.cos(phi), r * np.sin(phi)
+            z = np.sqrt(max(1 - uv[i, k, 0], 0.0))
+            out[i, k, 0] = x * ux + y * vx + z * nx
+            out[i, k, 1] = x * uy + y * vy + z * ny
+            out[i, k, 2] = x * uz + y * vz + z * nz
 
 
 @numba.njit(cache=True)
