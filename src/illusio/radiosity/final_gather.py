@@ -26,6 +26,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from ..core.progress import phase
 from ..core.rays import cast
 from ..scene.camera import View
 from .formfactor import point_polygon
@@ -211,12 +212,15 @@ def final_gather(
     out = np.zeros((element.size, 3))
     exitance = solution.exitance()
     rho = h.reflectance if reflectance is None else reflectance
-    for at in range(0, len(pixels), SLICE):
-        part = slice(at, at + SLICE)
-        leaf, x = leaves[part], points[part]
-        normal = h.normal[leaf]
-        light = _lamp_light(solution, x, normal, shadow_rays, rng) + _reflected_light(
-            solution, x, normal, gather_rays, twin_root, rng
-        )
-        out[pixels[part]] = exitance[leaf] + rho[leaf] * light
+    name = f"radiosity: final gather, {len(pixels):,} pixel samples × {gather_rays} + {shadow_rays} rays"
+    with phase(name, len(pixels)) as advance:
+        for at in range(0, len(pixels), SLICE):
+            part = slice(at, at + SLICE)
+            leaf, x = leaves[part], points[part]
+            normal = h.normal[leaf]
+            light = _lamp_light(solution, x, normal, shadow_rays, rng) + _reflected_light(
+                solution, x, normal, gather_rays, twin_root, rng
+            )
+            out[pixels[part]] = exitance[leaf] + rho[leaf] * light
+            advance(len(leaf))
     return out.reshape(element.shape + (3,))
