@@ -3,7 +3,9 @@ Hierarchical radiosity of the Cornell box
 =========================================
 
 The Cornell box solved by hierarchical radiosity (links refined by the BF criterion, clusters,
-gather and push–pull) and drawn with the leaves' radiosity smoothed at their corners.
+gather and push–pull) and drawn by gathering each pixel's light at its own point from the solution
+(the final gather: the lamp through exact form factors and shadow rays, the reflected light through
+rays to the solved elements).
 """
 
 from _display import display
