@@ -47,11 +47,13 @@ def test_leaf_at_finds_the_leaf_a_point_was_drawn_on(rng):
     triangle = np.array([[0, 0, 0], [1, 0, 0], [0.2, 0.9, 0], [0.2, 0.9, 0]], float)
     corners = np.stack([trapezoid, parallelogram, triangle]) + rng.normal(size=(3, 1, 3))
     h = Hierarchy(_polygons(corners @ rotation.T, triangle=[False, False, True]))
-    for _ in range(5):  # a random half of the leaves split, five times over
+    for _ in range(5):  # a random half of the leaves split, and a deepest one, five times over
         leaves = h.leaves()
-        h.subdivide(leaves[rng.random(len(leaves)) < 0.5])
+        chosen = rng.random(len(leaves)) < 0.5
+        chosen[np.argmax(h.level[leaves])] = True
+        h.subdivide(leaves[chosen])
     leaves = h.leaves()
-    assert h.level[leaves].max() >= 4
+    assert h.level[leaves].max() == 5
     picked = rng.choice(leaves, 2000)
     uv = rng.uniform(0.02, 0.98, (len(picked), 1, 2))
     on_triangle = h.triangle[picked]
@@ -376,3 +378,24 @@ def test_the_ceiling_over_a_hanging_lamp_against_mitsuba(ctx):
     corner_error = score(corners, reference, ~lamp, block=4).mean_relative_error
     print(f"hanging lamp: final gather {error:.4f}, corners {corner_error:.4f}")
     assert error < 0.06 and corner_error > 1.5 * error
+
+
+def test_lamps_are_drawn_by_their_cumulative_weight_and_never_at_weight_zero(rng):
+    """final_gather._draw_lamps against the plain statement: each stratum's uniform falls on the
+    first lamp whose cumulative weight passes it (NumPy's searchsorted); a lamp of weight 0 is never
+    drawn, and a sample no lamp lights draws −1."""
+    from illusio.radiosity.final_gather import _draw_lamps
+
+    weight = rng.random((300, 7)) * (rng.random((300, 7)) < 0.6)
+    weight[:20] = 0.0
+    strata = (np.arange(16)[None] + rng.random((300, 16))) / 16
+    strata[20, 0] = 0.0  # the lowest possible draw
+    drawn = np.empty((300, 16), np.int64)
+    _draw_lamps(weight, strata, drawn)
+    cumulative = np.cumsum(weight, axis=1)
+    dark = cumulative[:, -1] == 0  # the first 20, and any other row the draw left all 0
+    assert (drawn[dark] == -1).all()
+    for i in np.flatnonzero(~dark):
+        want = np.searchsorted(cumulative[i], strata[i] * cumulative[i, -1], side="right")
+        assert np.array_equal(drawn[i], np.minimum(want, 6))
+    assert (np.take_along_axis(weight[~dark], drawn[~dark], axis=1) > 0).all()

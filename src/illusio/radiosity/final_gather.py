@@ -59,7 +59,7 @@ def pixel_points(h, view: View, element: np.ndarray) -> tuple[np.ndarray, np.nda
 @numba.njit(cache=True)
 def _draw_lamps(weight, strata, out):
     """Per sample (row of ``weight`` (n, L) ≥ 0), the lamp each stratum's uniform (n, S) falls on
-    in the row's cumulative weight: a binary search, −1 where the row is all 0."""
+    in the row's cumulative weight, −1 where the row is all 0."""
     n, lamps = weight.shape
     cumulative = np.empty(lamps)
     for i in range(n):
@@ -71,17 +71,8 @@ def _draw_lamps(weight, strata, out):
             if total <= 0:
                 out[i, s] = -1
                 continue
-            target = strata[i, s] * total
-            lo, hi = 0, lamps - 1
-            while lo < hi:
-                mid = (lo + hi) // 2
-                if cumulative[mid] <= target:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            while lo > 0 and weight[i, lo] <= 0:  # a zero weight's cumulative equals its left's
-                lo -= 1
-            out[i, s] = lo
+            # the first lamp whose cumulative weight passes the target (never one of weight 0)
+            out[i, s] = min(np.searchsorted(cumulative, strata[i, s] * total, side="right"), lamps - 1)
 
 
 def _lamp_light(solution, points, normals, shadow_rays: int, rng) -> np.ndarray:
