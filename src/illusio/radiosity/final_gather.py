@@ -164,7 +164,9 @@ def _mean_of_hits(
                 root = twin_root[root]  # met from behind: the twin, if the face has one
                 if root < 0:
                     continue
-            leaf = leaf_of(corners, triangle, child, root, origins[r] + tfar[r] * d)
+            t = tfar[r]  # the hit point as a tuple: no array allocated per ray
+            hit = (origins[r, 0] + t * d[0], origins[r, 1] + t * d[1], origins[r, 2] + t * d[2])
+            leaf = leaf_of(corners, triangle, child, root, hit)
             for c in range(3):
                 out[i, c] += reflected[leaf, c]
         for c in range(3):
