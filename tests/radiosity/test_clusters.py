@@ -14,7 +14,9 @@ from illusio.radiosity.clusters import (
     ClusterLinks,
     ClusterTree,
     _clear_shares,
+    _cluster_gather,
     _cluster_rays,
+    _gather_run,
     _node_boxes,
     _node_samples,
     cluster_kernel,
@@ -277,6 +279,40 @@ def test_members_are_drawn_by_area_as_the_plain_search_draws_them(rng):
     expected = np.where(tree.included[pos] & (hi > lo)[:, None], tree.order[pos], -1)
     np.testing.assert_array_equal(roots, expected)
     assert (roots[-1] == -1).all() and (roots >= 0).mean() > 0.5
+
+
+def test_the_cluster_gather_over_the_cores_sums_what_one_run_sums(rng):
+    """_cluster_gather splits its links into runs over the cores (above 100k links), each summed
+    into its own rows: the same sums as one run over all links (which the reference test checks),
+    to rounding; a second call gives the same bits."""
+    n, clusters, count = 5_000, 2_000, 150_000
+
+    def nodes():
+        return np.where(rng.random(count) < 0.5, rng.integers(0, n, count), -1 - rng.integers(0, clusters, count))
+
+    args = (
+        nodes(),
+        nodes(),
+        rng.random((count, 2)).astype(np.float32),
+        rng.random(count).astype(np.float32),
+        rng.random((n + clusters, 3)),
+        rng.random(n),
+        rng.random((n, 3)),
+        rng.random((clusters, 3)),
+        rng.random((clusters, 3)),
+    )
+    outputs = []
+    for _ in range(2):
+        element, moments = np.zeros((n, 3)), np.zeros((clusters, 3, 10))
+        _cluster_gather(*args, element, moments)
+        outputs.append((element, moments))
+    element, moments = np.zeros((n, 3)), np.zeros((clusters, 3, 10))
+    _gather_run(0, count, *args, element, moments)
+    np.testing.assert_allclose(outputs[0][0], element, rtol=1e-12)
+    np.testing.assert_allclose(outputs[0][1], moments, rtol=1e-12, atol=1e-12 * np.abs(moments).max())
+    np.testing.assert_array_equal(outputs[0][0], outputs[1][0])
+    np.testing.assert_array_equal(outputs[0][1], outputs[1][1])
+    assert (element > 0).mean() > 0.9 and (moments[:, :, 0] > 0).mean() > 0.9  # both kinds received
 
 
 def test_cluster_links_grow_in_place_and_keep_what_was_added(rng):

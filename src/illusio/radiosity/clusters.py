@@ -484,14 +484,56 @@ class ClusteredGather:
         return out
 
 
-@numba.njit(cache=True)
+#: the cluster gather's links are split into this many runs summed over the cores, each into its own
+#: rows (one copy of the element rows and cluster moments per run after the first: 26 MB at
+#: RenderPark's element count); fixed, so the sums' order, hence B to the last bit, does not depend
+#: on the machine's cores
+GATHER_RUNS = 2
+#: fewer links than this are gathered in one run (the copies would cost more than they save)
+GATHER_RUNS_FROM = 100_000
+
+
+@numba.njit(parallel=True, cache=True)
 def _cluster_gather(receiver, source, kernel, visibility, centre, area, b, fronts, twins, element, moments):
     """Each link's V·(G·P + G'·P') goes to its receiver: an element's row, or a cluster's moments
     along the unit direction from its centre to the source's (``centre``: elements' rows, then
     clusters'), as cluster_kernel takes it (one pass, where NumPy's gathers and bincounts cost 20×
-    the element gather). V·G is formed here, not stored: 8 bytes a link the solve does not hold."""
+    the element gather). V·G is formed here, not stored: 8 bytes a link the solve does not hold.
+    The links in GATHER_RUNS runs over the cores, each summed into its own rows, then added."""
+    count = len(receiver)
+    runs = GATHER_RUNS if count >= GATHER_RUNS_FROM else 1
+    extra_element = np.zeros((runs - 1,) + element.shape)
+    extra_moments = np.zeros((runs - 1,) + moments.shape)
+    for r in numba.prange(runs):
+        lo, hi = count * r // runs, count * (r + 1) // runs
+        if r == 0:
+            _gather_run(lo, hi, receiver, source, kernel, visibility, centre, area, b, fronts, twins, element, moments)
+        else:
+            _gather_run(
+                lo,
+                hi,
+                receiver,
+                source,
+                kernel,
+                visibility,
+                centre,
+                area,
+                b,
+                fronts,
+                twins,
+                extra_element[r - 1],
+                extra_moments[r - 1],
+            )
+    for r in range(runs - 1):
+        element += extra_element[r]
+        moments += extra_moments[r]
+
+
+@numba.njit(cache=True)
+def _gather_run(lo, hi, receiver, source, kernel, visibility, centre, area, b, fronts, twins, element, moments):
+    """_cluster_gather over the links lo … hi − 1."""
     n = area.shape[0]
-    for k in range(len(receiver)):
+    for k in range(lo, hi):
         j, i = source[k], receiver[k]
         w, w_twin = kernel[k, 0] * visibility[k], kernel[k, 1] * visibility[k]  # float32, as stored
         d0 = d1 = d2 = 0.0
