@@ -650,28 +650,44 @@ def _box_distance(lo_a, hi_a, lo_b, hi_b) -> np.ndarray:
 BOUND_SLICE = 65_536
 
 
-def transfer_bound(h, tree, receivers, sources, b_max_element, b_max_cluster, above: float | None = None):
+def transfer_bound(
+    h, tree, receivers, sources, b_max_element, b_max_cluster, above: float | None = None, source_b=None, boxes=None
+):
     """T_ij = B_max,j · A_i · min(A_j/(π d²), 1) per pair (W): at most what the link can carry. With
     ``above``, the mask T_ij > above instead (a build's re-test of every cluster link: 1 byte a link
-    held, not 8)."""
+    held, not 8). ``source_b`` (per pair, B_max,j) and ``boxes`` (_node_boxes of the receivers and of
+    the sources) where the caller has them: refinement does, and reading B_max,j from
+    ``b_max_element`` asks the largest channel of every element per batch."""
     if len(receivers) > BOUND_SLICE:  # sliced before anything is made per pair (int64 copies included)
         out = np.empty(len(receivers), np.float64 if above is None else bool)
         for at in range(0, len(receivers), BOUND_SLICE):
             part = slice(at, at + BOUND_SLICE)
-            out[part] = transfer_bound(h, tree, receivers[part], sources[part], b_max_element, b_max_cluster, above)
+            out[part] = transfer_bound(
+                h,
+                tree,
+                receivers[part],
+                sources[part],
+                b_max_element,
+                b_max_cluster,
+                above,
+                None if source_b is None else source_b[part],
+                None if boxes is None else tuple(tuple(a[part] for a in box) for box in boxes),
+            )
         return out
     receivers, sources = np.asarray(receivers, np.int64), np.asarray(sources, np.int64)
-    lo_r, hi_r, _, area_r, _ = _node_boxes(h, tree, receivers)
-    lo_s, hi_s, _, area_s, _ = _node_boxes(h, tree, sources)
+    box_r, box_s = (_node_boxes(h, tree, receivers), _node_boxes(h, tree, sources)) if boxes is None else boxes
+    lo_r, hi_r, _, area_r, _ = box_r
+    lo_s, hi_s, _, area_s, _ = box_s
     d = _box_distance(lo_r, hi_r, lo_s, hi_s)
     with np.errstate(divide="ignore"):
         ff = np.minimum(area_s / (np.pi * d * d), 1.0)
-    b = np.where(
-        sources >= 0,
-        b_max_element[np.maximum(sources, 0)],
-        b_max_cluster[np.maximum(-1 - sources, 0)] if len(tree) else 0.0,
-    )
-    bound = b * area_r * ff
+    if source_b is None:
+        source_b = np.where(
+            sources >= 0,
+            b_max_element[np.maximum(sources, 0)],
+            b_max_cluster[np.maximum(-1 - sources, 0)] if len(tree) else 0.0,
+        )
+    bound = source_b * area_r * ff
     return bound if above is None else bound > above
 
 
@@ -713,8 +729,9 @@ def _cluster_rays(
     the receiver's normal ``up``, length short of the target by ``offset``, float32, as Embree takes
     them), whether the ray counts — both points exist, it leaves the receiver's front toward the
     source's front, and it is longer than 2·offset — and its weight in V, ρ_a·cos θ_a·cos θ_b·B_b
-    (``reflect``, ``bright``: per element; 0 where it does not count), ρ_a and B_b times the member's
-    ``open_share`` where that end (``receivers[p]``, ``sources[p]``) is a cluster."""
+    (the largest channel of ``reflect`` and ``bright``, per element (n, 3); 0 where it does not
+    count), ρ_a and B_b times the member's ``open_share`` where that end (``receivers[p]``,
+    ``sources[p]``) is a cluster."""
     n, k = roots_a.shape
     for p in numba.prange(n):
         for s in range(k):
@@ -738,7 +755,8 @@ def _cluster_rays(
             cos_b = -(normal[eb, 0] * u0 + normal[eb, 1] * u1 + normal[eb, 2] * u2)
             counted[i] = cos_a > 0 and cos_b > 0 and length > 2 * offset
             if counted[i]:
-                receiving, sending = reflect[ea], bright[eb]
+                receiving = max(max(reflect[ea, 0], reflect[ea, 1]), reflect[ea, 2])
+                sending = max(max(bright[eb, 0], bright[eb, 1]), bright[eb, 2])
                 if receivers[p] < 0:
                     receiving *= open_share[ea]
                 if sources[p] < 0:
@@ -772,8 +790,8 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         h.corners,
         h.triangle,
         h.normal,
-        channel_max(h.reflectance),
-        channel_max(h.radiosity if radiosity is None else radiosity),
+        np.ascontiguousarray(h.reflectance, np.float64),
+        np.ascontiguousarray(h.radiosity if radiosity is None else radiosity, np.float64),
         open_share,
         receivers,
         sources,
@@ -917,26 +935,32 @@ def refine_nodes(
         if len(recv) > CHUNK:
             queue.append((recv[CHUNK:], src[CHUNK:]))
             recv, src = recv[:CHUNK], src[:CHUNK]
-        b = channel_max(h.radiosity if radiosity is None else radiosity)
-        rho = channel_max(h.reflectance)
         both = (recv >= 0) & (src >= 0)
         if both.any():
             element_pairs.append((recv[both], src[both]))
             recv, src = recv[~both], src[~both]
         live = _live(tree, recv) & _live(tree, src)
-        reflects = np.where(recv >= 0, rho[np.maximum(recv, 0)], rho_cluster[np.maximum(-1 - recv, 0)])
-        emits = np.where(src >= 0, b[np.maximum(src, 0)], b_cluster[np.maximum(-1 - src, 0)])
+        # the elements' largest channels read for this batch's pairs only (the whole hierarchy's, a
+        # batch at a time, were 2.5 s of the Graz office's build at RenderPark's element count)
+        b_element = h.radiosity if radiosity is None else radiosity
+        reflects = np.where(
+            recv >= 0, channel_max(h.reflectance[np.maximum(recv, 0)]), rho_cluster[np.maximum(-1 - recv, 0)]
+        )
+        emits = np.where(src >= 0, channel_max(b_element[np.maximum(src, 0)]), b_cluster[np.maximum(-1 - src, 0)])
         keep = live & (reflects > 0) & (emits > 0)
-        recv, src = recv[keep], src[keep]
+        recv, src, emits = recv[keep], src[keep], emits[keep]
         if not len(recv):
             continue
-        lo_r, hi_r, c_r, area_r, n_r = _node_boxes(h, tree, recv)
-        lo_s, hi_s, c_s, area_s, n_s = _node_boxes(h, tree, src)
+        box_r, box_s = _node_boxes(h, tree, recv), _node_boxes(h, tree, src)
+        lo_r, hi_r, c_r, area_r, n_r = box_r
+        lo_s, hi_s, c_s, area_s, n_s = box_s
         behind = ((recv >= 0) & _all_behind(lo_s, hi_s, c_r, n_r)) | ((src >= 0) & _all_behind(lo_r, hi_r, c_s, n_s))
-        recv, src = recv[~behind], src[~behind]
+        front = ~behind
+        recv, src, emits = recv[front], src[front], emits[front]
         if not len(recv):
             continue
-        bound = transfer_bound(h, tree, recv, src, b, b_cluster)
+        boxes = tuple(tuple(a[front] for a in box) for box in (box_r, box_s))
+        bound = transfer_bound(h, tree, recv, src, None, b_cluster, source_b=emits, boxes=boxes)
         accept = bound <= threshold
         if accept.any():
             r, s = recv[accept], src[accept]
@@ -946,11 +970,12 @@ def refine_nodes(
             # refine drops a pair of elements that do not face)
             faces = (seen > 0) & (kernel.max(axis=1) > 0)
             cluster_links.extend(r[faces], s[faces], kernel[faces], vis[faces])
-        recv, src = recv[~accept], src[~accept]
+        rest = ~accept
+        recv, src = recv[rest], src[rest]
         if not len(recv):
             continue
-        lo_r, hi_r, _, area_r, _ = _node_boxes(h, tree, recv)
-        lo_s, hi_s, _, area_s, _ = _node_boxes(h, tree, src)
+        lo_r, hi_r, _, area_r, _ = (a[rest] for a in boxes[0])
+        lo_s, hi_s, _, area_s, _ = (a[rest] for a in boxes[1])
         size_r = np.linalg.norm(hi_r - lo_r, axis=1)
         size_s = np.linalg.norm(hi_s - lo_s, axis=1)
         can_r = (recv < 0) | (area_r / 4 >= min_area)
