@@ -149,7 +149,8 @@ def test_transfer_bound_is_conservative():
 
 def test_transfer_bound_in_slices_is_the_bound_of_each_pair(rng, monkeypatch):
     """Re-testing every cluster link bounds them a slice at a time (bounded memory): the same value
-    per pair as one pair at a time, in the pairs' order, and with ``above`` the same pairs over it."""
+    per pair as one pair at a time, in the pairs' order, and with ``above`` the same pairs over it;
+    given the sources' B_max and the boxes, as refinement gives them, the same values."""
     from illusio.radiosity import clusters
 
     polygons = scene_polygons(room_with_sphere(12))
@@ -168,6 +169,11 @@ def test_transfer_bound_in_slices_is_the_bound_of_each_pair(rng, monkeypatch):
     over = transfer_bound(h, tree, recv, src, b, b_cluster, above=threshold)
     assert over.dtype == bool and 0 < over.sum() < len(over)
     np.testing.assert_array_equal(over, sliced > threshold)
+    # refinement passes the sources' B_max and the boxes it made: the same bound, sliced too
+    source_b = np.where(src >= 0, b[np.maximum(src, 0)], b_cluster[np.maximum(-1 - src, 0)])
+    boxes = (clusters._node_boxes(h, tree, recv), clusters._node_boxes(h, tree, src))
+    given = transfer_bound(h, tree, recv, src, None, b_cluster, source_b=source_b, boxes=boxes)
+    np.testing.assert_array_equal(given, sliced)
 
 
 def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
