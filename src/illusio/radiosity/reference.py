@@ -9,7 +9,15 @@ import numpy as np
 
 from ..scene.camera import View
 
-__all__ = ["point_polygon_form_factor", "gather", "cluster_gather", "push_pull", "solve_dense", "display"]
+__all__ = [
+    "point_polygon_form_factor",
+    "gather",
+    "cluster_gather",
+    "push_pull",
+    "solve_dense",
+    "display",
+    "stream_uniform",
+]
 
 
 def point_polygon_form_factor(x, normal, corners) -> float:
@@ -135,3 +143,15 @@ def display(positions, radiance, faces, view: View, size) -> tuple[np.ndarray, n
 
 #: the display's plain statement under the name radiosity exports (relight's reference uses it)
 reference_display = display
+
+
+def stream_uniform(seed: int, counter: np.ndarray) -> np.ndarray:
+    """Outputs ``counter`` of the SplitMix64 stream started at ``seed``: the state advances by the
+    golden ratio 0x9E3779B97F4A7C15 before each output, and an output is the state through the
+    finaliser z ← (z ⊕ z≫30)·0xBF58476D1CE4E5B9, z ← (z ⊕ z≫27)·0x94D049BB133111EB, z ⊕ z≫31
+    (arithmetic mod 2⁶⁴), read as a double in [0, 1) from its top 53 bits."""
+    z = np.uint64(seed) + (np.asarray(counter, np.uint64) + np.uint64(1)) * np.uint64(0x9E3779B97F4A7C15)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    z = z ^ (z >> np.uint64(31))
+    return (z >> np.uint64(11)).astype(np.float64) * 2.0**-53

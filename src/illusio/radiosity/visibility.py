@@ -122,6 +122,15 @@ def splitmix(z):
     return z ^ (z >> np.uint64(31))
 
 
+@numba.njit(cache=True, inline="always")
+def stream_uniform(seed, counter):
+    """Output ``counter`` of the SplitMix64 stream started at ``seed`` (both uint64: the state
+    advanced ``counter`` + 1 times by the golden ratio, through :func:`splitmix`) as a double in
+    [0, 1) from its top 53 bits: a random number any thread can draw by its index alone
+    (reference.stream_uniform states it in NumPy)."""
+    return float(splitmix(seed + (counter + np.uint64(1)) * _GOLDEN) >> np.uint64(11)) * 2.0**-53
+
+
 @numba.njit(cache=True)
 def _pair_grids(receivers, sources, samples, seed, out_receiver, out_source):
     side = int(np.ceil(np.sqrt(samples)))
