@@ -174,6 +174,41 @@ def test_transfer_bound_in_slices_is_the_bound_of_each_pair(rng, monkeypatch):
     np.testing.assert_array_equal(over, sliced > threshold)
 
 
+def test_the_cluster_kernel_is_its_numpy_statement(mgf_scenes, rng):
+    """cluster_kernel (one numba pass) against its statement in NumPy over the nodes' centres,
+    areas and normals, on office2's two-sided surfaces (clusters with twins) and some
+    subdivided elements: G = c_i(d)·c_j(−d)/(π r² + A_j) with c = max(N̄·d, 0) + (1 − |N̄|)/4,
+    c_i = 1 at a cluster receiver, G' over a cluster source's twins (0 without, and for an element)."""
+    import warnings
+
+    from illusio.radiosity import clusters
+    from illusio.scene.mgf import load_mgf
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        h = Hierarchy(scene_polygons(load_mgf(mgf_scenes / "office2.mgf")))
+    h.subdivide(rng.choice(h.roots, 100, replace=False))
+    tree = ClusterTree.build(h)
+    nodes = np.r_[cluster_node(np.arange(len(tree))), np.flatnonzero(h.active)]
+    recv, src = rng.choice(nodes, 5_000), rng.choice(nodes, 5_000)
+    kernel, unit = cluster_kernel(h, tree, recv, src)
+    _, _, centre_r, _, normal_r = clusters._node_boxes(h, tree, recv)
+    _, _, centre_s, area_s, normal_s = clusters._node_boxes(h, tree, src)
+    d = centre_s - centre_r
+    r2 = (d * d).sum(axis=1)
+    u = d / np.sqrt(np.maximum(r2, 1e-300))[:, None]
+    c_i = np.where(recv >= 0, mean_cosine(normal_r, u), 1.0)
+    scale = c_i / (np.pi * r2 + area_s)
+    cl = src < 0
+    fronts, twin_normal, has_twins = normal_s.copy(), np.zeros_like(normal_s), np.zeros(len(src), bool)
+    c = -1 - src[cl]
+    fronts[cl], twin_normal[cl], has_twins[cl] = tree.front_normal[c], tree.twin_normal[c], tree.twin_area[c] > 0
+    expected = np.c_[scale * mean_cosine(fronts, -u), np.where(has_twins, scale * mean_cosine(twin_normal, -u), 0)]
+    np.testing.assert_allclose(unit, u, rtol=1e-14, atol=1e-15)
+    np.testing.assert_allclose(kernel, expected, rtol=1e-12, atol=0)
+    assert has_twins.any() and (kernel[:, 1] > 0).any() and ((recv < 0) & (src >= 0)).any()
+
+
 def test_the_refinement_triage_decides_as_its_numpy_statement(rng):
     """clusters._triage (one pass per pair: the planes' test, the bound, which end splits) against
     the NumPy statement refinement made of it: drop a pair where an element end has the other

@@ -968,23 +968,80 @@ def cluster_kernel(h, tree, receivers, sources) -> tuple[np.ndarray, np.ndarray]
     """(G_ij and G'_ij (n, 2) (1/m²), the unit direction d from receiver to source) per pair:
     G = c_i(d)·c_j(−d)/(π r² + A_j) with c_j over the source's fronts, G' with c_j over its twins
     (0 for an element source), for an element receiver; for a cluster receiver c_i is left out (the
-    push orients by each member's own normal)."""
-    _, _, centre_r, _, normal_r = _node_boxes(h, tree, receivers)
-    _, _, centre_s, area_s, normal_s = _node_boxes(h, tree, sources)
-    d = centre_s - centre_r
-    r2 = (d * d).sum(axis=1)
-    unit = d / np.sqrt(np.maximum(r2, 1e-300))[:, None]
-    c_i = np.where(receivers >= 0, mean_cosine(normal_r, unit), 1.0)
-    scale = c_i / (np.pi * r2 + area_s)
-    cl = sources < 0
-    fronts, twin_normal, has_twins = normal_s.copy(), np.zeros_like(normal_s), np.zeros(len(sources), bool)
-    if cl.any():
-        c = -1 - sources[cl]
-        fronts[cl], twin_normal[cl], has_twins[cl] = tree.front_normal[c], tree.twin_normal[c], tree.twin_area[c] > 0
-    kernel = np.c_[
-        scale * mean_cosine(fronts, -unit), np.where(has_twins, scale * mean_cosine(twin_normal, -unit), 0.0)
-    ]
+    push orients by each member's own normal). (One kernel over the pairs; a test states it in
+    NumPy.)"""
+    n = len(receivers)
+    kernel, unit = np.empty((n, 2)), np.empty((n, 3))
+    _cluster_kernel(
+        h.centre,
+        h.normal,
+        h.area,
+        tree.centre,
+        tree.area,
+        tree.front_normal,
+        tree.twin_normal,
+        tree.twin_area,
+        np.asarray(receivers, np.int64),
+        np.asarray(sources, np.int64),
+        kernel,
+        unit,
+    )
     return kernel, unit
+
+
+@numba.njit(cache=True, inline="always")
+def _mean_cosine(n0, n1, n2, d0, d1, d2):
+    """mean_cosine for one row."""
+    length = np.sqrt(n0 * n0 + n1 * n1 + n2 * n2)
+    return max(n0 * d0 + n1 * d1 + n2 * d2, 0.0) + max(1 - length, 0.0) / 4
+
+
+@numba.njit(parallel=True, cache=True)
+def _cluster_kernel(
+    e_centre,
+    e_normal,
+    e_area,
+    c_centre,
+    c_area,
+    front_normal,
+    twin_normal,
+    twin_area,
+    receivers,
+    sources,
+    kernel,
+    unit,
+):
+    for i in numba.prange(len(receivers)):
+        r, s = receivers[i], sources[i]
+        if r >= 0:
+            cr0, cr1, cr2 = e_centre[r, 0], e_centre[r, 1], e_centre[r, 2]
+        else:
+            cr0, cr1, cr2 = c_centre[-1 - r, 0], c_centre[-1 - r, 1], c_centre[-1 - r, 2]
+        if s >= 0:
+            cs0, cs1, cs2, area_s = e_centre[s, 0], e_centre[s, 1], e_centre[s, 2], e_area[s]
+        else:
+            c = -1 - s
+            cs0, cs1, cs2, area_s = c_centre[c, 0], c_centre[c, 1], c_centre[c, 2], c_area[c]
+        d0, d1, d2 = cs0 - cr0, cs1 - cr1, cs2 - cr2
+        r2 = d0 * d0 + d1 * d1 + d2 * d2
+        norm = np.sqrt(max(r2, 1e-300))
+        u0, u1, u2 = d0 / norm, d1 / norm, d2 / norm
+        unit[i, 0], unit[i, 1], unit[i, 2] = u0, u1, u2
+        c_i = 1.0
+        if r >= 0:
+            c_i = _mean_cosine(e_normal[r, 0], e_normal[r, 1], e_normal[r, 2], u0, u1, u2)
+        scale = c_i / (np.pi * r2 + area_s)
+        if s >= 0:
+            kernel[i, 0] = scale * _mean_cosine(e_normal[s, 0], e_normal[s, 1], e_normal[s, 2], -u0, -u1, -u2)
+            kernel[i, 1] = 0.0
+        else:
+            c = -1 - s
+            f = front_normal[c]
+            kernel[i, 0] = scale * _mean_cosine(f[0], f[1], f[2], -u0, -u1, -u2)
+            kernel[i, 1] = 0.0
+            if twin_area[c] > 0:
+                t = twin_normal[c]
+                kernel[i, 1] = scale * _mean_cosine(t[0], t[1], t[2], -u0, -u1, -u2)
 
 
 def _children(h, tree, nodes, position):
