@@ -16,7 +16,15 @@ In a notebook, ``illusio.show(image, ...)`` draws images inline::
     illusio.show(line_drawing(trimesh.creation.icosphere(3), size=(256, 256)))
 """
 
+import os as _os
+
 __version__ = "0.1.0"
+
+# numba's parallel kernels run on GNU OpenMP, whose idle workers spin by default; they take turns
+# on the same cores with Embree's ray threads, and the spinning cost a radiosity build 8–15 % of
+# its time and a quarter of its CPU (benchmarks/RESULTS.md, mgf_scenes). OpenMP reads this when
+# numba first loads it, after this import; a value the user set is kept.
+_os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 
 def show(*images, gap: int = 8):
