@@ -89,5 +89,22 @@ def test_the_blinds_cluster_reads_the_visibility_of_its_open_faces(graz):
     assert 0.3 < seen.mean() < 0.7
     assert cluster_v(visibility) == pytest.approx(seen.mean(), abs=0.2)
     alike = Visibility(h, 16, seed=0)
-    alike.openness_array = lambda elements: np.ones(len(h))  # every member weighs 1
+    alike.openness_array = lambda *groups: np.ones(len(h))  # every member weighs 1
     assert abs(cluster_v(alike) - seen.mean()) > 0.2
+
+
+def test_the_members_not_yet_measured_are_their_numpy_statement():
+    """visibility._unmeasured (the loop a cluster call's openness lookup makes over its samples)
+    against NumPy: the distinct ids ≥ 0 of the marked rows whose openness is NaN or past the array."""
+    from illusio.radiosity.visibility import _unmeasured
+
+    rng = np.random.default_rng(7)
+    for _ in range(5):
+        known = np.where(rng.random(300) < 0.3, np.nan, rng.random(300))
+        members = rng.integers(-1, 400, (200, 16))
+        rows = rng.random(200) < 0.6
+        chosen = members[rows]
+        chosen = chosen[chosen >= 0]
+        beyond = chosen >= len(known)
+        lacking = beyond | np.isnan(known[np.where(beyond, 0, chosen)])
+        np.testing.assert_array_equal(_unmeasured(known, members, rows), np.unique(chosen[lacking]))

@@ -900,8 +900,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     # a cluster's members weigh by their openness too: a closed box's inner faces and a board's
     # back against a wall neither receive nor send what the cluster carries (the members drawn here
     # measured, each once a scene: after a move's rebuild only those a recast pair draws)
-    members = np.r_[roots_a[receivers < 0].ravel(), roots_b[sources < 0].ravel()]
-    open_share = visibility.openness_array(members[members >= 0])
+    open_share = visibility.openness_array((roots_a, receivers < 0), (roots_b, sources < 0))
     _cluster_rays(
         h.corners,
         h.triangle,

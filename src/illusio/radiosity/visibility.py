@@ -279,6 +279,19 @@ def _rays_to_cast(rays, samples, epoch, origins, directions, dists, up, box_lo, 
 
 
 @numba.njit(cache=True)
+def _unmeasured(known, members, rows):
+    """The distinct ids (≥ 0) in the rows of ``members`` marked in ``rows`` whose openness ``known``
+    lacks (NaN, or past its end), sorted: the loop over a call's samples without their copies."""
+    fresh = [np.int64(0) for _ in range(0)]
+    for i in range(members.shape[0]):
+        if rows[i]:
+            for m in members[i]:
+                if m >= 0 and (m >= len(known) or np.isnan(known[m])):
+                    fresh.append(m)
+    return np.unique(np.array(fresh, dtype=np.int64))
+
+
+@numba.njit(cache=True)
 def _front_to_front(directions, receiver_normal, source_normal, samples):
     """Per sample: does its ray leave the receiver's front and reach the source's front? A pair that
     straddles a plane (a face standing on the floor and the floor) has samples behind one of them:
@@ -527,11 +540,13 @@ class Visibility:
                 self._open[part] = far.reshape(len(part), k).mean(axis=1)
         return self._open[elements]
 
-    def openness_array(self, elements: np.ndarray) -> np.ndarray:
+    def openness_array(self, *groups: tuple[np.ndarray, np.ndarray]) -> np.ndarray:
         """The openness of every element measured so far (indexed by element; NaN where not
-        measured, and no longer than the largest element measured), ``elements`` measured first:
-        for a kernel that looks up many samples' elements, ``elements`` among them."""
-        self.openness(elements)
+        measured, and no longer than the largest element measured), the elements of ``groups``
+        measured first: for a kernel that looks up many samples' elements. Each group is (members
+        (n, k) int64 element ids, −1 for none; rows (n,) bool): the members of the rows marked."""
+        fresh = [_unmeasured(self._open, np.asarray(members, np.int64), rows) for members, rows in groups]
+        self.openness(np.concatenate(fresh) if fresh else np.zeros(0, np.int64))
         return np.ones(len(self.hierarchy)) if self.empty or not len(self._open) else self._open
 
     def recast(
