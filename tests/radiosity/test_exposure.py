@@ -1,6 +1,7 @@
 """The exposure probe (is a sample point part of a visible surface?) in a scene of two-sided faces
 but for a few one-sided ones, as MGF's scenes are (their lamps): the probe in parts it casts there
-(a short occlusion ray, the first hit among the one-sided faces, an occlusion ray up to a back)
+(a short occlusion ray, an occlusion ray and then the first hit among the one-sided faces, an
+occlusion ray up to a back)
 against the first hit at any distance that the general test reads (a hit within ``contact``, or
 the back of a one-sided face)."""
 

@@ -442,22 +442,27 @@ class Visibility:
         where the first hit is within ``contact`` or is the back of a one-sided face.
 
         Where one-sided faces are few (``split_probe``: MGF's scenes, two-sided but for their lamps)
-        the same answer costs less in parts: an occlusion ray ``contact`` long for the contact; the
-        first hit among the one-sided faces alone (a small scene); and where that is a back, an
-        occlusion ray up to it through the whole scene — a two-sided face before it is the first
-        hit and has no back. Otherwise one first hit at any distance, read as it is."""
+        the same answer costs less in parts: an occlusion ray ``contact`` long for the contact; an
+        occlusion ray among the one-sided faces alone (a small scene), and where it meets one, the
+        first hit among them; where that is a back, an occlusion ray up to it through the whole
+        scene — a two-sided face before it is the first hit and has no back. Otherwise one first
+        hit at any distance, read as it is."""
         n = len(origins)
         if self.split_probe:
             touching = np.asarray(cast(self.scene, origins, up, np.full(n, self.contact, np.float32), "OCCLUDED"))
             exposed = touching < 0
             if self._backs is not None:
-                first = cast(self._backs, origins, up)
-                prim, normal = np.asarray(first["primID"]), np.asarray(first["Ng"])
-                back = exposed & (prim >= 0) & ((normal * up).sum(axis=1) > 0)
-                rows = np.flatnonzero(back)
+                # most probes meet none of the few one-sided faces: an occlusion ray finds which do
+                # (half a first hit's cost), and the first hit is asked of those alone
+                meets = np.asarray(cast(self._backs, origins, up, np.full(n, np.inf, np.float32), "OCCLUDED"))
+                rows = np.flatnonzero(exposed & (meets >= 0))
                 if len(rows):
+                    first = cast(self._backs, origins[rows], up[rows])
+                    prim, normal = np.asarray(first["primID"]), np.asarray(first["Ng"])
+                    back = (prim >= 0) & ((normal * up[rows]).sum(axis=1) > 0)
                     # just short of the back, so the ray meets what lies before it, not the back itself
-                    reach = np.asarray(first["tfar"])[rows] * np.float32(1 - 1e-5)
+                    reach = np.asarray(first["tfar"])[back] * np.float32(1 - 1e-5)
+                    rows = rows[back]
                     before = np.asarray(cast(self.scene, origins[rows], up[rows], reach, "OCCLUDED"))
                     exposed[rows[before < 0]] = False
             return exposed
