@@ -603,21 +603,19 @@ def member_irradiance(m, n0, n1, n2):
 # --- refinement over nodes
 
 
+def _node_arrays(h: Hierarchy, tree: ClusterTree) -> tuple:
+    """The elements' (corners, centre, normal, area) and the clusters' (lo, hi, centre, normal, area):
+    the arrays the node kernels (_fill_node_boxes, _triage) read a node's box and frame from."""
+    return h.corners, h.centre, h.normal, h.area, tree.lo, tree.hi, tree.centre, tree.normal, tree.area
+
+
 def _node_boxes(h: Hierarchy, tree: ClusterTree, nodes: np.ndarray):
     """(lo, hi, centre, area, normal) of ``nodes`` (elements and clusters mixed)."""
     n = len(nodes)
     lo, hi, centre, normal = (np.empty((n, 3)) for _ in range(4))
     area = np.empty(n)
     _fill_node_boxes(
-        h.corners,
-        h.centre,
-        h.normal,
-        h.area,
-        tree.lo,
-        tree.hi,
-        tree.centre,
-        tree.normal,
-        tree.area,
+        *_node_arrays(h, tree),
         np.asarray(nodes, np.int64),
         lo,
         hi,
@@ -794,15 +792,7 @@ def triage(h: Hierarchy, tree: ClusterTree, recv, src, emits, threshold: float, 
     """_triage over the hierarchy's and the tree's arrays: per pair DROP, ACCEPT, SPLIT_SOURCE or
     SPLIT_RECEIVER (int8)."""
     return _triage(
-        h.corners,
-        h.centre,
-        h.normal,
-        h.area,
-        tree.lo,
-        tree.hi,
-        tree.centre,
-        tree.normal,
-        tree.area,
+        *_node_arrays(h, tree),
         np.asarray(recv, np.int64),
         np.asarray(src, np.int64),
         np.asarray(emits, np.float64),
