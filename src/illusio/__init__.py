@@ -21,8 +21,8 @@ import os as _os
 __version__ = "0.1.0"
 
 # numba's parallel kernels run on GNU OpenMP, whose idle workers spin by default; they take turns
-# on the same cores with Embree's ray threads, and the spinning cost a radiosity build 8–15 % of
-# its time and a quarter of its CPU (benchmarks/RESULTS.md, mgf_scenes). OpenMP reads this when
+# on the same cores with Embree's ray threads, and the spinning cost a radiosity build 7–17 % of
+# its time and a fifth to a third of its CPU (benchmarks/RESULTS.md, mgf_scenes). OpenMP reads this when
 # numba first loads it, after this import; a value the user set is kept.
 _os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
