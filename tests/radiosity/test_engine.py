@@ -282,6 +282,35 @@ def test_criteria_bf_is_b_f_a_and_bfv_is_b_f_v_a():
     assert needs_refinement(transfer, visibility, 1.0, "bfv").tolist() == [False, False, True, False]
 
 
+def test_bf_casts_no_rays_for_the_pairs_it_splits_and_links_as_if_it_cast_them_all(cornell, monkeypatch):
+    """Under bf a split pair's V is never read: the refinement casts V for the others only (asking
+    needs_refinement without V which pairs split), and its links equal those of a refinement told
+    that none splits there, which casts V for every pair from the same sample points — bit for bit,
+    with fewer rays. At this minimum area many pairs over ε cannot split and stay links."""
+    from illusio.radiosity import refine
+
+    def build():
+        sol = Radiosity(cornell, HierarchyParams(epsilon=1e-4, min_area=0.01, clusters=False)).build()
+        L = sol.links
+        order = np.lexsort((L.source, L.receiver))
+        return sol, [L.receiver[order], L.source[order], L.form_factor[order], L.visibility[order]]
+
+    lazy, lazy_links = build()
+    needs_refinement = refine.needs_refinement
+
+    def without_v_none_splits(transfer, visibility, threshold, criterion):
+        if visibility is None:
+            return np.zeros(len(transfer), bool)
+        return needs_refinement(transfer, visibility, threshold, criterion)
+
+    monkeypatch.setattr(refine, "needs_refinement", without_v_none_splits)
+    every, every_links = build()
+    assert len(lazy.hierarchy) == len(every.hierarchy) and len(lazy_links[0]) == len(every_links[0])
+    for mine, theirs in zip(lazy_links, every_links):
+        assert np.array_equal(mine, theirs)
+    assert lazy.visibility.rays < 0.9 * every.visibility.rays
+
+
 def _shadowed_area(sol) -> float:
     """The mean area of the elements that receive the lamp's occluded links."""
     h, L = sol.hierarchy, sol.links

@@ -106,12 +106,22 @@ def refine(
         if not len(recv):
             continue
         if known is None:
-            ff, vis = visibility(recv, src)
-            cast = np.full(len(recv), NO_RAYS, np.int64)
+            ff, samples = visibility.form_factors(recv, src)
+            vis, cast = None, np.full(len(recv), NO_RAYS, np.int64)
         else:
             ff = known[kept]
             vis, cast = visibility.recast(recv, src, kept_rays[kept], boxes)
         transfer = transfer_estimate(h, recv, src, ff, radiosity)
+        if vis is None and criterion == "bf":
+            # bf splits on the unoccluded transfer: a pair it splits never reads its V (the straddle
+            # test below only adds splits), so its rays are not cast — unless it is at the minimum
+            # area on both ends and stays a link
+            splits = needs_refinement(transfer, None, threshold, criterion)
+            splits &= (h.area[recv] / 4 >= min_area) | (h.area[src] / 4 >= min_area)
+            vis = np.zeros(len(recv))
+            vis[~splits] = visibility.cast_visibility(samples, ~splits)
+        elif vis is None:
+            vis = visibility.cast_visibility(samples)
         split = needs_refinement(transfer, vis, threshold, criterion)
         straddle = ~every & (vis > 0)
         if straddle.any():

@@ -24,6 +24,8 @@ update keeps its shafts' contents for the same reason.
 
 from __future__ import annotations
 
+import dataclasses
+
 import numba
 import numpy as np
 
@@ -34,6 +36,7 @@ from .hierarchy import Hierarchy
 
 __all__ = [
     "Visibility",
+    "LinkSamples",
     "VISIBLE",
     "PARTIAL",
     "INVISIBLE",
@@ -350,6 +353,16 @@ OPEN_SLICE = 16_384
 SPLIT_PROBE_SHARE = 0.1
 
 
+@dataclasses.dataclass(frozen=True)
+class LinkSamples:
+    """The sample points of n pairs (Visibility.form_factors): (n, k, 3) on each receiver and source."""
+
+    receivers: np.ndarray
+    sources: np.ndarray
+    receiver_points: np.ndarray
+    source_points: np.ndarray
+
+
 class Visibility:
     """Ray casting against the polygons of a hierarchy (rebuilt with :meth:`rebuild` when they move)."""
 
@@ -413,18 +426,34 @@ class Visibility:
 
     def __call__(self, receivers: np.ndarray, sources: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(F_ij, V_ij) for each (receiver, source) pair, (n,) float64 each."""
-        n = len(receivers)
-        if n == 0:
-            return np.zeros(0), np.zeros(0)
+        form_factor, samples = self.form_factors(receivers, sources)
+        return form_factor, self.cast_visibility(samples)
+
+    def form_factors(self, receivers: np.ndarray, sources: np.ndarray) -> tuple[np.ndarray, LinkSamples]:
+        """(F_ij (n,), the pairs' sample points): the points drawn from the shared stream, F from them;
+        V from the same points when :meth:`cast_visibility` is asked (for the pairs that need it: a
+        pair the bf criterion splits never uses its V)."""
+        n, k = len(receivers), self.samples
+        if n == 0:  # (draws nothing from the stream)
+            none = np.zeros((0, k, 3))
+            return np.zeros(0), LinkSamples(np.zeros(0, np.int64), np.zeros(0, np.int64), none, none)
         h = self.hierarchy
-        k = self.samples
         a = h.sample_points(receivers, jittered_grid(n, k, self.rng))
         b = h.sample_points(sources, jittered_grid(n, k, self.rng))
         q = min(k, self.form_factor_points)
+        form_factor = point_polygon(a[:, :q], h.normal[receivers], h.corners[sources], h.triangle[sources])
+        return form_factor, LinkSamples(np.asarray(receivers), np.asarray(sources), a, b)
+
+    def cast_visibility(self, samples: LinkSamples, rows: np.ndarray | None = None) -> np.ndarray:
+        """V_ij (float64) of the pairs ``rows`` (a mask or indices; default all) of ``samples``."""
+        receivers, sources, a, b = samples.receivers, samples.sources, samples.receiver_points, samples.source_points
+        if rows is not None:
+            receivers, sources, a, b = receivers[rows], sources[rows], a[rows], b[rows]
+        n, k = len(receivers), self.samples
+        if self.empty or n == 0:
+            return np.ones(n)
+        h = self.hierarchy
         receiver_normal = h.normal[receivers]
-        form_factor = point_polygon(a[:, :q], receiver_normal, h.corners[sources], h.triangle[sources])
-        if self.empty:
-            return form_factor, np.ones(n)
         origins, directions, dists, up = _segments(a, b, receiver_normal, h.normal[sources], self.offset)
         hit = cast(self.scene, origins, directions, dists, "OCCLUDED")
         # a sample point with something right above it (under a board on a wall, behind a door in
@@ -435,7 +464,7 @@ class Visibility:
         self.rays += 2 * n * k
         facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
         visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False, facing)
-        return form_factor, visibility
+        return visibility
 
     def _probe(self, origins: np.ndarray, up: np.ndarray) -> np.ndarray:
         """:func:`_exposed` of probes from ``origins`` along ``up`` (float32 (n, 3) each): not exposed
