@@ -27,6 +27,18 @@ def test_kept_form_factors_give_the_plain_gather_after_each_change():
     sol.set_lamps({sol.lamp_names[0]: 0.3})  # B changes, links and geometry do not
     check(True)
     assert gather.computed == 0
+    # a leaf split under receivers of many links: their blocks are redone, but only the new leaves'
+    # form factors are computed, the others' taken from the blocks they had
+    h = sol.hierarchy
+    leaves = h.leaves()
+    above = np.zeros(len(h), np.int64)  # each leaf's links with light, its own and its ancestors'
+    np.add.at(above, sol.links.receiver[sol.links.visibility > 0], 1)
+    for level in h.by_level()[1:]:
+        above[level] += above[h.parent[level]]
+    target = leaves[np.argmax(above[leaves])]
+    h.subdivide(np.array([target]))
+    check(True)
+    assert 0 < gather.computed <= 4 * above[target] < gather.reused
     corners, triangle = quads_from_triangles(
         np.asarray(shapes.box((0.1, 0.1, 0.1)).vertices) + [0.25, 0.05, 0.3], shapes.box((0.1, 0.1, 0.1)).faces
     )

@@ -40,19 +40,49 @@ def _link_keys(receiver: np.ndarray, source: np.ndarray) -> np.ndarray:
 
 @numba.njit(parallel=True, cache=True)
 def _fresh_blocks(
-    offset, count, first_under, leaf_under, source, ready, corners, centre, normal, triangle, arena_leaf, arena_ff
+    offset,
+    count,
+    first_under,
+    leaf_under,
+    source,
+    ready,
+    old_offset,
+    old_count,
+    kept_leaf,
+    corners,
+    centre,
+    normal,
+    triangle,
+    arena_leaf,
+    arena_ff,
 ):
     """Fill block q (its pairs from offset[q]): the leaves under its receiver, from the leaf table,
     and the form factors from each of their corners to its source (display.corner_form_factors);
-    only its leaves where not ``ready[q]``."""
+    only its leaves where not ``ready[q]``. Where the pair had a block with form factors
+    (old_offset[q] ≥ 0, its source unmoved), a leaf it held that is unchanged (``kept_leaf``) takes
+    its form factors from there: the leaves common to both blocks come in the same order (a split
+    or merge under the receiver adds and drops leaves, never reorders the others), so one pass
+    along the old block finds them. Returns the pairs computed."""
+    computed = np.zeros(len(offset), np.int64)
     for q in numba.prange(len(offset)):
         j = source[q]
         m = 3 if triangle[j] else 4
+        at, end = old_offset[q], old_offset[q] + old_count[q]
         for p in range(count[q]):
             e = leaf_under[first_under[q] + p]
             arena_leaf[offset[q] + p] = e
             if not ready[q]:
                 continue
+            if at >= 0 and kept_leaf[e]:
+                look = at
+                while look < end and arena_leaf[look] != e:
+                    look += 1
+                if look < end:
+                    for c in range(4):
+                        arena_ff[offset[q] + p, c] = arena_ff[look, c]
+                    at = look + 1
+                    continue
+            computed[q] += 1
             for c in range(4):
                 # 1 % of the way to the centre, as the reference takes it
                 x0 = corners[e, c, 0] + 0.01 * (centre[e, 0] - corners[e, c, 0])
@@ -61,6 +91,7 @@ def _fresh_blocks(
                 arena_ff[offset[q] + p, c] = contour_integral(
                     x0, x1, x2, normal[e, 0], normal[e, 1], normal[e, 2], corners[j], m
                 )
+    return computed
 
 
 @numba.njit(parallel=True, cache=True)
@@ -243,6 +274,17 @@ class CornerGather:
         block = self._blocks(links)
         visibility = np.ascontiguousarray(links.visibility, np.float64)
         fresh = _stale(block, dirty, moved, r, s, visibility, self._ready)
+        # a block redone because leaves under its receiver changed keeps the form factors of the
+        # leaves that did not (a split under a wall redoes the wall's every link: 35–72k pairs of a
+        # drag's move where 17k are new)
+        old = block[fresh]
+        reusable = (old >= 0) & ~moved[s[fresh]]
+        reusable[reusable] = self._ready[old[reusable]]
+        old_offset = np.where(reusable, self._offset[np.maximum(old, 0)] if len(self._offset) else -1, -1)
+        old_count = np.where(reusable, self._count[np.maximum(old, 0)] if len(self._count) else 0, 0)
+        kept_leaf = np.zeros(len(h), np.bool_)
+        kept_leaf[: len(self._asked)] = self._asked[: len(h)]
+        kept_leaf &= ~moved
         # a link that carries no light (V = 0: the crate's face on the floor) is never summed: its
         # block gets its place but no form factors until it does (a third of a drag's fresh pairs)
         ready = visibility[fresh] > 0
@@ -251,13 +293,16 @@ class CornerGather:
         count = np.searchsorted(element, r[fresh], side="right") - first_under
         offset = (self._used + np.cumsum(count) - count).astype(np.int64)
         self._grow(self._used + int(count.sum()))
-        _fresh_blocks(
+        computed = _fresh_blocks(
             offset,
             count,
             first_under,
             leaf_under,
             s[fresh],
             ready,
+            old_offset.astype(np.int64),
+            old_count.astype(np.int64),
+            kept_leaf,
             np.ascontiguousarray(h.corners, np.float64),
             np.ascontiguousarray(h.centre, np.float64),
             np.ascontiguousarray(h.normal, np.float64),
@@ -270,8 +315,8 @@ class CornerGather:
         self._append_blocks(offset, count, _link_keys(r[fresh], s[fresh]), ready)
         self._live, pairs = _live_blocks(block, self._count, len(self._offset))
         self.pairs = int(pairs)
-        self.computed = int(count[ready].sum())
-        self.deferred = int(count.sum()) - self.computed
+        self.computed = int(computed.sum())
+        self.deferred = int(count[~ready].sum())
         self.reused = self.pairs - self.computed - self.deferred
         if self._used > 2 * self.pairs + 1024:
             block = self._compact(block)
