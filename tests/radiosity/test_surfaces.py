@@ -80,3 +80,38 @@ def test_a_two_sided_walls_faces_join_as_do_their_twins_but_not_across_materials
     assert len(set(surface[fronts])) == 1 and len(set(surface[twins])) == 1
     assert set(surface[fronts]) != set(surface[twins])
     assert not set(surface[~white]) & set(surface[white])
+
+
+def test_a_group_moved_keeps_its_surfaces_where_the_move_keeps_angles():
+    """Polygons.moved carries the surfaces through a rotation with a translation and a uniform
+    scale (they equal the surfaces found afresh), and finds them afresh after a non-uniform scale: a
+    0.5° fold within a group, one surface before, is two once stretched past 1°."""
+    a = np.radians(0.5)
+    flat = [[0, 0, 0], [1, 0, 0], [1, 0, -1], [0, 0, -1]]
+    bent = [[1, 0, 0], [2, np.sin(a), 0], [2, np.sin(a), -1], [1, 0, -1]]
+    floor = [[-5, -1, 5], [5, -1, 5], [5, -1, -5], [-5, -1, -5]]
+    sheet = Polygons(
+        np.array([flat, bent, floor], float),
+        np.zeros(3, bool),
+        np.full((3, 3), 0.5),
+        np.zeros((3, 3)),
+        [0, 0, 1],
+        ["sheet", "floor"],
+    )
+    assert len(np.unique(sheet.surfaces()[:2])) == 1
+    turn = np.eye(4)
+    c, s = np.cos(0.7), np.sin(0.7)
+    turn[:3, :3] = 1.5 * np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+    turn[:3, 3] = (0.3, 0.1, -2.0)
+    moved = sheet.moved(0, turn)
+    assert moved is not sheet and np.array_equal(sheet.corners[0], flat)  # the caller's kept
+    assert np.allclose(moved.corners[2], floor) and np.allclose(
+        moved.corners[0, 1], turn[:3, :3] @ [1, 0, 0] + turn[:3, 3]
+    )
+    fresh = Polygons(moved.corners, moved.triangle, moved.reflectance, moved.exitance, moved.group, moved.names)
+    assert getattr(moved, "_surfaces", None) is not None  # carried, not recomputed
+    assert np.array_equal(moved.surfaces(), fresh.surfaces())
+    stretch = np.diag([1.0, 4.0, 1.0, 1.0])  # the fold opens to ~2°
+    stretched = sheet.moved(0, stretch)
+    assert getattr(stretched, "_surfaces", None) is None
+    assert len(np.unique(stretched.surfaces()[:2])) == 2

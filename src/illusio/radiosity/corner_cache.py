@@ -10,8 +10,10 @@ kept through the removal of other links). On the next call a link keeps its bloc
 under r was split, merged, moved, or joined or left the leaves asked for (a display that gathers
 only what it shows), and j did not move; a link made since (a shaft relinked, the pair refined
 again) takes the block its pair (r, j) had if that block lost its link; every other link's block is
-computed afresh, at the arena's end — or only given its place while its link has V = 0 (never summed):
-computed when the link carries light. When the arena holds twice the pairs in use, the blocks in use
+made afresh, at the arena's end — or only given its place while its link has V = 0 (never summed):
+computed when the link carries light. A block made afresh because leaves under r changed (j
+unmoved) takes the form factors of the leaves that did not from the block it had: only the new
+leaves' are computed. When the arena holds twice the pairs in use, the blocks in use
 are copied together. V and B are read at each call (they change with every solve). After any
 change the result equals the plain gather (tested).
 

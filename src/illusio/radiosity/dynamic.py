@@ -13,7 +13,6 @@ forced fine level), then refines like any link. The solution is then re-solved f
 
 from __future__ import annotations
 
-import dataclasses
 import time
 
 import numba
@@ -279,10 +278,7 @@ def move_object(sol, name: str, matrix: np.ndarray, tolerance: float = 1e-4, max
     h = sol.hierarchy
     group, elements, old_box = _detach(sol, name)
     h.transform(elements, matrix)
-    corners = sol.polygons.corners.copy()
-    rows = np.flatnonzero(sol.polygons.group == group)
-    corners[rows] = corners[rows] @ np.asarray(matrix, np.float64)[:3, :3].T + np.asarray(matrix, np.float64)[:3, 3]
-    sol.polygons = dataclasses.replace(sol.polygons, corners=corners)  # never edit the caller's
+    sol.polygons = sol.polygons.moved(group, matrix)  # never edit the caller's
     sol.hierarchy.polygons = sol.polygons
     sol.visibility.rebuild()
     new_box = _object_box(sol, elements)

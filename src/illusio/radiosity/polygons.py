@@ -15,6 +15,7 @@ own side (Polygons.side); the twin of an emitting face emits nothing.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass, field
 
@@ -178,6 +179,22 @@ class Polygons:
             {**self.textures, **({g: next(iter(other.textures.values()))} if other.textures else {})},
             np.r_[self.sides(), other.sides()] if self.side is not None or other.side is not None else None,
         )
+
+    def moved(self, group: int, matrix: np.ndarray) -> Polygons:
+        """These polygons with group ``group``'s corners moved by the 4×4 world ``matrix`` (a new
+        object: the caller's stay as they are). Where the matrix keeps angles (a rotation and a
+        uniform scale) the surfaces are kept: a surface lies within one group, and such a move keeps
+        its shared edges and the angles between its normals (a drag pays no fresh surfaces)."""
+        matrix = np.asarray(matrix, np.float64)
+        rows = np.flatnonzero(self.group == group)
+        corners = self.corners.copy()
+        corners[rows] = corners[rows] @ matrix[:3, :3].T + matrix[:3, 3]
+        out = dataclasses.replace(self, corners=corners)
+        linear = matrix[:3, :3] @ matrix[:3, :3].T
+        cached = getattr(self, "_surfaces", None)
+        if cached is not None and np.allclose(linear, linear[0, 0] * np.eye(3), rtol=0, atol=1e-9 * abs(linear[0, 0])):
+            out._surfaces = cached
+        return out
 
     def split_slivers(self, piece_length: float) -> Polygons:
         """Every quad longer than max(4 × its width, ``piece_length``) (m) cut across its length into

@@ -10,7 +10,8 @@ next round's pairs. The criteria (``params.CRITERIA``), with Φ the total emitte
   "BF": the mesh as fine in the shadows as in the light);
 - bfv: refine when B_j·F_ij·V_ij·A_i > ε·Φ — the transfer the link carries (HSA91's BFV, as the
   chapter uses it: coarser in the shadows, finer in the light, fewer links).
-(Before issue 31, bf was the second and bfv refined partial links further.)
+(Before issue 31, bf was the second and bfv refined partial links further.) Under bf a pair's F comes
+first and its V (the rays) only where it is read: a pair that splits never reads it.
 
 A pair straddling a plane (some corners of one behind the other) is refined while it can be: its
 centre-to-centre estimate is unreliable: it is refined while the bound B_j·A_j·A_i/(π r² + A_j) (both
