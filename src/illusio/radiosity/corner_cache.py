@@ -282,8 +282,8 @@ class CornerGather:
         old = block[fresh]
         reusable = (old >= 0) & ~moved[s[fresh]]
         reusable[reusable] = self._ready[old[reusable]]
-        old_offset = np.where(reusable, self._offset[np.maximum(old, 0)] if len(self._offset) else -1, -1)
-        old_count = np.where(reusable, self._count[np.maximum(old, 0)] if len(self._count) else 0, 0)
+        old_offset, old_count = np.full(len(fresh), -1, np.int64), np.zeros(len(fresh), np.int64)
+        old_offset[reusable], old_count[reusable] = self._offset[old[reusable]], self._count[old[reusable]]
         kept_leaf = np.zeros(len(h), np.bool_)
         kept_leaf[: len(self._asked)] = self._asked[: len(h)]
         kept_leaf &= ~moved
@@ -302,8 +302,8 @@ class CornerGather:
             leaf_under,
             s[fresh],
             ready,
-            old_offset.astype(np.int64),
-            old_count.astype(np.int64),
+            old_offset,
+            old_count,
             kept_leaf,
             np.ascontiguousarray(h.corners, np.float64),
             np.ascontiguousarray(h.centre, np.float64),

@@ -113,12 +113,13 @@ def refine(
             ff = known[kept]
             vis, cast = visibility.recast(recv, src, kept_rays[kept], boxes)
         transfer = transfer_estimate(h, recv, src, ff, radiosity)
+        area_r, area_s = h.area[recv], h.area[src]
+        can_r, can_s = area_r / 4 >= min_area, area_s / 4 >= min_area
         if vis is None and criterion == "bf":
             # bf splits on the unoccluded transfer: a pair it splits never reads its V (the straddle
             # test below only adds splits), so its rays are not cast — unless it is at the minimum
             # area on both ends and stays a link
-            splits = needs_refinement(transfer, None, threshold, criterion)
-            splits &= (h.area[recv] / 4 >= min_area) | (h.area[src] / 4 >= min_area)
+            splits = needs_refinement(transfer, None, threshold, criterion) & (can_r | can_s)
             vis = np.zeros(len(recv))
             vis[~splits] = visibility.cast_visibility(samples, ~splits)
         elif vis is None:
@@ -131,8 +132,6 @@ def refine(
             point_bound = a_s / (np.pi * d2 + a_s)
             b = channel_max(h.radiosity if radiosity is None else radiosity)[src[straddle]]
             split[straddle] |= b * point_bound * h.area[recv[straddle]] > threshold
-        area_r, area_s = h.area[recv], h.area[src]
-        can_r, can_s = area_r / 4 >= min_area, area_s / 4 >= min_area
         split_src = split & can_s & ((area_s >= area_r) | ~can_r)
         split_recv = split & ~split_src & can_r
         accept = ~(split_src | split_recv)
