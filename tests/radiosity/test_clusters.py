@@ -31,7 +31,7 @@ from illusio.radiosity.clusters import (
 from illusio.radiosity.formfactor import point_polygon
 from illusio.radiosity.hierarchy import Hierarchy
 from illusio.radiosity.links import Links
-from illusio.radiosity.visibility import stream_uniform
+from illusio.radiosity.visibility import element_states, stream_uniform
 from illusio.scene import load_scene
 from illusio.scene.builtin import shapes
 from illusio.scene.scene import Node
@@ -269,12 +269,18 @@ def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
     seed = np.uint64(rng.integers(0, 2**63))
     roots_a = tree.node_members(h, receivers, k, seed, RECEIVER_SLOT)
     roots_b = tree.node_members(h, sources, k, seed, SOURCE_SLOT)
-    # the points' parameters: the stream's uniforms at the slots after each end's member's
+    # the points' parameters: on the receiving side one of the member's own points (sample s of an
+    # element receiver, else the one the stream's uniform after the member's draw picks); on the
+    # sending side the stream's uniforms at the slots after the member's
     counter = (np.arange(n * k) * DRAWS_PER_SAMPLE).reshape(n, k, 1)
-    uv_a = reference.stream_uniform(seed, counter + RECEIVER_SLOT + np.array([1, 2]))
+    picked = np.minimum((reference.stream_uniform(seed, counter[..., 0] + RECEIVER_SLOT + 1) * k).astype(int), k - 1)
+    slots = np.where((receivers >= 0)[:, None], np.arange(k)[None], picked)
+    point_seed = np.uint64(rng.integers(0, 2**63))
+    uv_a = reference.element_uv(point_seed, np.maximum(roots_a, 0), slots, k)
     uv_b = reference.stream_uniform(seed, counter + SOURCE_SLOT + np.array([1, 2]))
     origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
     dist, counted, weight = np.empty(n * k, np.float32), np.empty(n * k, bool), np.empty(n * k)
+    slot = np.empty(n * k, np.int64)
     reflect, bright, open_share = rng.random((len(h), 3)), rng.random((len(h), 3)), rng.random(len(h))
     _cluster_rays(
         h.corners,
@@ -288,6 +294,7 @@ def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
         roots_a,
         roots_b,
         seed,
+        element_states(point_seed, np.arange(len(h))),
         offset,
         origin,
         unit,
@@ -295,7 +302,9 @@ def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
         dist,
         counted,
         weight,
+        slot,
     )
+    np.testing.assert_array_equal(slot.reshape(n, k)[roots_a >= 0], slots[roots_a >= 0])
     # plain: the points, lifted; the segment; counted where both exist and it goes front to front
     a = h.sample_points(np.maximum(roots_a, 0).ravel(), uv_a.reshape(-1, 1, 2))[:, 0]
     b = h.sample_points(np.maximum(roots_b, 0).ravel(), uv_b.reshape(-1, 1, 2))[:, 0]

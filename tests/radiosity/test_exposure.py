@@ -60,3 +60,56 @@ def test_the_back_of_a_one_sided_face_hides_a_point_unless_a_two_sided_face_come
     up = np.tile(np.float32([0, 1, 0]), (2000, 1))
     exposed = visibility.exposed(points.astype(np.float32), up)
     np.testing.assert_array_equal(exposed, points[:, 0] < 0)
+
+
+def test_elements_own_points_match_their_plain_statement_and_fill_the_grid(rng):
+    """element_grids (numba) against reference.element_uv (NumPy) bit for bit; each element's 16
+    points one per cell of its 4×4 grid; 10 points the first 10 of the 16; the same at every call,
+    another set on another element or under another seed."""
+    from illusio.radiosity import reference
+    from illusio.radiosity.visibility import element_grids
+
+    elements = rng.integers(0, 2**31, 500)
+    seed = int(rng.integers(0, 2**63))
+    uv = element_grids(elements, 16, seed)
+    np.testing.assert_array_equal(uv, reference.element_uv(seed, elements[:, None], np.arange(16)[None], 16))
+    cells = np.floor(uv * 4).astype(int)
+    assert (np.sort(cells[..., 0] * 4 + cells[..., 1], axis=1) == np.arange(16)).all()
+    np.testing.assert_array_equal(element_grids(elements, 10, seed), uv[:, :10])
+    np.testing.assert_array_equal(element_grids(elements[::-1], 16, seed), uv[::-1])
+    assert not np.isclose(element_grids(elements, 16, seed + 1), uv).any(axis=2).all()
+    assert not np.isclose(uv[1:], uv[:-1]).all(axis=2).any()
+
+
+def test_an_elements_point_is_probed_once_a_scene_and_answers_as_a_fresh_probe(mgf_scenes, rng):
+    """Visibility.exposed_points: the answer of a fresh probe at each point asked (points of
+    elements in contact and free ones, subdivided elements too), each distinct point probed once
+    against the scene, none again when asked again, all again after a rebuild."""
+    from illusio.radiosity.visibility import element_grids
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        polygons = scene_polygons(load_mgf(mgf_scenes / "office2.mgf"))
+    h = Hierarchy(polygons)
+    h.subdivide(rng.choice(h.roots, 200, replace=False))
+    visibility = Visibility(h)
+    k = visibility.samples
+    elements = rng.choice(np.flatnonzero(h.active), 6000)
+    slots = rng.integers(0, k, len(elements))
+    uv = element_grids(elements, k, visibility.point_seed)[np.arange(len(elements)), slots]
+    up = h.normal[elements].astype(np.float32)
+    origins = (h.sample_points(elements, uv[:, None])[:, 0] + visibility.offset * h.normal[elements]).astype(np.float32)
+    fresh = visibility.exposed(origins, up)
+    assert 0 < (~fresh).sum() < len(fresh)
+    distinct = len(np.unique(elements * k + slots))
+    assert distinct < len(elements)  # some points asked twice
+    start = visibility.rays
+    rows = rng.permutation(len(elements))
+    np.testing.assert_array_equal(visibility.exposed_points(elements, slots, origins, up, rows), fresh[rows])
+    assert visibility.rays - start == distinct
+    start = visibility.rays
+    np.testing.assert_array_equal(visibility.exposed_points(elements, slots, origins, up), fresh)
+    assert visibility.rays == start
+    visibility.rebuild()
+    np.testing.assert_array_equal(visibility.exposed_points(elements, slots, origins, up), fresh)
+    assert visibility.rays - start == distinct

@@ -65,7 +65,14 @@ def test_recast_with_kept_rays_equals_a_full_recast():
         visibility, rays = vis.recast(L.receiver[have], L.source[have], np.full(len(have), NO_RAYS), [])
         np.testing.assert_array_equal(rays, L.rays[have])
         np.testing.assert_array_equal(visibility, L.visibility[have])
-        assert vis.rays - start == 2 * vis.samples * len(have)
+        # every ray, and a probe at each receiving point whose answer this scene has not kept
+        cast_now = vis.rays - start
+        assert vis.samples * len(have) <= cast_now <= 2 * vis.samples * len(have)
+        # asked again: the same answer, and the probes' answers kept (each point probed once)
+        start = vis.rays
+        again, _ = vis.recast(L.receiver[have], L.source[have], np.full(len(have), NO_RAYS), [])
+        np.testing.assert_array_equal(again, visibility)
+        assert vis.rays - start == vis.samples * len(have)
     assert min(kept_links) > 0 and max(kept_links) > 50
 
 
@@ -87,5 +94,45 @@ def test_recast_casts_only_the_rays_through_the_boxes():
     np.testing.assert_array_equal(rays, L.rays[have])
     everywhere = [(np.full(3, -50.0), np.full(3, 50.0))]
     visibility, _ = vis.recast(L.receiver[have], L.source[have], L.rays[have], everywhere)
-    assert vis.rays - start == 2 * vis.samples * len(have)
+    # every ray; the probes only at points this scene has not answered yet
+    assert vis.samples * len(have) <= vis.rays - start < 2 * vis.samples * len(have)
     np.testing.assert_array_equal(visibility, L.visibility[have])
+
+
+def test_the_probes_answers_kept_through_moves_are_what_a_fresh_probe_gives():
+    """Visibility.rebuild(moved=boxes) keeps the exposure answers of points whose probe meets
+    neither box: a crate dragged over the Cornell box's floor and onto the spot it left, every
+    answer kept after each move against a probe cast afresh at that point, and the crate's own
+    points (moved) and those under it asked again."""
+    from illusio.radiosity.visibility import CACHED_POINTS, element_grids
+
+    sol = _crate_in_cornell()
+    vis, h = sol.visibility, sol.hierarchy
+    k = vis.samples
+    move = np.eye(4)
+    move[0, 3] = 0.05
+    for step in range(5):
+        sol.move_object("crate", move if step < 3 else np.linalg.inv(move))
+        cache = vis._exposure
+        known = (cache[:, None] >> np.arange(k).astype(np.uint64)) & np.uint64(1) == 1
+        elements, slots = np.nonzero(known)
+        assert len(elements) > 1000
+        uv = element_grids(elements, k, vis.point_seed)[np.arange(len(elements)), slots]
+        up = h.normal[elements].astype(np.float32)
+        origins = (h.sample_points(elements, uv[:, None])[:, 0] + vis.offset * h.normal[elements]).astype(np.float32)
+        kept = ((cache[elements] >> (slots + CACHED_POINTS).astype(np.uint64)) & np.uint64(1)).astype(bool)
+        np.testing.assert_array_equal(kept, vis.exposed(origins, up))
+    # which answers a rebuild drops, against a plain slab test of each known point's probe ray
+    box = (np.array([0.2, 0.0, 0.2]), np.array([0.45, 0.3, 0.45]))
+    vis.rebuild(moved=[box])
+    lo, hi = box[0] - vis.offset, box[1] + vis.offset
+    o, d = origins.astype(np.float64), h.normal[elements]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0, t1 = (lo - o) / d, (hi - o) / d
+    inside = (o >= lo) & (o <= hi)
+    near = np.where(d == 0, np.where(inside, -np.inf, np.inf), np.minimum(t0, t1)).max(axis=1)
+    far = np.where(d == 0, np.where(inside, np.inf, -np.inf), np.maximum(t0, t1)).min(axis=1)
+    meets = np.maximum(near, 0) <= far
+    assert 0 < meets.sum() < len(meets)
+    still = ((vis._exposure[elements] >> slots.astype(np.uint64)) & np.uint64(1)).astype(bool)
+    np.testing.assert_array_equal(still, ~meets)

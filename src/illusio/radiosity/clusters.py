@@ -69,7 +69,7 @@ from ..core.memory import release_free_heap
 from ..core.rays import cast
 from .hierarchy import Hierarchy, point_on
 from .refine import CHUNK, channel_max, refine
-from .visibility import stream_uniform
+from .visibility import element_uv, stream_uniform
 
 __all__ = ["ClusterTree", "ClusterLinks", "ClusteredGather", "refine_nodes", "is_cluster", "cluster_node"]
 
@@ -283,8 +283,9 @@ class ClusterTree:
         return out
 
 
-#: the uniforms a sample of a cluster link draws from the stream: its receiving member, the
-#: point's (u, v) there, its sending member, the point's (u, v) there (slots 0–5)
+#: the uniforms a sample of a cluster link draws from the stream: its receiving member, which of
+#: that member's own points (element_uv), its sending member, the point's (u, v) there (slots 0–5;
+#: slot 2 unused)
 DRAWS_PER_SAMPLE = 8
 RECEIVER_SLOT, SOURCE_SLOT = 0, 3
 
@@ -814,6 +815,7 @@ def _cluster_rays(
     roots_a,
     roots_b,
     seed,
+    point_state,
     offset,
     origin,
     unit,
@@ -821,10 +823,13 @@ def _cluster_rays(
     dist,
     counted,
     weight,
+    slot,
 ):
-    """Per sample s of pair p (row i = p·k + s): the ray from the point on roots_a[p, s] to the
-    point on roots_b[p, s] (uniform on each: its (u, v) the stream's uniforms of row i at the slots
-    after the member's, ``seed`` the call's), both lifted by ``offset`` along their normals (origin, unit direction,
+    """Per sample s of pair p (row i = p·k + s): the ray from a point of roots_a[p, s]'s own grid
+    (visibility.element_uv of its ``point_state``: point s where the receiver is that element, else the
+    point the stream's uniform of row i after the member's draws; ``slot``) to the point on
+    roots_b[p, s] (uniform: its (u, v) the stream's uniforms of row i at the slots after the
+    member's, ``seed`` the call's), both lifted by ``offset`` along their normals (origin, unit direction,
     the receiver's normal ``up``, length short of the target by ``offset``, float32, as Embree takes
     them), whether the ray counts — both points exist, it leaves the receiver's front toward the
     source's front, and it is longer than 2·offset — and its weight in V, ρ_a·cos θ_a·cos θ_b·B_b
@@ -832,6 +837,7 @@ def _cluster_rays(
     count), ρ_a and B_b times the member's ``open_share`` where that end (``receivers[p]``,
     ``sources[p]``) is a cluster."""
     n, k = roots_a.shape
+    side = int(np.ceil(np.sqrt(k)))
     for p in numba.prange(n):
         for s in range(k):
             i = p * k + s
@@ -842,8 +848,11 @@ def _cluster_rays(
                 continue
             up[i, 0], up[i, 1], up[i, 2] = normal[ea, 0], normal[ea, 1], normal[ea, 2]
             at = np.uint64(i * DRAWS_PER_SAMPLE)
-            ua = stream_uniform(seed, at + np.uint64(RECEIVER_SLOT + 1))
-            va = stream_uniform(seed, at + np.uint64(RECEIVER_SLOT + 2))
+            # the receiving point is one of its member's own points: sample s of an element's own
+            # grid, a drawn one of a member's (the probe's answer there is kept)
+            t = s if receivers[p] >= 0 else min(int(stream_uniform(seed, at + np.uint64(RECEIVER_SLOT + 1)) * k), k - 1)
+            slot[i] = t
+            ua, va = element_uv(point_state[ea], t, side)
             ub = stream_uniform(seed, at + np.uint64(SOURCE_SLOT + 1))
             vb = stream_uniform(seed, at + np.uint64(SOURCE_SLOT + 2))
             a0, a1, a2 = point_on(corners, triangle, ea, ua, va)
@@ -886,7 +895,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     roots_b = tree.node_members(h, sources, k, seed, SOURCE_SLOT)
     origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
     dist, counted = np.empty(n * k, np.float32), np.empty(n * k, np.bool_)
-    weight = np.empty(n * k)
+    weight, slot = np.empty(n * k), np.zeros(n * k, np.int64)
     # a cluster's members weigh by their openness too: a closed box's inner faces and a board's
     # back against a wall neither receive nor send what the cluster carries (the members drawn here
     # measured, each once a scene: after a move's rebuild only those a recast pair draws)
@@ -903,6 +912,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         roots_a,
         roots_b,
         seed,
+        visibility.point_states(),
         visibility.offset,
         origin,
         unit,
@@ -910,12 +920,13 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
         dist,
         counted,
         weight,
+        slot,
     )
     chosen = np.flatnonzero(counted)
     if len(chosen):
         # a receiving point in contact with something (a face against another, inside a closed
         # object) is not part of a visible surface: left out, as the element links' V leaves it
-        counted[chosen] = visibility.exposed(origin[chosen], up[chosen])
+        counted[chosen] = visibility.exposed_points(roots_a.reshape(-1), slot, origin, up, chosen)
         chosen = chosen[counted[chosen]]
     clear = np.zeros(n * k, bool)
     if len(chosen):

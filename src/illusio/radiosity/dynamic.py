@@ -267,7 +267,7 @@ def remove_object(sol, name: str, tolerance: float = 1e-4, max_iterations: int =
     h.active[elements] = False
     h.radiosity[elements] = 0
     h.irradiance[elements] = 0
-    sol.visibility.rebuild()
+    sol.visibility.rebuild(moved=[box])
     _relink_shafts(sol, [box])
     return _finish(sol, t, "remove", tolerance, max_iterations)
 
@@ -280,8 +280,8 @@ def move_object(sol, name: str, matrix: np.ndarray, tolerance: float = 1e-4, max
     h.transform(elements, matrix)
     sol.polygons = sol.polygons.moved(group, matrix)  # never edit the caller's
     sol.hierarchy.polygons = sol.polygons
-    sol.visibility.rebuild()
     new_box = _object_box(sol, elements)
+    sol.visibility.rebuild(moved=[old_box, new_box])
     _relink_shafts(sol, [old_box, new_box])
     roots = h.roots[sol.polygons.group[h.polygon[h.roots]] == group]
     _link_object(sol, roots)

@@ -176,7 +176,6 @@ class RadiosityParams:
         "element": "only with show links",
         "hierarchy.criterion": "the final gather draws each pixel's light from the solution, so the mesh's "
         "refinement barely shows (bfv: 0.9/255); with gather_rays 0 it does",
-        "hierarchy.lights_to_leaves": "as hierarchy.criterion: 1.7/255 through the final gather",
         "hierarchy.refinements": "as hierarchy.criterion: 0.04/255 at 8 rounds through the final gather",
         "hierarchy.max_links": "a budget: the default scene stays far below it (at its low end, refused)",
         "tolerance": "a solve starts from the last solution, which the default view's build leaves within "

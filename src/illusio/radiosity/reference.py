@@ -155,3 +155,35 @@ def stream_uniform(seed: int, counter: np.ndarray) -> np.ndarray:
     z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
     z = z ^ (z >> np.uint64(31))
     return (z >> np.uint64(11)).astype(np.float64) * 2.0**-53
+
+
+def splitmix(z: np.ndarray) -> np.ndarray:
+    """SplitMix64's finaliser (stream_uniform's) over uint64 values, mod 2⁶⁴."""
+    z = np.asarray(z, np.uint64)
+    z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+    z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+    return z ^ (z >> np.uint64(31))
+
+
+def element_uv(seed: int, elements: np.ndarray, t: np.ndarray, samples: int) -> np.ndarray:
+    """(..., 2) point t of each element's own grid of ``samples`` points: a side × side grid
+    (side = ⌈√samples⌉), the element's state s = splitmix(seed·φ + splitmix(element + 1)) (φ the
+    golden ratio 0x9E3779B97F4A7C15), its shift splitmix(s + φ) mod side², point t in cell
+    (shift + t·(side + 1)) mod side², jittered by outputs 2t + 1 and 2t + 2 of the stream started
+    at s (stream_uniform's)."""
+    golden = np.uint64(0x9E3779B97F4A7C15)
+    side = int(np.ceil(np.sqrt(samples)))
+    cells = side * side
+    t = np.asarray(t, np.int64)
+    with np.errstate(over="ignore"):
+        state = splitmix(np.uint64(seed) * golden + splitmix(np.asarray(elements, np.uint64) + np.uint64(1)))
+        shift = (splitmix(state + golden) % np.uint64(cells)).astype(np.int64)
+        jitter = [
+            (splitmix(state + (np.asarray(2 * t + extra, np.uint64) + np.uint64(1)) * golden) >> np.uint64(11)).astype(
+                np.float64
+            )
+            * 2.0**-53
+            for extra in (1, 2)
+        ]
+    cell = (shift + t * (side + 1)) % cells
+    return np.stack([(cell % side + jitter[0]) / side, (cell // side + jitter[1]) / side], axis=-1)

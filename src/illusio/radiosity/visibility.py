@@ -1,8 +1,9 @@
 """Form factor and visibility of a link, from one set of sample points.
 
-Sample s of a link joins a point x_s of a jittered grid on the receiver i to a point y_s of a
-differently ordered jittered grid on the source j (both lifted off their surfaces by ``offset`` so a
-ray does not hit its own ends); the rays are cast with Embree (embreex).
+Sample s of a link joins point x_s of the receiver i's own jittered grid (:func:`element_grids`:
+drawn from a hash of the seed and i, the same for every link i receives) to a point y_s of a jittered
+grid drawn for the link on the source j (both lifted off their surfaces by ``offset`` so a ray does
+not hit its own ends); the rays are cast with Embree (embreex).
 
 - F_ij: the exact point-to-polygon form factor (:func:`formfactor.point_polygon`) averaged over the
   first ``form_factor_points`` of the x_s: quadrature over the receiver, exact over the source;
@@ -10,11 +11,13 @@ ray does not hit its own ends); the rays are cast with Embree (embreex).
   exposed: a probe ray along the normal meets nothing within ``contact`` = 0.2 % of the scene's
   extent and does not meet the back of a face (the point is then inside a closed object). The part of
   an element under a board or behind a door in contact with it is not part of the surface anyone
-  sees, and counting it would darken the whole element. Its type (VISIBLE, PARTIAL, INVISIBLE): all counted rays clear,
-  some, none.
+  sees, and counting it would darken the whole element. A point's probe is cast once per scene and
+  its answer kept for every link that starts there (:meth:`Visibility.exposed_points`); only the
+  samples that go front to front are probed, only the exposed ones cast. Its type (VISIBLE,
+  PARTIAL, INVISIBLE): all counted rays clear, some, none.
 
 A link cast again because something moved near it (:meth:`Visibility.recast`: its ends did not move)
-takes its sample points from its pair (a hash of receiver, source and seed) instead of the shared
+takes its source's points from its pair (a hash of receiver, source and seed) instead of the shared
 stream, so the next recast of that link draws the same rays; it keeps what each ray gave (two 16-bit
 masks, ``Links.rays``) and casts again only the rays that meet the boxes of what moved — a ray that
 meets neither box gives what it gave before (what moved was inside them; nothing else changed:
@@ -32,7 +35,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..core.rays import cast
 from .formfactor import point_polygon
-from .hierarchy import Hierarchy
+from .hierarchy import Hierarchy, point_on
 
 __all__ = [
     "Visibility",
@@ -42,6 +45,7 @@ __all__ = [
     "INVISIBLE",
     "link_type",
     "pair_grids",
+    "element_grids",
     "jittered_grid",
     "cosine_directions",
     "KEPT_SAMPLES",
@@ -114,6 +118,10 @@ def _segments(a, b, receiver_normal, source_normal, offset):
 KEPT_SAMPLES = 16
 NO_RAYS = -1
 
+#: the most points of an element's grid whose exposure the scene keeps (Visibility.exposed_points):
+#: bits 0–31 of a uint64 per element say which are known, bits 32–63 their answers
+CACHED_POINTS = 32
+
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
 
 
@@ -176,6 +184,105 @@ def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: i
             out_source,
         )
     return out_receiver, out_source
+
+
+@numba.njit(cache=True)
+def _element_states(seed, elements, out):
+    for p in range(len(elements)):
+        out[p] = splitmix(seed * _GOLDEN + splitmix(np.uint64(elements[p]) + np.uint64(1)))
+
+
+def element_states(seed: int, elements: np.ndarray) -> np.ndarray:
+    """(n,) uint64: the state of each element's own points (:func:`element_uv`), a hash of
+    (``seed``, element)."""
+    elements = np.asarray(elements, np.int64)
+    out = np.empty(len(elements), np.uint64)
+    _element_states(np.uint64(seed), elements, out)
+    return out
+
+
+@numba.njit(cache=True, inline="always")
+def element_uv(state, t, side):
+    """(u, v) of point t of an element's own jittered grid (side × side cells), ``state`` its
+    element_states': cell (shift + t·(side + 1)) mod side² — a stride prime to side², so the first
+    points spread over rows and columns —, the shift and the jitter from the stream started at
+    ``state``."""
+    cells = side * side
+    shift = int(splitmix(state + _GOLDEN) % np.uint64(cells))
+    cell = (shift + t * (side + 1)) % cells
+    u = stream_uniform(state, np.uint64(2 * t + 1))
+    v = stream_uniform(state, np.uint64(2 * t + 2))
+    return (cell % side + u) / side, (cell // side + v) / side
+
+
+@numba.njit(cache=True)
+def _element_grids(state, samples, out):
+    side = int(np.ceil(np.sqrt(samples)))
+    for p in range(len(state)):
+        for t in range(samples):
+            out[p, t, 0], out[p, t, 1] = element_uv(state[p], t, side)
+
+
+def element_grids(elements: np.ndarray, samples: int, seed: int) -> np.ndarray:
+    """(n, samples, 2) parameters in [0, 1)²: each element's own points (:func:`element_uv`), the
+    same at every call — the receiving end of every link's samples, so that what a probe found at a
+    point (Visibility.exposed_points) holds for every link that starts there."""
+    out = np.empty((len(elements), samples, 2))
+    _element_grids(element_states(seed, elements), int(samples), out)
+    return out
+
+
+@numba.njit(cache=True)
+def _claim_points(cache, elements, slots, rows):
+    """Of ``rows``, those whose point (elements[i], slots[i]) the cache does not know, each point
+    once (its first row); marks them known (their answers are stored next, by _store_points)."""
+    first = np.empty(len(rows), np.int64)
+    n = 0
+    for i in rows:
+        bit = np.uint64(1) << np.uint64(slots[i])
+        if not cache[elements[i]] & bit:
+            cache[elements[i]] |= bit
+            first[n] = i
+            n += 1
+    return first[:n]
+
+
+@numba.njit(cache=True)
+def _store_points(cache, elements, slots, rows, exposed):
+    for r in range(len(rows)):
+        if exposed[r]:
+            i = rows[r]
+            cache[elements[i]] |= np.uint64(1) << np.uint64(CACHED_POINTS + slots[i])
+
+
+@numba.njit(cache=True)
+def _read_points(cache, elements, slots, rows):
+    out = np.empty(len(rows), np.bool_)
+    for r in range(len(rows)):
+        i = rows[r]
+        out[r] = (cache[elements[i]] >> np.uint64(CACHED_POINTS + slots[i])) & np.uint64(1)
+    return out
+
+
+@numba.njit(parallel=True, cache=True)
+def _forget_points(cache, state, samples, corners, triangle, normal, offset, box_lo, box_hi):
+    """Clear the kept answers of the points whose probe (from the point lifted by ``offset``, along
+    the normal, at any distance) meets a box: what moved is inside the boxes, so the others stand."""
+    side = int(np.ceil(np.sqrt(samples)))
+    for e in numba.prange(len(cache)):
+        if cache[e] == 0:
+            continue
+        for t in range(samples):
+            bit = np.uint64(1) << np.uint64(t)
+            if not cache[e] & bit:
+                continue
+            u, v = element_uv(state[e], t, side)
+            p0, p1, p2 = point_on(corners, triangle, e, u, v)
+            o0, o1, o2 = p0 + offset * normal[e, 0], p1 + offset * normal[e, 1], p2 + offset * normal[e, 2]
+            for b in range(box_lo.shape[0]):
+                if _slab(o0, o1, o2, normal[e, 0], normal[e, 1], normal[e, 2], 1e300, box_lo[b], box_hi[b]):
+                    cache[e] &= ~(bit | (bit << np.uint64(CACHED_POINTS)))
+                    break
 
 
 def cosine_directions(normal: np.ndarray, uv: np.ndarray) -> np.ndarray:
@@ -371,6 +478,9 @@ class Visibility:
         self.samples = int(samples)
         self.form_factor_points = int(form_factor_points)
         self.seed = int(seed)
+        #: the seed of every element's own points (element_grids): a link's receiving end
+        self.point_seed = np.uint64((self.seed ^ 0x5A17E) & (2**63 - 1))
+        self._states = np.zeros(0, np.uint64)
         self.rng = np.random.default_rng(seed)
         self.rays = 0
         self.epoch, self._lifts = 0, None
@@ -378,8 +488,10 @@ class Visibility:
         self.version = 0
         self.rebuild()
 
-    def rebuild(self, exclude: np.ndarray | None = None) -> None:
-        """Rebuild the ray-casting scene from the active roots (``exclude``: root polygons left out)."""
+    def rebuild(self, exclude: np.ndarray | None = None, moved: list | None = None) -> None:
+        """Rebuild the ray-casting scene from the active roots (``exclude``: root polygons left out).
+        ``moved`` ([(lo, hi)], world metres): where everything that changed was and is — the probes'
+        answers kept at points whose probe meets none of the boxes stand; otherwise none does."""
         try:
             from embreex import rtcore_scene
             from embreex.mesh_construction import TriangleMesh
@@ -408,10 +520,19 @@ class Visibility:
         self.offset = 1e-5 * max(float(extent), 1e-6)
         self.extent = max(float(extent), 1e-6)
         self.contact = 2e-3 * self.extent
+        kept = getattr(self, "_exposure", None) if moved is not None else None
         if self._lifts != (self.offset, self.contact):  # the rays a link kept were cast otherwise
             self._lifts, self.epoch = (self.offset, self.contact), self.epoch + 1
+            kept = None
         self.version += 1
         self._open = np.full(0, np.nan)  # openness per element, measured against this scene
+        self._exposure = np.zeros(0, np.uint64)  # exposure of elements' own points, this scene's
+        if kept is not None and len(kept) and self.samples <= CACHED_POINTS:
+            self._exposure = kept[: len(h)].copy()
+            states = self.point_states()
+            lo = np.array([b[0] for b in moved], np.float64).reshape(-1, 3) - self.offset
+            hi = np.array([b[1] for b in moved], np.float64).reshape(-1, 3) + self.offset
+            _forget_points(self._exposure, states, self.samples, h.corners, h.triangle, h.normal, self.offset, lo, hi)
         self.scene = rtcore_scene.EmbreeScene()
         if len(tris):
             TriangleMesh(self.scene, tris.astype(np.float32))
@@ -430,7 +551,8 @@ class Visibility:
         return form_factor, self.cast_visibility(samples)
 
     def form_factors(self, receivers: np.ndarray, sources: np.ndarray) -> tuple[np.ndarray, LinkSamples]:
-        """(F_ij (n,), the pairs' sample points): the points drawn from the shared stream, F from them;
+        """(F_ij (n,), the pairs' sample points): the receiver's own points (element_grids), the
+        source's drawn from the shared stream, F from them;
         V from the same points when :meth:`cast_visibility` is asked (for the pairs that need it: a
         pair the bf criterion splits never uses its V)."""
         n, k = len(receivers), self.samples
@@ -438,7 +560,7 @@ class Visibility:
             none = np.zeros((0, k, 3))
             return np.zeros(0), LinkSamples(np.zeros(0, np.int64), np.zeros(0, np.int64), none, none)
         h = self.hierarchy
-        a = h.sample_points(receivers, jittered_grid(n, k, self.rng))
+        a = h.sample_points(receivers, element_grids(receivers, k, self.point_seed))
         b = h.sample_points(sources, jittered_grid(n, k, self.rng))
         q = min(k, self.form_factor_points)
         form_factor = point_polygon(a[:, :q], h.normal[receivers], h.corners[sources], h.triangle[sources])
@@ -455,15 +577,20 @@ class Visibility:
         h = self.hierarchy
         receiver_normal = h.normal[receivers]
         origins, directions, dists, up = _segments(a, b, receiver_normal, h.normal[sources], self.offset)
-        hit = cast(self.scene, origins, directions, dists, "OCCLUDED")
+        facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
         # a sample point with something right above it (under a board on a wall, behind a door in
         # contact) is not part of the surface anyone sees: a probe along the normal finds it
         # contact, or inside a closed object (the probe meets the back of a face: under a door that
-        # stands on the wall, the points are inside the door)
-        exposed = self._probe(origins, up)
-        self.rays += 2 * n * k
-        facing = _front_to_front(directions, receiver_normal, h.normal[sources], k)
-        visibility, _ = _fraction_and_masks(np.asarray(hit) < 0, exposed, k, self.epoch, False, facing)
+        # stands on the wall, the points are inside the door). Only the samples that count are
+        # probed, and only the exposed ones cast.
+        rows = np.flatnonzero(facing)
+        exposed = np.zeros(n * k, np.bool_)
+        exposed[rows] = self.exposed_points(np.repeat(receivers, k), np.tile(np.arange(k), n), origins, up, rows)
+        rows = rows[exposed[rows]]
+        clear = np.zeros(n * k, np.bool_)
+        clear[rows] = np.asarray(cast(self.scene, origins[rows], directions[rows], dists[rows], "OCCLUDED")) < 0
+        self.rays += len(rows)
+        visibility, _ = _fraction_and_masks(clear, exposed, k, self.epoch, False, facing)
         return visibility
 
     def _probe(self, origins: np.ndarray, up: np.ndarray) -> np.ndarray:
@@ -513,6 +640,33 @@ class Visibility:
             return np.ones(len(origins), bool)
         self.rays += len(origins)
         return self._probe(np.ascontiguousarray(origins, np.float32), np.ascontiguousarray(normals, np.float32))
+
+    def exposed_points(self, elements, slots, origins, up, rows=None) -> np.ndarray:
+        """:meth:`exposed` at ``rows`` (indices; default all) of per-row arrays: point ``slots[i]``
+        of element ``elements[i]``'s own grid (element_grids), ``origins[i]`` that point lifted and
+        ``up[i]`` its normal. Each point is probed once against this scene, its answer kept for
+        every later link that starts there. Returns (len(rows),) bool."""
+        elements, slots = np.asarray(elements, np.int64), np.asarray(slots, np.int64)
+        rows = np.arange(len(elements)) if rows is None else np.asarray(rows, np.int64)
+        if self.empty or self.samples > CACHED_POINTS or not len(rows):
+            return self.exposed(origins[rows], up[rows])
+        n = len(self.hierarchy)
+        if len(self._exposure) < n:
+            grown = np.zeros(max(n, 2 * len(self._exposure)), np.uint64)
+            grown[: len(self._exposure)] = self._exposure
+            self._exposure = grown
+        first = _claim_points(self._exposure, elements, slots, rows)
+        if len(first):
+            probed = self.exposed(origins[first], up[first])
+            _store_points(self._exposure, elements, slots, first, probed)
+        return _read_points(self._exposure, elements, slots, rows)
+
+    def point_states(self) -> np.ndarray:
+        """(n,) uint64: every element's element_states (ids are never reused: grown, never redone)."""
+        n, have = len(self.hierarchy), len(self._states)
+        if have < n:
+            self._states = np.r_[self._states, element_states(self.point_seed, np.arange(have, max(n, 2 * have)))]
+        return self._states
 
     def reach(self, elements: np.ndarray, rays: int = 64) -> np.ndarray:
         """Per element (n,): Σ_j F_ej V_ej over reflecting surfaces as rays measure it — the share of
@@ -587,16 +741,18 @@ class Visibility:
         self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list
     ) -> tuple[np.ndarray, np.ndarray]:
         """(V_ij, rays) for pairs whose ends did not move, cast again after something moved inside
-        ``boxes`` ([(lo, hi)], world metres, covering where it was and where it is): their points from
-        :func:`pair_grids`; ``rays`` (n,) int64, what each pair kept at its last recast (NO_RAYS: none):
-        only the samples whose ray or probe meets a box are cast again. Returns V and what to keep."""
+        ``boxes`` ([(lo, hi)], world metres, covering where it was and where it is): the receiver's own
+        points (element_grids), the source's from :func:`pair_grids`; ``rays`` (n,) int64, what each
+        pair kept at its last recast (NO_RAYS: none): only the samples whose ray or probe meets a box
+        are cast again (a probe's answer kept by this scene is not). Returns V and what to keep."""
         n, k = len(receivers), self.samples
         rays = np.asarray(rays, np.int64)
         if n == 0:
             return np.zeros(0), np.zeros(0, np.int64)
         h = self.hierarchy
-        uv_receiver, uv_source = pair_grids(receivers, sources, k, self.seed)
-        a, b = h.sample_points(receivers, uv_receiver), h.sample_points(sources, uv_source)
+        _, uv_source = pair_grids(receivers, sources, k, self.seed)
+        a = h.sample_points(receivers, element_grids(receivers, k, self.point_seed))
+        b = h.sample_points(sources, uv_source)
         origins, directions, dists, up = _segments(a, b, h.normal[receivers], h.normal[sources], self.offset)
         keep = k <= KEPT_SAMPLES
         clear, exposed = np.ones(n * k, np.bool_), np.ones(n * k, np.bool_)
@@ -622,8 +778,10 @@ class Visibility:
                 clear[chosen] = np.asarray(hit) < 0
             chosen = np.flatnonzero(cast_probe)
             if len(chosen):
-                exposed[chosen] = self._probe(origins[chosen], up[chosen])
-            self.rays += int(cast_ray.sum() + cast_probe.sum())
+                exposed[chosen] = self.exposed_points(
+                    np.repeat(receivers, k), np.tile(np.arange(k), n), origins, up, chosen
+                )
+            self.rays += int(cast_ray.sum())
         else:
             clear[:], exposed[:] = True, True
         facing = _front_to_front(directions, h.normal[receivers], h.normal[sources], k)
