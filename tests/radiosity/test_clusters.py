@@ -280,7 +280,7 @@ def test_cluster_rays_and_node_boxes_match_their_plain_statement(rng):
     uv_b = reference.stream_uniform(seed, counter + SOURCE_SLOT + np.array([1, 2]))
     origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
     dist, counted, weight = np.empty(n * k, np.float32), np.empty(n * k, bool), np.empty(n * k)
-    slot = np.empty(n * k, np.int64)
+    slot = np.empty(n * k, np.uint8)
     reflect, bright, open_share = rng.random((len(h), 3)), rng.random((len(h), 3)), rng.random(len(h))
     _cluster_rays(
         h.corners,

@@ -113,3 +113,12 @@ def test_an_elements_point_is_probed_once_a_scene_and_answers_as_a_fresh_probe(m
     visibility.rebuild()
     np.testing.assert_array_equal(visibility.exposed_points(elements, slots, origins, up), fresh)
     assert visibility.rays - start == distinct
+    # per pair: sample i is point i % k of the i // k-th element given (as links' samples are)
+    some = elements[:300]
+    all_points = h.sample_points(some, element_grids(some, k, visibility.point_seed)).reshape(-1, 3)
+    lifted = (all_points + visibility.offset * np.repeat(h.normal[some], k, axis=0)).astype(np.float32)
+    normals = np.repeat(up[:300], k, axis=0)
+    rows = rng.permutation(len(lifted))[:2000]
+    np.testing.assert_array_equal(
+        visibility.exposed_points(some, None, lifted, normals, rows), visibility.exposed(lifted, normals)[rows]
+    )

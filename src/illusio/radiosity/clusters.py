@@ -895,7 +895,7 @@ def cluster_visibility(h, tree, visibility, receivers, sources, counted_rays: bo
     roots_b = tree.node_members(h, sources, k, seed, SOURCE_SLOT)
     origin, unit, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
     dist, counted = np.empty(n * k, np.float32), np.empty(n * k, np.bool_)
-    weight, slot = np.empty(n * k), np.zeros(n * k, np.int64)
+    weight, slot = np.empty(n * k), np.zeros(n * k, np.uint8)  # (k ≤ 256)
     # a cluster's members weigh by their openness too: a closed box's inner faces and a board's
     # back against a wall neither receive nor send what the cluster carries (the members drawn here
     # measured, each once a scene: after a move's rebuild only those a recast pair draws)

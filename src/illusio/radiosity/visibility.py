@@ -119,8 +119,9 @@ KEPT_SAMPLES = 16
 NO_RAYS = -1
 
 #: the most points of an element's grid whose exposure the scene keeps (Visibility.exposed_points):
-#: bits 0–31 of a uint64 per element say which are known, bits 32–63 their answers
-CACHED_POINTS = 32
+#: bits 0–15 of a uint32 per element say which are known, bits 16–31 their answers (4 bytes an
+#: element: the Graz office at RenderPark's element count is at its memory already)
+CACHED_POINTS = 16
 
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
 
@@ -232,35 +233,45 @@ def element_grids(elements: np.ndarray, samples: int, seed: int) -> np.ndarray:
     return out
 
 
+@numba.njit(cache=True, inline="always")
+def _point_of(elements, slots, per, i):
+    """Row i's (element, point): per pair (``per`` > 0: sample i of pair i // per is point i % per
+    of elements[i // per]) or per row (elements[i], slots[i])."""
+    if per > 0:
+        return elements[i // per], i % per
+    return elements[i], slots[i]
+
+
 @numba.njit(cache=True)
-def _claim_points(cache, elements, slots, rows):
-    """Of ``rows``, those whose point (elements[i], slots[i]) the cache does not know, each point
-    once (its first row); marks them known (their answers are stored next, by _store_points)."""
+def _claim_points(cache, elements, slots, per, rows):
+    """Of ``rows``, those whose point the cache does not know, each point once (its first row);
+    marks them known (their answers are stored next, by _store_points)."""
     first = np.empty(len(rows), np.int64)
     n = 0
     for i in rows:
-        bit = np.uint64(1) << np.uint64(slots[i])
-        if not cache[elements[i]] & bit:
-            cache[elements[i]] |= bit
+        e, t = _point_of(elements, slots, per, i)
+        bit = np.uint64(1) << np.uint64(t)
+        if not cache[e] & bit:
+            cache[e] |= bit
             first[n] = i
             n += 1
     return first[:n]
 
 
 @numba.njit(cache=True)
-def _store_points(cache, elements, slots, rows, exposed):
+def _store_points(cache, elements, slots, per, rows, exposed):
     for r in range(len(rows)):
         if exposed[r]:
-            i = rows[r]
-            cache[elements[i]] |= np.uint64(1) << np.uint64(CACHED_POINTS + slots[i])
+            e, t = _point_of(elements, slots, per, rows[r])
+            cache[e] |= np.uint64(1) << np.uint64(CACHED_POINTS + t)
 
 
 @numba.njit(cache=True)
-def _read_points(cache, elements, slots, rows):
+def _read_points(cache, elements, slots, per, rows):
     out = np.empty(len(rows), np.bool_)
     for r in range(len(rows)):
-        i = rows[r]
-        out[r] = (cache[elements[i]] >> np.uint64(CACHED_POINTS + slots[i])) & np.uint64(1)
+        e, t = _point_of(elements, slots, per, rows[r])
+        out[r] = (cache[e] >> np.uint64(CACHED_POINTS + t)) & np.uint64(1)
     return out
 
 
@@ -526,7 +537,7 @@ class Visibility:
             kept = None
         self.version += 1
         self._open = np.full(0, np.nan)  # openness per element, measured against this scene
-        self._exposure = np.zeros(0, np.uint64)  # exposure of elements' own points, this scene's
+        self._exposure = np.zeros(0, np.uint32)  # exposure of elements' own points, this scene's
         if kept is not None and len(kept) and self.samples <= CACHED_POINTS:
             self._exposure = kept[: len(h)].copy()
             states = self.point_states()
@@ -585,7 +596,7 @@ class Visibility:
         # probed, and only the exposed ones cast.
         rows = np.flatnonzero(facing)
         exposed = np.zeros(n * k, np.bool_)
-        exposed[rows] = self.exposed_points(np.repeat(receivers, k), np.tile(np.arange(k), n), origins, up, rows)
+        exposed[rows] = self.exposed_points(receivers, None, origins, up, rows)
         rows = rows[exposed[rows]]
         clear = np.zeros(n * k, np.bool_)
         clear[rows] = np.asarray(cast(self.scene, origins[rows], directions[rows], dists[rows], "OCCLUDED")) < 0
@@ -642,30 +653,35 @@ class Visibility:
         return self._probe(np.ascontiguousarray(origins, np.float32), np.ascontiguousarray(normals, np.float32))
 
     def exposed_points(self, elements, slots, origins, up, rows=None) -> np.ndarray:
-        """:meth:`exposed` at ``rows`` (indices; default all) of per-row arrays: point ``slots[i]``
-        of element ``elements[i]``'s own grid (element_grids), ``origins[i]`` that point lifted and
-        ``up[i]`` its normal. Each point is probed once against this scene, its answer kept for
-        every later link that starts there. Returns (len(rows),) bool."""
-        elements, slots = np.asarray(elements, np.int64), np.asarray(slots, np.int64)
-        rows = np.arange(len(elements)) if rows is None else np.asarray(rows, np.int64)
+        """:meth:`exposed` at ``rows`` (indices; default all) of the samples ``origins`` (each the
+        point lifted) with their normals ``up``: sample i is point ``slots[i]`` of element
+        ``elements[i]``'s own grid (element_grids), or, with ``slots`` None, point i % k of
+        elements[i // k] (k samples per element given). Each point is probed once against this
+        scene, its answer kept for every later link that starts there. Returns (len(rows),) bool."""
+        elements, per = np.asarray(elements, np.int64), 0
+        if slots is None:
+            per, slots = len(origins) // max(len(elements), 1), np.zeros(0, np.uint8)
+        rows = np.arange(len(origins)) if rows is None else np.asarray(rows, np.int64)
         if self.empty or self.samples > CACHED_POINTS or not len(rows):
             return self.exposed(origins[rows], up[rows])
         n = len(self.hierarchy)
         if len(self._exposure) < n:
-            grown = np.zeros(max(n, 2 * len(self._exposure)), np.uint64)
+            grown = np.zeros(max(n, 2 * len(self._exposure)), np.uint32)
             grown[: len(self._exposure)] = self._exposure
             self._exposure = grown
-        first = _claim_points(self._exposure, elements, slots, rows)
+        first = _claim_points(self._exposure, elements, slots, per, rows)
         if len(first):
             probed = self.exposed(origins[first], up[first])
-            _store_points(self._exposure, elements, slots, first, probed)
-        return _read_points(self._exposure, elements, slots, rows)
+            _store_points(self._exposure, elements, slots, per, first, probed)
+        return _read_points(self._exposure, elements, slots, per, rows)
 
     def point_states(self) -> np.ndarray:
         """(n,) uint64: every element's element_states (ids are never reused: grown, never redone)."""
         n, have = len(self.hierarchy), len(self._states)
         if have < n:
-            self._states = np.r_[self._states, element_states(self.point_seed, np.arange(have, max(n, 2 * have)))]
+            self._states = np.r_[
+                self._states, element_states(self.point_seed, np.arange(have, max(n, have + have // 4)))
+            ]
         return self._states
 
     def reach(self, elements: np.ndarray, rays: int = 64) -> np.ndarray:
@@ -778,9 +794,7 @@ class Visibility:
                 clear[chosen] = np.asarray(hit) < 0
             chosen = np.flatnonzero(cast_probe)
             if len(chosen):
-                exposed[chosen] = self.exposed_points(
-                    np.repeat(receivers, k), np.tile(np.arange(k), n), origins, up, chosen
-                )
+                exposed[chosen] = self.exposed_points(receivers, None, origins, up, chosen)
             self.rays += int(cast_ray.sum())
         else:
             clear[:], exposed[:] = True, True
