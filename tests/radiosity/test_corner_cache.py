@@ -143,3 +143,59 @@ def test_the_cluster_links_light_on_display_takes_the_solves_scale_on_its_reflec
     np.testing.assert_allclose(lamps_only, sol.display_exitance(), rtol=1e-9, atol=1e-12)
     h.radiosity[:] = bright
     assert np.abs(whole - lamps_only).max() > 0.1 * np.abs(whole - exitance).max()  # the reflected part counts
+
+
+def _kept_sums_through_edits(tolerance: float) -> tuple[list[float], list[int]]:
+    """A CornerGather(tolerance) against the plain gather through lamps rescaled, an object added
+    and moved, the mesh refined: per call, the largest difference over the largest reflected B, and
+    the pairs summed."""
+    sol = Radiosity(scene_polygons(load_scene("cornell-box")), HierarchyParams(epsilon=1e-3)).build()
+    gather = CornerGather(tolerance)
+    errors, summed = [], []
+
+    def check():
+        h = sol.hierarchy
+        leaves, exitance = h.leaves(), sol.exitance()
+        plain = corner_gather(h, sol.links, leaves, exitance)
+        reflected = np.abs(h.radiosity - exitance).max()
+        errors.append(np.abs(gather(h, sol.links, leaves, exitance) - plain).max() / reflected)
+        summed.append(gather.summed)
+
+    check()
+    sol.set_lamps({sol.lamp_names[0]: 0.5})
+    check()
+    check()  # nothing changed
+    sol.set_lamps({sol.lamp_names[0]: 0.49})  # B moves by 2 %
+    check()
+    box = shapes.box((0.12, 0.12, 0.12))
+    corners, triangle = quads_from_triangles(np.asarray(box.vertices) + [0.3, 0.06, 0.3], box.faces)
+    n = len(corners)
+    sol.add_object(
+        Polygons(corners, triangle, np.full((n, 3), 0.5), np.zeros((n, 3)), np.zeros(n, int), ["crate"]), "crate"
+    )
+    check()
+    move = np.eye(4)
+    move[0, 3] = 0.03
+    for _ in range(3):
+        sol.move_object("crate", move)
+        check()
+    h = sol.hierarchy
+    sol.rerefine(np.flatnonzero(np.isin(sol.links.receiver, h.leaves()[:40])))
+    sol.solve()
+    check()
+    return errors, summed
+
+
+def test_kept_sums_stay_within_their_tolerance_of_the_plain_gather():
+    """CornerGather(tolerance): the sums kept between calls, a source's B carried into them once it
+    moved by more than tolerance × the largest reflected B: every corner within that of the plain
+    gather (ρ·Σ F·V ≤ 1) after each edit, fewer pairs summed than at tolerance 0, where it equals
+    the plain gather; nothing summed again when nothing changed."""
+    tolerance = 3e-3
+    errors, summed = _kept_sums_through_edits(tolerance)
+    exact_errors, exact_summed = _kept_sums_through_edits(0.0)
+    assert max(errors) <= tolerance * (1 + 1e-6)
+    assert max(errors) > 0.05 * tolerance  # the tolerance was used
+    assert max(exact_errors) < 1e-6  # (the form factors kept as float32)
+    assert summed[2] == exact_summed[2] == 0  # nothing changed
+    assert all(a <= b for a, b in zip(summed, exact_summed)) and sum(summed[5:8]) < 0.9 * sum(exact_summed[5:8])

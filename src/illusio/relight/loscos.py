@@ -9,12 +9,11 @@ import time
 import numpy as np
 
 from ..radiosity import (
-    CornerGather,
     Radiosity,
     leaf_mesh,
 )
 from . import estimate, prepare, textures
-from .corners import store_display_factor
+from .corners import corner_gather, store_display_factor
 
 
 def visibility_independent_textures(s) -> None:
@@ -88,7 +87,7 @@ def fresh_solution(s) -> None:
             s.params.final_hierarchy, lights_to_leaves=True, sliver_piece=0.0, contact_cuts=False, reach_rays=0
         ),
     ).build()
-    s.solution, s._gather = sol, CornerGather()
+    s.solution, s._gather = sol, corner_gather()
     h = sol.hierarchy
     element = prepare.pixel_leaf(s)
     count, mean_rho = prepare.leaf_pixels(s, rho_map, element)

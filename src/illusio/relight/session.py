@@ -23,7 +23,7 @@ import numpy as np
 from ..core.context import Context, default_context
 from ..core.errors import InputError
 from ..core.progress import phase
-from ..radiosity import CornerGather, DisplayPass, RadiosityParams, RadiosityRenderer, leaf_mesh
+from ..radiosity import DisplayPass, RadiosityParams, RadiosityRenderer, leaf_mesh
 from . import corners, edits, prepare, show
 from .display import display_for
 from .params import VIRTUAL_LAMP_SIZE, RelightParams
@@ -54,7 +54,7 @@ class RelightSession:
         )
         self.solution = self.renderer.solve(RadiosityParams(self.hierarchy_params))
         self.display = DisplayPass(self.ctx)
-        self._gather = CornerGather()  # the corners' form factors, kept between edits
+        self._gather = corners.corner_gather()
         self.strategy.refine(self)
         prepare.textures_to_leaves(self)
         self.display_factor = leaf_mesh(
@@ -166,7 +166,7 @@ class RelightSession:
         s.ctx, s.renderer = ctx or default_context(), None
         s.strategy = display_for(s.params.method)
         s.display = DisplayPass(s.ctx)
-        s._gather = CornerGather()
+        s._gather = corners.corner_gather()
         sol = s.solution
         s._geometry_key = (len(sol.hierarchy), len(sol.links), tuple(sol.lamp_names))
         if saved.basis is not None:
