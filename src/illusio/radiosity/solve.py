@@ -25,6 +25,8 @@ import numba
 import numpy as np
 
 from .hierarchy import Hierarchy
+from .links import LinkGather
+from .refine import channel_max
 
 __all__ = ["push_pull", "solve", "SolveResult", "form_factor_scale", "lamp_light_kept", "reflecting_sums"]
 
@@ -86,15 +88,17 @@ def form_factor_scale(h: Hierarchy, matrix, levels: list[np.ndarray], reach: np.
     if reach is not None:
         known = np.isfinite(reach) & (total > 1e-12)
         scale[known] = reach[known] / total[known]
-    gain = total * scale * h.reflectance.max(axis=1)
+    gain = total * scale * channel_max(h.reflectance)
     return np.where(gain > MAX_GAIN, scale * MAX_GAIN / np.maximum(gain, 1e-300), scale)
 
 
 def reflecting_sums(h: Hierarchy, matrix, levels: list[np.ndarray]) -> np.ndarray:
     """(n,) each element's Σ F·V to the surfaces that reflect (ρ > 0), its own links' and its
     ancestors' (K·1 over them, pushed down): what form_factor_scale caps and scales to a reach."""
-    reflects = (h.reflectance.max(axis=1) > 0).astype(np.float64)
-    total = np.asarray(matrix @ np.repeat(reflects[:, None], 3, axis=1), np.float64)[:, 0].copy()
+    reflects = (channel_max(h.reflectance) > 0).astype(np.float64)[:, None]
+    if not isinstance(matrix, LinkGather):  # (a cluster gather takes RGB)
+        reflects = np.repeat(reflects, 3, axis=1)
+    total = np.asarray(matrix @ reflects, np.float64)[:, 0].copy()
     for level in levels[1:]:
         total[level] += total[h.parent[level]]
     return total
@@ -110,7 +114,7 @@ def lamp_light_kept(
         return np.zeros_like(exitance, dtype=np.float64)
     zero = np.zeros_like(exitance, dtype=np.float64)
     lamps = np.asarray(matrix @ push_pull(h, zero, exitance, levels), np.float64)
-    return push_pull(h, lamps, zero, levels) - push_pull(h, lamps, zero, levels, scale)
+    return push_pull(h, lamps, zero, levels, 1.0 - scale)  # (push-pull is linear in the scale)
 
 
 @numba.njit(cache=True)
