@@ -32,6 +32,12 @@ def test_pair_grids_are_per_pair_stratified_and_repeatable(rng):
     ten, _ = pair_grids(receivers, sources, 10, seed=3)
     cell = (np.floor(ten[..., 1] * 4) * 4 + np.floor(ten[..., 0] * 4)).astype(int)
     assert all(len(set(row)) == 10 for row in cell)
+    # the source's alone (recast's): a grid of its own per pair, repeatable, not the pair's source grid
+    none, alone = pair_grids(receivers, sources, 16, seed=3, source_only=True)
+    cell = (np.floor(alone[..., 1] * 4) * 4 + np.floor(alone[..., 0] * 4)).astype(int)
+    assert none is None and (np.sort(cell, axis=1) == np.arange(16)).all()
+    np.testing.assert_array_equal(pair_grids(receivers[:50], sources[:50], 16, seed=3, source_only=True)[1], alone[:50])
+    assert not np.isclose(alone, uv_s).all(axis=(1, 2)).any()
 
 
 def _crate_in_cornell():

@@ -144,14 +144,14 @@ def stream_uniform(seed, counter):
 
 
 @numba.njit(cache=True)
-def _pair_grids(receivers, sources, samples, seed, out_receiver, out_source):
+def _pair_grids(receivers, sources, samples, seed, out_receiver, out_source, first):
     side = int(np.ceil(np.sqrt(samples)))
     cells = side * side
     perm = np.empty(cells, np.int64)
     for p in range(len(receivers)):
         state = splitmix(np.uint64(seed) * _GOLDEN + splitmix(np.uint64(receivers[p]) + np.uint64(1)))
         state = splitmix(state ^ splitmix(np.uint64(sources[p]) + np.uint64(0x632BE59BD9B4E019)))
-        for which in range(2):
+        for which in range(first, 2):
             out = out_receiver if which == 0 else out_source
             for c in range(cells):
                 perm[c] = c
@@ -168,13 +168,17 @@ def _pair_grids(receivers, sources, samples, seed, out_receiver, out_source):
                 out[p, t, 1] = (perm[t] // side + v) / side
 
 
-def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+def pair_grids(
+    receivers: np.ndarray, sources: np.ndarray, samples: int, seed: int, source_only: bool = False
+) -> tuple[np.ndarray | None, np.ndarray]:
     """(receiver, source) parameters (n, samples, 2) in [0, 1)² for each pair: jittered grids as
     :func:`jittered_grid` (one point per cell of a ⌈√samples⌉² grid, the cells in a random order,
     another order on the source), drawn from a hash of (receiver, source, seed): a pair gets the
-    same points at every call."""
+    same points at every call. ``source_only``: (None, the source's), drawn first from the hash (not
+    the source's grid of the pair: the receiver's draws are skipped)."""
     n = len(receivers)
-    out_receiver, out_source = np.empty((n, samples, 2)), np.empty((n, samples, 2))
+    out_receiver = np.empty((0 if source_only else n, samples, 2))
+    out_source = np.empty((n, samples, 2))
     if n:
         _pair_grids(
             np.asarray(receivers, np.int64),
@@ -183,8 +187,9 @@ def pair_grids(receivers: np.ndarray, sources: np.ndarray, samples: int, seed: i
             int(seed),
             out_receiver,
             out_source,
+            1 if source_only else 0,
         )
-    return out_receiver, out_source
+    return (None if source_only else out_receiver), out_source
 
 
 @numba.njit(cache=True)
@@ -766,7 +771,7 @@ class Visibility:
         if n == 0:
             return np.zeros(0), np.zeros(0, np.int64)
         h = self.hierarchy
-        _, uv_source = pair_grids(receivers, sources, k, self.seed)
+        _, uv_source = pair_grids(receivers, sources, k, self.seed, source_only=True)
         a = h.sample_points(receivers, element_grids(receivers, k, self.point_seed))
         b = h.sample_points(sources, uv_source)
         origins, directions, dists, up = _segments(a, b, h.normal[receivers], h.normal[sources], self.offset)
