@@ -89,10 +89,39 @@ def test_a_link_is_36_bytes_and_keeps_element_indices_to_two_billion(rng):
     receiver[0] = 2**31 - 1
     links = Links(receiver, receiver[::-1], rng.random(n), rng.random(n), rays=rng.integers(-1, 2**40, n))
     links.tag = rng.integers(-1, 2**31 - 1, n)
-    names = ("receiver", "source", "form_factor", "visibility", "tag", "rays")
-    assert sum(getattr(links, name).itemsize for name in names) == 36
+    assert links.item_bytes() == 36
     np.testing.assert_array_equal(links.receiver, receiver)
     np.testing.assert_array_equal(links.source, receiver[::-1])
+
+
+def test_a_builds_links_store_no_tags_or_rays_until_one_has_them(rng):
+    """A build's links have neither (24 bytes a link): they read as -1 through removals and growth;
+    the first rays or tag stored start their column with -1 for the links before, kept aligned."""
+    n = 3000
+    columns = [rng.integers(0, 900, n), rng.integers(0, 900, n), rng.random(n), rng.random(n)]
+    links = Links(*columns)
+    names = ("receiver", "source", "form_factor", "visibility", "tag", "rays")
+    plain = columns + [np.full(n, -1), np.full(n, -1)]
+    for step in range(5):
+        drop = rng.random(len(links)) < 0.2
+        gone = links.remove(drop)
+        for name, column in zip(names, plain):
+            np.testing.assert_array_equal(getattr(gone, name), column[drop])
+        plain = [column[~drop] for column in plain]
+        k = int(rng.integers(1, 3000))
+        new = [rng.integers(0, 900, k), rng.integers(0, 900, k), rng.random(k), rng.random(k)]
+        rays = rng.integers(-1, 2**40, k) if step >= 2 else np.full(k, -1)
+        links.extend(*new, rays=rays)
+        plain = [np.concatenate([p, c]) for p, c in zip(plain, new + [np.full(k, -1), rays])]
+        if step == 3:
+            plain[4] = rng.integers(-1, 50, len(links))
+            links.tag = plain[4]
+        assert links.item_bytes() == 24 + 8 * (step >= 2) + 4 * (step >= 3)
+        for name, column in zip(names, plain):
+            np.testing.assert_array_equal(getattr(links, name), column)
+        taken = links.take(plain[0] < 450)
+        for name, column in zip(names, plain):
+            np.testing.assert_array_equal(getattr(taken, name), column[plain[0] < 450])
 
 
 def test_channel_max_is_the_largest_channel_of_each_row(rng):

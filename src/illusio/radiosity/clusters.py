@@ -1147,4 +1147,5 @@ def refine_nodes(
     if element_pairs:
         r = np.concatenate([p[0] for p in element_pairs])
         s = np.concatenate([p[1] for p in element_pairs])
+        element_pairs.clear()  # the parts' copies freed before refinement's own working set
         refine(h, visibility, r, s, threshold, min_area, criterion, radiosity=radiosity, links=links)

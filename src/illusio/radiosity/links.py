@@ -17,7 +17,8 @@ __all__ = ["Links", "LinkGather"]
 @numba.njit(cache=True)
 def _compact(drop, receiver, source, tag, rays, form_factor, visibility):
     """Move the entries where not ``drop`` to the front of the six arrays, in order, in place; return
-    the entries where ``drop`` (fresh arrays, in order). One pass from the first removed entry and no
+    the entries where ``drop`` (fresh arrays, in order). ``tag`` and ``rays`` may be empty (the store
+    has none): they are skipped and come back empty. One pass from the first removed entry and no
     fresh memory for the kept links: ten masked copies of 217k links, and the page faults of their new
     arrays, cost 5× as much (a drag removes the object's links, the newest, at the end)."""
     gone = 0
@@ -26,17 +27,30 @@ def _compact(drop, receiver, source, tag, rays, form_factor, visibility):
         if drop[k]:
             gone += 1
             first = min(first, k)
-    gone_r, gone_s, gone_t = np.empty(gone, np.int64), np.empty(gone, np.int64), np.empty(gone, np.int64)
-    gone_x, gone_f, gone_v = np.empty(gone, np.int64), np.empty(gone), np.empty(gone)
+    has_tag, has_rays = len(tag) > 0, len(rays) > 0
+    gone_r, gone_s = np.empty(gone, np.int64), np.empty(gone, np.int64)
+    gone_t, gone_x = np.empty(gone if has_tag else 0, np.int64), np.empty(gone if has_rays else 0, np.int64)
+    gone_f, gone_v = np.empty(gone), np.empty(gone)
     a, b = first, 0  # the links before the first removed one stay where they are
     for k in range(first, len(drop)):
         if drop[k]:
-            gone_r[b], gone_s[b], gone_t[b], gone_x[b] = receiver[k], source[k], tag[k], rays[k]
-            gone_f[b], gone_v[b] = form_factor[k], visibility[k]
+            gone_r[b], gone_s[b], gone_f[b], gone_v[b] = receiver[k], source[k], form_factor[k], visibility[k]
+            if has_tag:
+                gone_t[b] = tag[k]
+            if has_rays:
+                gone_x[b] = rays[k]
             b += 1
         else:
-            receiver[a], source[a], tag[a], rays[a] = receiver[k], source[k], tag[k], rays[k]
-            form_factor[a], visibility[a] = form_factor[k], visibility[k]
+            receiver[a], source[a], form_factor[a], visibility[a] = (
+                receiver[k],
+                source[k],
+                form_factor[k],
+                visibility[k],
+            )
+            if has_tag:
+                tag[a] = tag[k]
+            if has_rays:
+                rays[a] = rays[k]
             a += 1
     return gone_r, gone_s, gone_t, gone_x, gone_f, gone_v
 
@@ -51,14 +65,21 @@ def _scatter_gather(receiver, source, weight, b, out):
             out[r, c] += w * b[j, c]
 
 
+def _stored(values, n: int, dtype) -> np.ndarray | None:
+    """``values`` as a store of ``dtype``, or None where there are none for these ``n`` links."""
+    return None if values is None or len(values) != n else np.array(values, dtype).reshape(-1)
+
+
 class LinkGather:
     """K·B for the K of :meth:`Links.matrix` without building K: one pass over the links per product.
     A drag changes the links each move and its solve takes ~4 products: building the CSR matrix (a
-    counting sort and scipy's checks) cost as much as the products. Holds copies of the links."""
+    counting sort and scipy's checks) cost as much as the products. Holds views of the links' ends
+    (valid until the links change, as the operator is: copies were 8 bytes a link on the solve's peak
+    at RenderPark's element count) and its own F·V."""
 
     def __init__(self, links: Links, n: int):
         self.shape = (n, n)
-        self._receiver, self._source = links.receiver.copy(), links.source.copy()
+        self._receiver, self._source = links.receiver, links.source
         self._weight = links.form_factor * links.visibility
 
     def __matmul__(self, b: np.ndarray) -> np.ndarray:
@@ -77,39 +98,50 @@ class Links:
     ``tag``: an int32 per link that a cache keyed on links may set (corner_cache.CornerGather: the
     link's block of form factors), carried through :meth:`remove` and :meth:`take`, -1 for links
     added since; ``tag_owner`` says which cache set the tags (another reads them as -1). ``rays``: what
-    the link's rays gave when it was last recast (:meth:`Visibility.recast`), NO_RAYS (-1) for none."""
+    the link's rays gave when it was last recast (:meth:`Visibility.recast`), NO_RAYS (-1) for none.
+    Neither is stored until a link has one (a build's links never do: 12 of their 36 bytes a link);
+    until then each reads as a fresh array of -1."""
 
     def __init__(self, receiver=(), source=(), form_factor=(), visibility=(), tag=None, tag_owner=None, rays=None):
         #: the most links refinement may make (radiosity.refine stops with an InputError past it); None: no bound
         self.budget: int | None = None
         self._n = len(receiver)
-        # elements and blocks in 32 bits (36 bytes a link): millions of links at RenderPark's scale
+        # elements and blocks in 32 bits (24 bytes a link, 36 with tags and rays): millions of links
+        # at RenderPark's scale
         self._receiver = np.array(receiver, np.int32).reshape(-1)
         self._source = np.array(source, np.int32).reshape(-1)
         self._form_factor = np.array(form_factor, np.float64).reshape(-1)
         self._visibility = np.array(visibility, np.float64).reshape(-1)
-        self._tag = np.full(self._n, -1, np.int32) if tag is None or len(tag) != self._n else np.array(tag, np.int32)
+        self._tag = _stored(tag, self._n, np.int32)
         self.tag_owner = tag_owner
-        self._rays = (
-            np.full(self._n, -1, np.int64) if rays is None or len(rays) != self._n else np.array(rays, np.int64)
-        )
+        self._rays = _stored(rays, self._n, np.int64)
 
     receiver = property(lambda self: self._receiver[: self._n])
     source = property(lambda self: self._source[: self._n])
     form_factor = property(lambda self: self._form_factor[: self._n])
     visibility = property(lambda self: self._visibility[: self._n])
-    rays = property(lambda self: self._rays[: self._n])
+
+    @property
+    def rays(self) -> np.ndarray:
+        return np.full(self._n, -1, np.int64) if self._rays is None else self._rays[: self._n]
 
     @property
     def tag(self) -> np.ndarray:
-        return self._tag[: self._n]
+        return np.full(self._n, -1, np.int32) if self._tag is None else self._tag[: self._n]
 
     @tag.setter
     def tag(self, value) -> None:
+        if self._tag is None:
+            self._tag = np.full(len(self._receiver), -1, np.int32)
         self._tag[: self._n] = value
 
     def __len__(self) -> int:
         return self._n
+
+    def item_bytes(self) -> int:
+        """Bytes a link takes in the store: its arrays' item sizes, tags and rays where stored."""
+        stored = [self._receiver, self._source, self._form_factor, self._visibility, self._tag, self._rays]
+        return sum(a.itemsize for a in stored if a is not None)
 
     @property
     def type(self) -> np.ndarray:
@@ -117,18 +149,24 @@ class Links:
 
     def extend(self, receiver, source, form_factor, visibility, rays=None) -> None:
         k = len(receiver)
+        if self._rays is None and rays is not None and np.any(np.asarray(rays) != -1):
+            self._rays = np.full(len(self._receiver), -1, np.int64)
         if self._n + k > len(self._receiver):
             capacity = max(self._n + k, int(len(self._receiver) * 1.5) + 16)
             for name in ("_receiver", "_source", "_form_factor", "_visibility", "_tag", "_rays"):
                 old = getattr(self, name)
+                if old is None:
+                    continue
                 grown = np.empty(capacity, old.dtype)
                 grown[: self._n] = old[: self._n]
                 setattr(self, name, grown)
         end = self._n + k
         self._receiver[self._n : end], self._source[self._n : end] = receiver, source
         self._form_factor[self._n : end], self._visibility[self._n : end] = form_factor, visibility
-        self._tag[self._n : end] = -1
-        self._rays[self._n : end] = -1 if rays is None else rays
+        if self._tag is not None:
+            self._tag[self._n : end] = -1
+        if self._rays is not None:
+            self._rays[self._n : end] = -1 if rays is None else rays
         self._n = end
 
     def take(self, keep: np.ndarray) -> Links:
@@ -138,24 +176,25 @@ class Links:
             self.source[keep],
             self.form_factor[keep],
             self.visibility[keep],
-            self.tag[keep],
+            None if self._tag is None else self.tag[keep],
             self.tag_owner,
-            self.rays[keep],
+            None if self._rays is None else self.rays[keep],
         )
 
     def remove(self, drop: np.ndarray) -> Links:
         """Remove the links where ``drop`` (a mask) and return them (both in link order)."""
+        none = np.empty(0, np.int64)
         r, s, t, x, f, v = _compact(
             np.asarray(drop, np.bool_),
             self.receiver,
             self.source,
-            self.tag,
-            self.rays,
+            none.astype(np.int32) if self._tag is None else self.tag,
+            none if self._rays is None else self.rays,
             self.form_factor,
             self.visibility,
         )
         self._n -= len(r)
-        return Links(r, s, f, v, t, self.tag_owner, x)
+        return Links(r, s, f, v, t if len(t) else None, self.tag_owner, x if len(x) else None)
 
     def matrix(self, n: int) -> sp.csr_matrix:
         """K with K[i, j] = Σ F_ij·V_ij over the links from j to i: the gather is H = K·B, stated as a
