@@ -9,6 +9,12 @@ out and their pairs refined again against the changed scene (kept as they were, 
 shadow makes them partial). The moved, added or removed object's own links are rebuilt from its
 roots; its subdivision is kept. A new lamp links straight to every leaf facing it (the chapter's
 forced fine level), then refines like any link. The solution is then re-solved from the current B.
+
+The refinement's criterion reads B: an added object's is a guess (its reflectance times the ambient
+light), so its links are tested again against the solved B and the solution solved again, as a
+build's second round does. A moved object's B is its solution's from where it was, and its links are
+refined against that, once: as the hierarchical solver's refine/solve cycle (and Drettakis and
+Sillion's interactive moves) take the last solution's B — the next move refines against this one's.
 """
 
 from __future__ import annotations
@@ -285,4 +291,5 @@ def move_object(sol, name: str, matrix: np.ndarray, tolerance: float = 1e-4, max
     _relink_shafts(sol, [old_box, new_box])
     roots = h.roots[sol.polygons.group[h.polygon[h.roots]] == group]
     _link_object(sol, roots)
-    return _finish(sol, t, "move", tolerance, max_iterations, h.descendants(roots))
+    # refined against the B it had where it was (the module docstring): no second round
+    return _finish(sol, t, "move", tolerance, max_iterations)
