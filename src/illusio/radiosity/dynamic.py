@@ -76,6 +76,14 @@ def _links_in_shafts(lo, hi, receiver, source, box_lo, box_hi, out):
     for k in numba.prange(len(receiver)):
         i, j = receiver[k], source[k]
         for b in range(box_lo.shape[0]):
+            # the shaft lies inside the box around both ends' boxes: most links miss a small box there
+            apart = False
+            for a in range(3):
+                if min(lo[i, a], lo[j, a]) > box_hi[b, a] or max(hi[i, a], hi[j, a]) < box_lo[b, a]:
+                    apart = True
+                    break
+            if apart:
+                continue
             t0, t1, ok = 0.0, 1.0, True
             for a in range(3):
                 # lower faces: lo_i + (lo_j − lo_i)·t ≤ box_hi; upper: hi_i + (hi_j − hi_i)·t ≥ box_lo
