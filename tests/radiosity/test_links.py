@@ -6,6 +6,27 @@ import numpy as np
 
 from illusio.radiosity.links import Links
 
+NAMES = ("receiver", "source", "form_factor", "visibility", "tag", "rays")
+
+
+def _assert_columns(links, plain, rows=slice(None)):
+    for name, column in zip(NAMES, plain):
+        np.testing.assert_array_equal(getattr(links, name), column[rows])
+
+
+def _remove_then_extend(links, plain, drop, rng, rays=None):
+    """Remove ``drop`` and append k random links (``rays(k)``: their rays, None: -1), checking
+    what was removed and what is left against the plain columns; returns those columns."""
+    _assert_columns(links.remove(drop), plain, drop)
+    k = int(rng.integers(1, 3000))
+    new = [rng.integers(0, 900, k), rng.integers(0, 900, k), rng.random(k), rng.random(k)]
+    given = None if rays is None else rays(k)
+    links.extend(*new, rays=given)
+    added = new + [np.full(k, -1), np.full(k, -1) if given is None else given]
+    plain = [np.concatenate([p[~drop], c]) for p, c in zip(plain, added)]
+    _assert_columns(links, plain)
+    return plain
+
 
 def test_in_place_edits_equal_masks_and_concatenation(rng):
     n = 5000
@@ -13,22 +34,13 @@ def test_in_place_edits_equal_masks_and_concatenation(rng):
     links = Links(*columns, rays=rng.integers(-1, 2**40, n))
     links.tag = rng.integers(-1, 50, n)
     plain = columns + [links.tag.copy(), links.rays.copy()]
-    names = ("receiver", "source", "form_factor", "visibility", "tag", "rays")
-    for _ in range(6):
+    for step in range(6):
         drop = rng.random(len(links)) < 0.2
-        if _ == 3:  # only the newest links (a drag removes its object's)
+        if step == 3:  # only the newest links (a drag removes its object's)
             drop[: len(links) * 9 // 10] = False
-        gone = links.remove(drop)
-        for name, column in zip(names, plain):
-            np.testing.assert_array_equal(getattr(gone, name), column[drop])
-        plain = [column[~drop] for column in plain]
-        k = int(rng.integers(0, 3000))
-        new = [rng.integers(0, 900, k), rng.integers(0, 900, k), rng.random(k), rng.random(k)]
-        rays = rng.integers(-1, 2**40, k) if _ % 2 else np.full(k, -1)
-        links.extend(*new, rays=rays if _ % 2 else None)
-        plain = [np.concatenate([p, c]) for p, c in zip(plain, new + [np.full(k, -1), rays])]
-        for name, column in zip(names, plain):
-            np.testing.assert_array_equal(getattr(links, name), column)
+        plain = _remove_then_extend(
+            links, plain, drop, rng, (lambda k: rng.integers(-1, 2**40, k)) if step % 2 else None
+        )
     assert len(links) == len(plain[0])
     # the matrix: K·x as the plain sum over the links
     x = rng.random((900, 3))
@@ -100,28 +112,19 @@ def test_a_builds_links_store_no_tags_or_rays_until_one_has_them(rng):
     n = 3000
     columns = [rng.integers(0, 900, n), rng.integers(0, 900, n), rng.random(n), rng.random(n)]
     links = Links(*columns)
-    names = ("receiver", "source", "form_factor", "visibility", "tag", "rays")
     plain = columns + [np.full(n, -1), np.full(n, -1)]
     for step in range(5):
         drop = rng.random(len(links)) < 0.2
-        gone = links.remove(drop)
-        for name, column in zip(names, plain):
-            np.testing.assert_array_equal(getattr(gone, name), column[drop])
-        plain = [column[~drop] for column in plain]
-        k = int(rng.integers(1, 3000))
-        new = [rng.integers(0, 900, k), rng.integers(0, 900, k), rng.random(k), rng.random(k)]
-        rays = rng.integers(-1, 2**40, k) if step >= 2 else np.full(k, -1)
-        links.extend(*new, rays=rays)
-        plain = [np.concatenate([p, c]) for p, c in zip(plain, new + [np.full(k, -1), rays])]
+        plain = _remove_then_extend(
+            links, plain, drop, rng, lambda k: rng.integers(-1, 2**40, k) if step >= 2 else np.full(k, -1)
+        )
         if step == 3:
             plain[4] = rng.integers(-1, 50, len(links))
             links.tag = plain[4]
         assert links.item_bytes() == 24 + 8 * (step >= 2) + 4 * (step >= 3)
-        for name, column in zip(names, plain):
-            np.testing.assert_array_equal(getattr(links, name), column)
-        taken = links.take(plain[0] < 450)
-        for name, column in zip(names, plain):
-            np.testing.assert_array_equal(getattr(taken, name), column[plain[0] < 450])
+        _assert_columns(links, plain)
+        kept = plain[0] < 450
+        _assert_columns(links.take(kept), plain, kept)
 
 
 def test_channel_max_is_the_largest_channel_of_each_row(rng):
