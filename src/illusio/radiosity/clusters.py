@@ -1065,13 +1065,14 @@ def _children(h, tree, nodes, position):
     return np.concatenate(parents), np.concatenate(kids)
 
 
-def _live(tree, nodes) -> np.ndarray:
-    """False for a cluster none of whose members is included (it carries nothing)."""
+def _live(tree, nodes, counts) -> np.ndarray:
+    """False for a cluster none of whose members is included (it carries nothing). ``counts``: the
+    included members before each position of the tree's order (np.r_[0, cumsum(tree.included)],
+    made once a refinement: the tree does not change during one)."""
     out = np.ones(len(nodes), bool)
     cl = nodes < 0
     if cl.any():
         c = -1 - nodes[cl]
-        counts = np.r_[0, np.cumsum(tree.included)]
         out[cl] = counts[tree.end[c]] > counts[tree.start[c]]
     return out
 
@@ -1100,6 +1101,7 @@ def refine_nodes(
     rho_cluster = tree.member_max(channel_max(h.reflectance)) if len(tree) else np.zeros(0)
     position = np.full(len(h), -1)
     position[tree.order] = np.arange(len(tree.order))
+    included = np.r_[0, np.cumsum(tree.included)]
     element_pairs = []
     queue = [(np.asarray(receivers, np.int64), np.asarray(sources, np.int64))]
     while queue:
@@ -1111,7 +1113,7 @@ def refine_nodes(
         if both.any():
             element_pairs.append((recv[both], src[both]))
             recv, src = recv[~both], src[~both]
-        live = _live(tree, recv) & _live(tree, src)
+        live = _live(tree, recv, included) & _live(tree, src, included)
         # the elements' largest channels read for this batch's pairs only (the whole hierarchy's, a
         # batch at a time, were 2.5 s of the Graz office's build at RenderPark's element count)
         b_element = h.radiosity if radiosity is None else radiosity
