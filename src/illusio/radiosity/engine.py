@@ -297,7 +297,8 @@ class Radiosity:
 
     def _drop_gather(self) -> None:
         """The links change: the gather operator and the scale kept with it go before refinement
-        (copies of every link, 60 MB at RenderPark's element count, under its working set)."""
+        (its F·V of every link, 30 MB at RenderPark's element count, and the link buffers it views,
+        which the store's growth would otherwise keep, under its working set)."""
         self._matrix = self._scale_kept = None
 
     def _refine_nodes(self, receivers, sources) -> None:
