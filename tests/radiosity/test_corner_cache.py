@@ -199,3 +199,26 @@ def test_kept_sums_stay_within_their_tolerance_of_the_plain_gather():
     assert max(exact_errors) < 1e-6  # (the form factors kept as float32)
     assert summed[2] == exact_summed[2] == 0  # nothing changed
     assert all(a <= b for a, b in zip(summed, exact_summed)) and sum(summed[5:8]) < 0.9 * sum(exact_summed[5:8])
+
+
+def test_the_kept_sums_changes_give_the_same_bits_in_any_number_of_leaf_ranges(rng):
+    """corner_cache._add_blocks: each thread adds the listed changes to its range of leaves, in list
+    order, so one range or several give the same bits, and both equal the changes added one by one."""
+    from illusio.radiosity.corner_cache import _add_blocks
+
+    leaves, blocks = 500, 300
+    count = rng.integers(0, 12, blocks)
+    offset = np.cumsum(count) - count
+    leaf = rng.integers(0, leaves, int(count.sum())).astype(np.int32)
+    ff = rng.random((int(count.sum()), 4)).astype(np.float32)
+    ops = rng.integers(0, blocks, 2000)
+    weights, values = rng.normal(size=2000), rng.random((2000, 3))
+    want = np.zeros((leaves, 4, 3))
+    for o in range(len(ops)):  # the plain statement
+        for p in range(offset[ops[o]], offset[ops[o]] + count[ops[o]]):
+            for c in range(4):
+                want[leaf[p], c] += (ff[p, c] * weights[o]) * values[o]
+    for ranges in (1, 2, 5):
+        sums = np.zeros((leaves, 4, 3))
+        _add_blocks(sums, ops, weights, values, offset, count, leaf, ff, ranges)
+        np.testing.assert_array_equal(sums, want)

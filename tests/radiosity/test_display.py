@@ -258,6 +258,27 @@ def test_corner_ids_group_equal_rows_as_lexsort_does(rng, monkeypatch):
     assert same_partition(display.corner_ids(key))
 
 
+def test_corner_means_and_exposure_sums_equal_their_plain_numpy(rng):
+    """display._average_at (one numba pass) against the weighted bincount mean it replaced, and
+    _received_sums against two bincounts: the same bits."""
+    import illusio.radiosity.display as display
+
+    vertex = rng.integers(0, 300, 4000)
+    counted = rng.random(4000) < 0.8
+    values, weight = rng.random((1000, 4, 3)), rng.random(1000)
+    w = np.repeat(weight, 4)
+    b = values.reshape(-1, 3)
+    total = np.stack([np.bincount(vertex[counted], (w * b[:, c])[counted], 300) for c in range(3)], axis=1)
+    count = np.bincount(vertex[counted], w[counted], 300)
+    want = (total / np.maximum(count, 1e-300)[:, None])[vertex].reshape(-1, 4, 3)
+    np.testing.assert_array_equal(display._average_at(vertex, counted, values, weight), want)
+    receiver = rng.integers(0, 50, 5000).astype(np.int32)
+    form_factor, visibility = rng.random(5000), rng.random(5000)
+    seen, total = display._received_sums(receiver, form_factor, visibility, 60)
+    np.testing.assert_array_equal(seen, np.bincount(receiver, form_factor * visibility, 60))
+    np.testing.assert_array_equal(total, np.bincount(receiver, form_factor, 60))
+
+
 def test_a_solution_with_no_leaf_shown_draws_black(ctx):
     """A loaded session whose display has no triangle (seen in the saved-session fuzz): GL refuses an
     empty buffer, so the pass keeps none and draws the clear colour, element −1 everywhere."""

@@ -52,6 +52,26 @@ def test_in_place_edits_equal_masks_and_concatenation(rng):
     np.testing.assert_array_equal(links.gather_operator(900) @ x[:, 0], links.matrix(900) @ x[:, 0])
 
 
+def test_the_gather_split_by_receivers_gives_the_products_bits(rng, monkeypatch):
+    """LinkGather's threads each sum a range of receivers: any number of ranges gives the CSR
+    product's bits (each row in link order), and the ranges cover every receiver once."""
+    from illusio.radiosity import links as module
+
+    monkeypatch.setattr(module, "LINKS_PER_RANGE", 100)
+    n, m = 700, 20_000
+    links = Links(rng.integers(0, n, m), rng.integers(0, n, m), rng.random(m), rng.random(m))
+    x = rng.random((n, 3))
+    want = links.matrix(n) @ x
+    weight = links.form_factor * links.visibility
+    for ranges in (1, 2, 3, 8):
+        bounds = module.receiver_ranges(links.receiver, n, ranges)
+        assert len(bounds) == ranges + 1 and bounds[0] == 0 and bounds[-1] == n
+        assert np.all(np.diff(bounds) >= 0)
+        out = np.zeros((n, 3))
+        module._scatter_gather(links.receiver, links.source, weight, x, out, bounds)
+        np.testing.assert_array_equal(out, want)
+
+
 def test_pairs_with_a_new_object_equal_the_unique_pairs(rng):
     """dynamic._pairs_with (built sorted) equals np.unique over both directions' pairs."""
     from illusio.radiosity.dynamic import _pairs_with

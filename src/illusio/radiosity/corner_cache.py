@@ -176,27 +176,39 @@ def _live_blocks(block, count, blocks):
     return live, pairs
 
 
-@numba.njit(cache=True)
-def _add_block(sums, offset, count, arena_leaf, arena_ff, weight, b0, b1, b2):
-    """sums[leaf, corner] += F·weight·(b0, b1, b2) over a block's pairs."""
-    for p in range(offset, offset + count):
-        e = arena_leaf[p]
-        for c in range(4):
-            w = arena_ff[p, c] * weight
-            sums[e, c, 0] += w * b0
-            sums[e, c, 1] += w * b1
-            sums[e, c, 2] += w * b2
+@numba.njit(parallel=True, cache=True)
+def _add_blocks(sums, ops, weights, values, offset, count, arena_leaf, arena_ff, ranges):
+    """sums[leaf, corner] += F·weight·values over each listed block's pairs, in list order. One
+    thread per range of leaves: each reads every listed pair's leaf and adds only its own, so every
+    sum takes its terms in list order whatever the number of ranges (the same bits)."""
+    n = sums.shape[0]
+    for t in numba.prange(ranges):
+        lo, hi = n * t // ranges, n * (t + 1) // ranges
+        for o in range(len(ops)):
+            b = ops[o]
+            for p in range(offset[b], offset[b] + count[b]):
+                e = arena_leaf[p]
+                if e < lo or e >= hi:
+                    continue
+                for c in range(4):
+                    w = arena_ff[p, c] * weights[o]
+                    sums[e, c, 0] += w * values[o, 0]
+                    sums[e, c, 1] += w * values[o, 1]
+                    sums[e, c, 2] += w * values[o, 2]
 
 
 @numba.njit(cache=True)
-def _update_sums(
-    sums, summed_v, b_used, live, block, ready, visibility, radiosity, threshold, offset, count, key, leaf, ff
-):
-    """Keep sums[leaf, corner] = Σ over the blocks in use of F·summed_v·b_used[source]: take out the
-    blocks the last call used (``live``) that no link holds now, bring each held block to its link's
-    V (0 where its form factors wait: not ``ready``), then carry each source whose B moved by more
-    than ``threshold`` (any channel; ≥ 0) to its B, every block from it taking the difference.
-    Returns the pairs summed."""
+def _sums_changes(summed_v, b_used, live, block, ready, visibility, radiosity, threshold, count, key):
+    """What brings the kept sums (Σ over the blocks in use of F·summed_v·b_used[source]) to this
+    call: take out the blocks the last call used (``live``) that no link holds now, bring each held
+    block to its link's V (0 where its form factors wait: not ``ready``), then carry each source
+    whose B moved by more than ``threshold`` (any channel; ≥ 0) to its B, every block from it
+    taking the difference. Updates summed_v and b_used; returns (the changes, in order, as blocks,
+    weights and RGB values for :func:`_add_blocks`; the pairs they sum)."""
+    # room for every change there can be (untouched pages cost nothing: a drag's move lists ~13k)
+    most = len(live) + 2 * len(block)
+    ops, weights, values = np.empty(most, np.int64), np.empty(most), np.empty((most, 3))
+    n = 0
     held = np.zeros(len(summed_v), np.bool_)
     for b in block:
         held[b] = True
@@ -204,7 +216,8 @@ def _update_sums(
     for b in range(len(live)):
         if live[b] and not held[b] and summed_v[b] != 0.0:
             j = key[b] & 0xFFFFFFFF
-            _add_block(sums, offset[b], count[b], leaf, ff, -summed_v[b], b_used[j, 0], b_used[j, 1], b_used[j, 2])
+            ops[n], weights[n], values[n] = b, -summed_v[b], b_used[j]
+            n += 1
             summed_v[b] = 0.0
             summed += count[b]
     changed = np.zeros(len(radiosity), np.bool_)
@@ -218,18 +231,18 @@ def _update_sums(
         v = visibility[k] if ready[b] else 0.0
         if v != summed_v[b]:
             if b_used[j, 0] != 0.0 or b_used[j, 1] != 0.0 or b_used[j, 2] != 0.0:
-                w = v - summed_v[b]
-                _add_block(sums, offset[b], count[b], leaf, ff, w, b_used[j, 0], b_used[j, 1], b_used[j, 2])
+                ops[n], weights[n], values[n] = b, v - summed_v[b], b_used[j]
+                n += 1
                 summed += count[b]
             summed_v[b] = v
         if changed[j] and v != 0.0:
-            d0, d1, d2 = radiosity[j, 0] - b_used[j, 0], radiosity[j, 1] - b_used[j, 1], radiosity[j, 2] - b_used[j, 2]
-            _add_block(sums, offset[b], count[b], leaf, ff, v, d0, d1, d2)
+            ops[n], weights[n], values[n] = b, v, radiosity[j] - b_used[j]
+            n += 1
             summed += count[b]
     for j in range(len(radiosity)):
         if changed[j]:
-            b_used[j, 0], b_used[j, 1], b_used[j, 2] = radiosity[j, 0], radiosity[j, 1], radiosity[j, 2]
-    return summed
+            b_used[j] = radiosity[j]
+    return ops[:n], weights[:n], values[:n], summed
 
 
 class CornerGather:
@@ -349,8 +362,7 @@ class CornerGather:
                 setattr(self, name, grown)
         radiosity = np.ascontiguousarray(h.radiosity, np.float64)
         reflected = float(np.abs(radiosity - exitance).max()) if n else 0.0
-        self.summed = _update_sums(
-            self._sums,
+        ops, weights, values, self.summed = _sums_changes(
             self._summed_v,
             self._b_used,
             self._live,
@@ -359,11 +371,11 @@ class CornerGather:
             visibility,
             radiosity,
             self.tolerance * reflected,
-            self._offset,
             self._count,
             self._key,
-            self._leaf,
-            self._ff,
+        )
+        _add_blocks(
+            self._sums, ops, weights, values, self._offset, self._count, self._leaf, self._ff, numba.get_num_threads()
         )
         return self._sums[leaves].copy()
 

@@ -45,7 +45,16 @@ def _touching(sol, elements) -> np.ndarray:
     """Mask of the links received or sent by one of ``elements``."""
     mine = np.zeros(len(sol.hierarchy), bool)
     mine[elements] = True
-    return mine[sol.links.receiver] | mine[sol.links.source]
+    out = np.empty(len(sol.links), bool)
+    _either_end(mine, sol.links.receiver, sol.links.source, out)
+    return out
+
+
+@numba.njit(cache=True)
+def _either_end(mine, receiver, source, out):
+    """out[k] = mine[receiver[k]] or mine[source[k]] (NumPy's two gathers took 1 ms of a drag's move)."""
+    for k in range(len(receiver)):
+        out[k] = mine[receiver[k]] or mine[source[k]]
 
 
 def shaft_meets_box(lo_i, hi_i, lo_j, hi_j, box_lo, box_hi) -> np.ndarray:

@@ -55,14 +55,38 @@ def _compact(drop, receiver, source, tag, rays, form_factor, visibility):
     return gone_r, gone_s, gone_t, gone_x, gone_f, gone_v
 
 
-@numba.njit(cache=True)
-def _scatter_gather(receiver, source, weight, b, out):
+@numba.njit(parallel=True, cache=True)
+def _scatter_gather(receiver, source, weight, b, out, bounds):
     """out[receiver[k]] += weight[k]·b[source[k]] in link order: each row sums its links in the order
-    a CSR product of :meth:`Links.matrix` does (same bits)."""
-    for k in range(len(receiver)):
-        r, j, w = receiver[k], source[k], weight[k]
-        for c in range(b.shape[1]):
-            out[r, c] += w * b[j, c]
+    a CSR product of :meth:`Links.matrix` does (same bits). One thread per range of receivers
+    [bounds[t], bounds[t + 1]): each reads every link's receiver and sums only its own rows', so
+    no two threads write one row and the bits do not depend on the number of ranges."""
+    for t in numba.prange(len(bounds) - 1):
+        lo, hi = bounds[t], bounds[t + 1]
+        for k in range(len(receiver)):
+            r = receiver[k]
+            if r < lo or r >= hi:
+                continue
+            j, w = source[k], weight[k]
+            for c in range(b.shape[1]):
+                out[r, c] += w * b[j, c]
+
+
+#: links a range of receivers of the gather takes at least (fewer: one range; each range's thread
+#: reads every link's receiver, which pays off only over enough links)
+LINKS_PER_RANGE = 50_000
+
+
+def receiver_ranges(receiver: np.ndarray, n: int, ranges: int) -> np.ndarray:
+    """(ranges + 1,) int64 bounds cutting the elements 0…n into ``ranges`` ranges that receive about
+    as many links each (quantiles of a sample of ``receiver``): the gather's threads' shares."""
+    ranges = max(1, min(ranges, len(receiver) // LINKS_PER_RANGE))
+    bounds = np.zeros(ranges + 1, np.int64)
+    bounds[-1] = n
+    if ranges > 1:
+        sample = np.sort(receiver[:: max(1, len(receiver) // 4096)])
+        bounds[1:-1] = sample[(np.arange(1, ranges) * len(sample)) // ranges]
+    return bounds
 
 
 def _stored(values, n: int, dtype) -> np.ndarray | None:
@@ -81,13 +105,14 @@ class LinkGather:
         self.shape = (n, n)
         self._receiver, self._source = links.receiver, links.source
         self._weight = links.form_factor * links.visibility
+        self._bounds = receiver_ranges(self._receiver, n, numba.get_num_threads())
 
     def __matmul__(self, b: np.ndarray) -> np.ndarray:
         b = np.asarray(b, np.float64)
         flat = b.ndim == 1
         b = np.ascontiguousarray(b.reshape(len(b), -1))
         out = np.zeros((self.shape[0], b.shape[1]))
-        _scatter_gather(self._receiver, self._source, self._weight, b, out)
+        _scatter_gather(self._receiver, self._source, self._weight, b, out, self._bounds)
         return out[:, 0] if flat else out
 
 
