@@ -366,7 +366,7 @@ def _slab(o0, o1, o2, d0, d1, d2, far, lo, hi):
     return True
 
 
-@numba.njit(cache=True)
+@numba.njit(parallel=True, cache=True)
 def _rays_to_cast(rays, samples, epoch, origins, directions, dists, up, box_lo, box_hi, clear, exposed):
     """(ray, probe) masks of the samples to cast: every sample of a pair that kept nothing (or kept
     it under other ray offsets); else the rays and probes that meet a box. Fills ``clear`` and
@@ -374,7 +374,7 @@ def _rays_to_cast(rays, samples, epoch, origins, directions, dists, up, box_lo, 
     n = len(rays)
     cast_ray = np.zeros(n * samples, np.bool_)
     cast_probe = np.zeros(n * samples, np.bool_)
-    for p in range(n):
+    for p in numba.prange(n):  # (each pair writes its own samples' rows)
         kept = rays[p] >= 0 and (rays[p] >> 32) == epoch
         for t in range(samples):
             i = p * samples + t
