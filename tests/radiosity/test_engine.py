@@ -419,6 +419,26 @@ def test_shaft_test_over_links_matches_the_reference(rng):
     assert 0 < expected.sum() < 5000 and np.array_equal(got, expected)
 
 
+def test_element_boxes_and_a_moved_objects_links_equal_their_numpy(rng):
+    """The shaft test's element boxes (one numba pass) are the corners' min and max, and the links
+    a moved object touches are those with an end among its elements."""
+    from types import SimpleNamespace
+
+    from illusio.radiosity.dynamic import _touching, element_boxes
+    from illusio.radiosity.links import Links
+
+    h = SimpleNamespace(corners=rng.normal(size=(400, 4, 3)))
+    elements = rng.integers(0, 400, 250)
+    lo, hi = element_boxes(h, elements)
+    np.testing.assert_array_equal(lo, h.corners[elements].min(axis=1))
+    np.testing.assert_array_equal(hi, h.corners[elements].max(axis=1))
+    receiver, source = rng.integers(0, 400, 3000), rng.integers(0, 400, 3000)
+    sol = SimpleNamespace(hierarchy=h.corners, links=Links(receiver, source, np.ones(3000), np.ones(3000)))
+    mine = np.zeros(400, bool)
+    mine[elements[:20]] = True
+    assert np.array_equal(_touching(sol, elements[:20]), mine[receiver] | mine[source])
+
+
 @pytest.mark.parametrize("scene, name, epsilon", [("cornell-box", "short-block", 1e-4), ("office", "chair-seat", 2e-4)])
 def test_moving_an_object_matches_a_full_rebuild(scene, name, epsilon):
     """Move an object with the dynamic update and rebuild the moved scene from scratch: the mean

@@ -33,12 +33,21 @@ __all__ = ["shaft_meets_box", "add_object", "add_lamp", "move_object", "remove_o
 
 
 def element_boxes(h, elements) -> tuple[np.ndarray, np.ndarray]:
-    c = h.corners[elements]
-    # four arrays compared: a reduction along the short corner axis costs several times more
-    return (
-        np.minimum(np.minimum(c[:, 0], c[:, 1]), np.minimum(c[:, 2], c[:, 3])),
-        np.maximum(np.maximum(c[:, 0], c[:, 1]), np.maximum(c[:, 2], c[:, 3])),
-    )
+    """(lo, hi) (n, 3) of each element's corners, in world metres."""
+    elements = np.asarray(elements, np.int64)
+    lo, hi = np.empty((len(elements), 3)), np.empty((len(elements), 3))
+    _corner_boxes(h.corners, elements, lo, hi)
+    return lo, hi
+
+
+@numba.njit(cache=True)
+def _corner_boxes(corners, elements, lo, hi):
+    """One pass (NumPy's gather of the corners and six comparisons took 0.7 ms of a drag's move)."""
+    for p in range(len(elements)):
+        e = elements[p]
+        for a in range(3):
+            lo[p, a] = min(min(corners[e, 0, a], corners[e, 1, a]), min(corners[e, 2, a], corners[e, 3, a]))
+            hi[p, a] = max(max(corners[e, 0, a], corners[e, 1, a]), max(corners[e, 2, a], corners[e, 3, a]))
 
 
 def _touching(sol, elements) -> np.ndarray:
