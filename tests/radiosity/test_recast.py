@@ -142,3 +142,68 @@ def test_the_probes_answers_kept_through_moves_are_what_a_fresh_probe_gives():
     assert 0 < meets.sum() < len(meets)
     still = ((vis._exposure[elements] >> slots.astype(np.uint64)) & np.uint64(1)).astype(bool)
     np.testing.assert_array_equal(still, ~meets)
+
+
+def _slab_numpy(origins, directions, far, lo, hi):
+    """Does each ray o + t·d, 0 ≤ t ≤ far, meet the box [lo, hi]? (the slab test, in NumPy)"""
+    o, d = origins.astype(np.float64), directions.astype(np.float64)
+    flat = np.abs(d) < 1e-30
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t0, t1 = (lo - o) / d, (hi - o) / d
+    near = np.where(flat, 0.0, np.minimum(t0, t1)).max(axis=1).clip(min=0.0)
+    stop = np.minimum(np.where(flat, np.inf, np.maximum(t0, t1)).min(axis=1), far)
+    inside = ~(flat & ((o < lo) | (o > hi))).any(axis=1)
+    return inside & (near <= stop)
+
+
+def test_recasts_samples_in_one_pass_equal_the_pieces_they_replace(rng):
+    """recast's one-pass kernel against the pieces it fuses, on random pairs of a built scene, kept
+    masks and boxes: the points (element_grids, pair_grids' source-only draw, sample_points), the rays
+    (_segments) and front-to-front test the same to the bit, and the samples to cast those whose
+    pair kept nothing or whose ray or probe meets a box (a NumPy slab test)."""
+    from illusio.radiosity.visibility import (
+        _front_to_front,
+        _recast_samples,
+        _segments,
+        element_grids,
+    )
+
+    sol = _crate_in_cornell()
+    vis, h = sol.visibility, sol.hierarchy
+    n, k = 700, vis.samples
+    receivers, sources = rng.integers(0, len(h), n), rng.integers(0, len(h), n)
+    rays = rng.integers(0, 2**32, n).astype(np.int64) | (np.int64(vis.epoch) << 32)
+    rays[rng.random(n) < 0.2] = NO_RAYS
+    rays[rng.random(n) < 0.1] ^= np.int64(1) << 32  # kept under another epoch: cast afresh
+    box_lo = rng.uniform(0.0, 0.4, (2, 3))
+    box_hi = box_lo + rng.uniform(0.05, 0.3, (2, 3))
+    out = [np.empty((n * k, 3), np.float32) for _ in range(3)] + [np.empty(n * k, np.float32)]
+    clear, exposed = np.ones(n * k, bool), np.ones(n * k, bool)
+    facing, cast_ray, cast_probe = np.empty(n * k, bool), np.zeros(n * k, bool), np.zeros(n * k, bool)
+    origins, directions, up, dists = out
+    _recast_samples(
+        receivers, sources, k, vis.seed, vis.point_seed, h.corners, h.triangle, h.normal[receivers],
+        h.normal[sources], vis.offset, rays, vis.epoch, box_lo, box_hi, origins, directions, dists, up, clear,
+        exposed, facing, cast_ray, cast_probe,
+    )  # fmt: skip
+    _, uv_source = pair_grids(receivers, sources, k, vis.seed, source_only=True)
+    a = h.sample_points(receivers, element_grids(receivers, k, vis.point_seed))
+    b = h.sample_points(sources, uv_source)
+    expected = _segments(a, b, h.normal[receivers], h.normal[sources], vis.offset)
+    for got, want in zip((origins, directions, dists, up), expected):
+        np.testing.assert_array_equal(got, want)
+    np.testing.assert_array_equal(facing, _front_to_front(expected[1], h.normal[receivers], h.normal[sources], k))
+    kept = np.repeat((rays >= 0) & ((rays >> 32) == vis.epoch), k)
+    through_ray = np.zeros(n * k, bool)
+    through_probe = np.zeros(n * k, bool)
+    for lo, hi in zip(box_lo, box_hi):
+        through_ray |= _slab_numpy(origins, directions, dists.astype(np.float64), lo, hi)
+        through_probe |= _slab_numpy(origins, up, np.full(n * k, 1e300), lo, hi)
+    np.testing.assert_array_equal(cast_ray, ~kept | through_ray)
+    np.testing.assert_array_equal(cast_probe, ~kept | through_probe)
+    assert 0 < through_ray[kept].sum() < kept.sum()  # the boxes meet some rays, not all
+    bit = np.tile(np.arange(k), n)
+    rows = np.repeat(rays, k)
+    np.testing.assert_array_equal(clear[kept], ((rows >> bit) & 1)[kept] == 1)
+    np.testing.assert_array_equal(exposed[kept], ((rows >> (16 + bit)) & 1)[kept] == 1)
+    assert clear[~kept].all() and exposed[~kept].all()

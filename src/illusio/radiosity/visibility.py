@@ -84,6 +84,24 @@ def _grid_points(order, shift, jitter, side):
     return out
 
 
+@numba.njit(cache=True, inline="always")
+def _segment(a0, a1, a2, b0, b1, b2, receiver_normal, source_normal, p, offset, origins, directions, dists, up, i):
+    """Row i of :func:`_segments`: the ray from point a to point b of pair p."""
+    a0 = a0 + offset * receiver_normal[p, 0]
+    a1 = a1 + offset * receiver_normal[p, 1]
+    a2 = a2 + offset * receiver_normal[p, 2]
+    d0 = b0 + offset * source_normal[p, 0] - a0
+    d1 = b1 + offset * source_normal[p, 1] - a1
+    d2 = b2 + offset * source_normal[p, 2] - a2
+    length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    norm = max(length, 1e-300)
+    directions[i, 0], directions[i, 1], directions[i, 2] = d0 / norm, d1 / norm, d2 / norm
+    dists[i] = max(length - offset, 0.0)
+    origins[i, 0], origins[i, 1], origins[i, 2] = a0, a1, a2
+    for c in range(3):
+        up[i, c] = receiver_normal[p, c]
+
+
 @numba.njit(cache=True)
 def _segments(a, b, receiver_normal, source_normal, offset):
     """The rays of the (n, k) surface samples a → b, both lifted by ``offset`` along their normals,
@@ -96,20 +114,23 @@ def _segments(a, b, receiver_normal, source_normal, offset):
     up = np.empty((n * k, 3), np.float32)
     for p in range(n):
         for s in range(k):
-            i = p * k + s
-            a0 = a[p, s, 0] + offset * receiver_normal[p, 0]
-            a1 = a[p, s, 1] + offset * receiver_normal[p, 1]
-            a2 = a[p, s, 2] + offset * receiver_normal[p, 2]
-            d0 = b[p, s, 0] + offset * source_normal[p, 0] - a0
-            d1 = b[p, s, 1] + offset * source_normal[p, 1] - a1
-            d2 = b[p, s, 2] + offset * source_normal[p, 2] - a2
-            length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-            norm = max(length, 1e-300)
-            directions[i, 0], directions[i, 1], directions[i, 2] = d0 / norm, d1 / norm, d2 / norm
-            dists[i] = max(length - offset, 0.0)
-            origins[i, 0], origins[i, 1], origins[i, 2] = a0, a1, a2
-            for c in range(3):
-                up[i, c] = receiver_normal[p, c]
+            _segment(
+                a[p, s, 0],
+                a[p, s, 1],
+                a[p, s, 2],
+                b[p, s, 0],
+                b[p, s, 1],
+                b[p, s, 2],
+                receiver_normal,
+                source_normal,
+                p,
+                offset,
+                origins,
+                directions,
+                dists,
+                up,
+                p * k + s,
+            )
     return origins, directions, dists, up
 
 
@@ -143,29 +164,42 @@ def stream_uniform(seed, counter):
     return float(splitmix(seed + (counter + np.uint64(1)) * _GOLDEN) >> np.uint64(11)) * 2.0**-53
 
 
+@numba.njit(cache=True, inline="always")
+def _pair_state(seed, receiver, source):
+    """The stream state of pair (receiver, source) under ``seed`` (uint64): a hash of the three."""
+    state = splitmix(np.uint64(seed) * _GOLDEN + splitmix(np.uint64(receiver) + np.uint64(1)))
+    return splitmix(state ^ splitmix(np.uint64(source) + np.uint64(0x632BE59BD9B4E019)))
+
+
+@numba.njit(cache=True, inline="always")
+def _draw_grid(state, samples, side, perm, out, p):
+    """out[p] (samples, 2): a jittered grid drawn from ``state`` (the cells shuffled by Fisher–Yates
+    in ``perm``, one jittered point in each of the first ``samples``); returns the state after."""
+    for c in range(side * side):
+        perm[c] = c
+    for c in range(side * side - 1, 0, -1):
+        state += _GOLDEN
+        q = int(splitmix(state) % np.uint64(c + 1))
+        perm[c], perm[q] = perm[q], perm[c]
+    for t in range(samples):
+        state += _GOLDEN
+        u = float(splitmix(state) >> np.uint64(11)) * 2.0**-53
+        state += _GOLDEN
+        v = float(splitmix(state) >> np.uint64(11)) * 2.0**-53
+        out[p, t, 0] = (perm[t] % side + u) / side
+        out[p, t, 1] = (perm[t] // side + v) / side
+    return state
+
+
 @numba.njit(cache=True)
 def _pair_grids(receivers, sources, samples, seed, out_receiver, out_source, first):
     side = int(np.ceil(np.sqrt(samples)))
-    cells = side * side
-    perm = np.empty(cells, np.int64)
+    perm = np.empty(side * side, np.int64)
     for p in range(len(receivers)):
-        state = splitmix(np.uint64(seed) * _GOLDEN + splitmix(np.uint64(receivers[p]) + np.uint64(1)))
-        state = splitmix(state ^ splitmix(np.uint64(sources[p]) + np.uint64(0x632BE59BD9B4E019)))
-        for which in range(first, 2):
-            out = out_receiver if which == 0 else out_source
-            for c in range(cells):
-                perm[c] = c
-            for c in range(cells - 1, 0, -1):  # Fisher–Yates
-                state += _GOLDEN
-                q = int(splitmix(state) % np.uint64(c + 1))
-                perm[c], perm[q] = perm[q], perm[c]
-            for t in range(samples):
-                state += _GOLDEN
-                u = float(splitmix(state) >> np.uint64(11)) * 2.0**-53
-                state += _GOLDEN
-                v = float(splitmix(state) >> np.uint64(11)) * 2.0**-53
-                out[p, t, 0] = (perm[t] % side + u) / side
-                out[p, t, 1] = (perm[t] // side + v) / side
+        state = _pair_state(seed, receivers[p], sources[p])
+        if first == 0:
+            state = _draw_grid(state, samples, side, perm, out_receiver, p)
+        _draw_grid(state, samples, side, perm, out_source, p)
 
 
 def pair_grids(
@@ -192,10 +226,15 @@ def pair_grids(
     return (None if source_only else out_receiver), out_source
 
 
+@numba.njit(cache=True, inline="always")
+def _element_state(seed, element):
+    return splitmix(seed * _GOLDEN + splitmix(np.uint64(element) + np.uint64(1)))
+
+
 @numba.njit(cache=True)
 def _element_states(seed, elements, out):
     for p in range(len(elements)):
-        out[p] = splitmix(seed * _GOLDEN + splitmix(np.uint64(elements[p]) + np.uint64(1)))
+        out[p] = _element_state(seed, elements[p])
 
 
 def element_states(seed: int, elements: np.ndarray) -> np.ndarray:
@@ -366,18 +405,48 @@ def _slab(o0, o1, o2, d0, d1, d2, far, lo, hi):
     return True
 
 
+@numba.njit(cache=True, inline="always")
+def _faces_front(directions, receiver_normal, source_normal, i, p):
+    """Does ray i (of pair p) leave the receiver's front and reach the source's front?"""
+    up = (
+        directions[i, 0] * receiver_normal[p, 0]
+        + directions[i, 1] * receiver_normal[p, 1]
+        + directions[i, 2] * receiver_normal[p, 2]
+    )
+    down = (
+        directions[i, 0] * source_normal[p, 0]
+        + directions[i, 1] * source_normal[p, 1]
+        + directions[i, 2] * source_normal[p, 2]
+    )
+    return up > 0 and down < 0
+
+
 @numba.njit(parallel=True, cache=True)
-def _rays_to_cast(rays, samples, epoch, origins, directions, dists, up, box_lo, box_hi, clear, exposed):
-    """(ray, probe) masks of the samples to cast: every sample of a pair that kept nothing (or kept
-    it under other ray offsets); else the rays and probes that meet a box. Fills ``clear`` and
-    ``exposed`` from what the pairs kept."""
-    n = len(rays)
-    cast_ray = np.zeros(n * samples, np.bool_)
-    cast_probe = np.zeros(n * samples, np.bool_)
-    for p in numba.prange(n):  # (each pair writes its own samples' rows)
+def _recast_samples(
+    receivers, sources, samples, seed, point_seed, corners, triangle, receiver_normal, source_normal, offset,
+    rays, epoch, box_lo, box_hi, origins, directions, dists, up, clear, exposed, facing, cast_ray, cast_probe,
+):  # fmt: skip
+    """Every sample of :meth:`Visibility.recast`'s pairs in one pass (each pair writes its own rows):
+    its points (the receiver's own, element_grids; the source's, pair_grids' source-only draw), its
+    ray and probe (_segments), whether it goes front to front (_front_to_front), and which to cast:
+    every sample of a pair that kept nothing (or kept it under other ray offsets); else the rays and
+    probes that meet a box, ``clear`` and ``exposed`` filled from what the pair kept."""
+    side = int(np.ceil(np.sqrt(samples)))
+    for p in numba.prange(len(receivers)):
+        perm = np.empty(side * side, np.int64)
+        uv = np.empty((1, samples, 2))
+        _draw_grid(_pair_state(seed, receivers[p], sources[p]), samples, side, perm, uv, 0)
+        state = _element_state(point_seed, receivers[p])
         kept = rays[p] >= 0 and (rays[p] >> 32) == epoch
         for t in range(samples):
             i = p * samples + t
+            u, v = element_uv(state, t, side)
+            a0, a1, a2 = point_on(corners, triangle, receivers[p], u, v)
+            b0, b1, b2 = point_on(corners, triangle, sources[p], uv[0, t, 0], uv[0, t, 1])
+            _segment(
+                a0, a1, a2, b0, b1, b2, receiver_normal, source_normal, p, offset, origins, directions, dists, up, i
+            )
+            facing[i] = _faces_front(directions, receiver_normal, source_normal, i, p)
             if not kept:
                 cast_ray[i] = cast_probe[i] = True
                 continue
@@ -401,7 +470,6 @@ def _rays_to_cast(rays, samples, epoch, origins, directions, dists, up, box_lo, 
                     cast_probe[i] = _slab(
                         o0, o1, o2, float(up[i, 0]), float(up[i, 1]), float(up[i, 2]), 1e300, box_lo[b], box_hi[b]
                     )
-    return cast_ray, cast_probe
 
 
 @numba.njit(cache=True)
@@ -425,18 +493,7 @@ def _front_to_front(directions, receiver_normal, source_normal, samples):
     either — as blocked rays they took a straddling pair's V down by the share behind."""
     out = np.empty(len(directions), np.bool_)
     for i in range(len(directions)):
-        p = i // samples
-        up = (
-            directions[i, 0] * receiver_normal[p, 0]
-            + directions[i, 1] * receiver_normal[p, 1]
-            + directions[i, 2] * receiver_normal[p, 2]
-        )
-        down = (
-            directions[i, 0] * source_normal[p, 0]
-            + directions[i, 1] * source_normal[p, 1]
-            + directions[i, 2] * source_normal[p, 2]
-        )
-        out[i] = up > 0 and down < 0
+        out[i] = _faces_front(directions, receiver_normal, source_normal, i, i // samples)
     return out
 
 
@@ -771,26 +828,35 @@ class Visibility:
         if n == 0:
             return np.zeros(0), np.zeros(0, np.int64)
         h = self.hierarchy
-        _, uv_source = pair_grids(receivers, sources, k, self.seed, source_only=True)
-        a = h.sample_points(receivers, element_grids(receivers, k, self.point_seed))
-        b = h.sample_points(sources, uv_source)
-        origins, directions, dists, up = _segments(a, b, h.normal[receivers], h.normal[sources], self.offset)
         keep = k <= KEPT_SAMPLES
+        origins, directions, up = (np.empty((n * k, 3), np.float32) for _ in range(3))
+        dists = np.empty(n * k, np.float32)
         clear, exposed = np.ones(n * k, np.bool_), np.ones(n * k, np.bool_)
-        box_lo = np.array([lo for lo, _ in boxes], np.float64).reshape(-1, 3) - self.offset
-        box_hi = np.array([hi for _, hi in boxes], np.float64).reshape(-1, 3) + self.offset
-        cast_ray, cast_probe = _rays_to_cast(
-            rays if keep else np.full(n, NO_RAYS, np.int64),
+        facing, cast_ray, cast_probe = np.empty(n * k, np.bool_), np.zeros(n * k, np.bool_), np.zeros(n * k, np.bool_)
+        _recast_samples(
+            np.asarray(receivers, np.int64),
+            np.asarray(sources, np.int64),
             k,
+            self.seed,
+            self.point_seed,
+            h.corners,
+            h.triangle,
+            h.normal[receivers],
+            h.normal[sources],
+            self.offset,
+            rays if keep else np.full(n, NO_RAYS, np.int64),
             self.epoch,
+            np.array([lo for lo, _ in boxes], np.float64).reshape(-1, 3) - self.offset,
+            np.array([hi for _, hi in boxes], np.float64).reshape(-1, 3) + self.offset,
             origins,
             directions,
             dists,
             up,
-            box_lo,
-            box_hi,
             clear,
             exposed,
+            facing,
+            cast_ray,
+            cast_probe,
         )
         if not self.empty:
             chosen = np.flatnonzero(cast_ray)
@@ -803,5 +869,4 @@ class Visibility:
             self.rays += int(cast_ray.sum())
         else:
             clear[:], exposed[:] = True, True
-        facing = _front_to_front(directions, h.normal[receivers], h.normal[sources], k)
         return _fraction_and_masks(clear, exposed, k, self.epoch, keep, facing)
