@@ -207,3 +207,56 @@ def test_recasts_samples_in_one_pass_equal_the_pieces_they_replace(rng):
     np.testing.assert_array_equal(clear[kept], ((rows >> bit) & 1)[kept] == 1)
     np.testing.assert_array_equal(exposed[kept], ((rows >> (16 + bit)) & 1)[kept] == 1)
     assert clear[~kept].all() and exposed[~kept].all()
+
+
+def _moved_links(background: bool, monkeypatch=None):
+    """A crate moved in the Cornell box the way move_object does it, its shafts' V cast on the worker
+    thread (while the crate's own links are made) or inside the refinement; the links after."""
+    from illusio.radiosity import dynamic
+
+    sol = _crate_in_cornell()
+    move = np.eye(4)
+    move[0, 3] = 0.04
+    group, elements, old_box = dynamic._detach(sol, "crate")
+    sol.hierarchy.transform(elements, move)
+    sol.polygons = sol.polygons.moved(group, move)
+    sol.hierarchy.polygons = sol.polygons
+    new_box = dynamic._object_box(sol, elements)
+    sol.visibility.rebuild(moved=[old_box, new_box])
+    shafts = dynamic._shafts_started(sol, [old_box, new_box], background=background)
+    assert (shafts.recast is not None) == background
+    h = sol.hierarchy
+    dynamic._link_object(sol, h.roots[sol.polygons.group[h.polygon[h.roots]] == group])
+    shafts.wait()
+    redone = shafts.finish()
+    L = sol.links
+    return redone, L.receiver.copy(), L.source.copy(), L.visibility.copy(), L.rays.copy(), sol.visibility.rays
+
+
+def test_the_shafts_cast_on_the_worker_thread_give_what_the_refinement_casts(monkeypatch):
+    """The links whose shafts the moved crate meets, their V cast on the worker thread while the
+    crate's own links are refined (both casting, both asking the probes' shared answers) — and cast
+    at once where numba's threading layer cannot run two kernels together —, end as the same links
+    with the same V and kept rays, and the same rays counted, as when the refinement casts them."""
+    from illusio.radiosity import visibility
+
+    inline = _moved_links(background=False)
+    assert inline[0] > 50
+    for got, want in zip(_moved_links(background=True), inline):
+        np.testing.assert_array_equal(got, want)
+    monkeypatch.setattr(visibility, "_threads_safe", lambda: False)
+    for got, want in zip(_moved_links(background=True), inline):
+        np.testing.assert_array_equal(got, want)
+
+
+def test_a_recast_on_the_worker_thread_in_chunks_equals_one_recast():
+    """recast_in_background's pieces (a few pairs at a time, as memory bounds them) put together give
+    what one recast of all the pairs gives."""
+    sol = _crate_in_cornell()
+    vis, L = sol.visibility, sol.links
+    boxes = [(np.array([0.2, 0.0, 0.2]), np.array([0.45, 0.2, 0.45]))]
+    rows = np.flatnonzero(L.rays >= 0)[:300]
+    want = vis.recast(L.receiver[rows], L.source[rows], L.rays[rows], boxes)
+    got = vis.recast_in_background(L.receiver[rows], L.source[rows], L.rays[rows], boxes, chunk=7).result()
+    for g, w in zip(got, want):
+        np.testing.assert_array_equal(g, w)

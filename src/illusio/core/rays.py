@@ -12,7 +12,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-__all__ = ["cast", "ray_threads"]
+__all__ = ["cast", "commit", "ray_threads"]
 
 #: rays a thread takes at least (a hand-over costs ~50 µs; a ray ~80 ns in the scenes measured)
 MIN_RAYS_PER_THREAD = 4096
@@ -30,6 +30,13 @@ def ray_threads() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not Linux
         return max(1, os.cpu_count() or 1)
+
+
+def commit(scene) -> None:
+    """Build ``scene``'s tree now (the first query does: before queries run on several threads)."""
+    if not scene.is_committed:
+        empty = np.zeros((0, 3), np.float32)
+        scene.run(empty, empty)
 
 
 def cast(scene, origins: np.ndarray, directions: np.ndarray, dists: np.ndarray | None = None, query: str | None = None):
@@ -51,8 +58,7 @@ def cast(scene, origins: np.ndarray, directions: np.ndarray, dists: np.ndarray |
     threads = min(ray_threads(), n // MIN_RAYS_PER_THREAD)
     if threads <= 1:
         return run(slice(0, n))
-    if not scene.is_committed:
-        scene.run(origins[:0], directions[:0])  # the first query builds the tree: once, before the threads
+    commit(scene)  # once, before the threads
     pool = _pools.get(threads) or _pools.setdefault(threads, ThreadPoolExecutor(threads, "illusio-rays"))
     bounds = np.linspace(0, n, threads + 1).astype(np.int64)
     parts = list(pool.map(run, [slice(a, b) for a, b in zip(bounds[:-1], bounds[1:])]))

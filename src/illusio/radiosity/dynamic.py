@@ -7,7 +7,8 @@ point of i to a point of j stays inside them); it meets an object's box when the
 conditions in t have a common solution in [0, 1] (:func:`shaft_meets_box`). Those links are taken
 out and their pairs refined again against the changed scene (kept as they were, split where a new
 shadow makes them partial). The moved, added or removed object's own links are rebuilt from its
-roots; its subdivision is kept. A new lamp links straight to every leaf facing it (the chapter's
+roots; its subdivision is kept (a move casts the shafts' rays on a worker thread meanwhile, and
+refines their pairs after the object's). A new lamp links straight to every leaf facing it (the chapter's
 forced fine level), then refines like any link. The solution is then re-solved from the current B.
 
 The refinement's criterion reads B: an added object's is a guess (its reflectance times the ambient
@@ -19,7 +20,10 @@ Sillion's interactive moves) take the last solution's B — the next move refine
 
 from __future__ import annotations
 
+import dataclasses
 import time
+from concurrent.futures import Future
+from concurrent.futures import wait as futures_wait
 
 import numba
 import numpy as np
@@ -27,7 +31,7 @@ import numpy as np
 from ..core.errors import InputError
 from .clusters import cluster_visibility
 from .polygons import MAX_POLYGONS, Polygons, rectangle
-from .refine import refine
+from .refine import CHUNK, refine
 
 __all__ = ["shaft_meets_box", "add_object", "add_lamp", "move_object", "remove_object"]
 
@@ -148,6 +152,50 @@ def _detach(sol, name: str):
 def _relink_shafts(sol, boxes) -> int:
     """Take out the links whose shaft meets any of ``boxes`` and refine their pairs again. Returns
     how many were redone."""
+    return _shafts_started(sol, boxes, background=False).finish()
+
+
+@dataclasses.dataclass
+class _Shafts:
+    """The links taken out because their shaft meets a box, their V being cast again (a future
+    of :meth:`Visibility.recast_in_background`, or None: cast in the refinement)."""
+
+    sol: object
+    gone: object
+    boxes: list
+    recast: Future | None
+    clusters: int
+
+    def wait(self) -> None:
+        if self.recast is not None:
+            futures_wait([self.recast])
+
+    def finish(self) -> int:
+        """Refine the pairs again with their new V. Returns how many links were redone."""
+        sol, gone = self.sol, self.gone
+        # their ends did not move: F stands, only V is cast again — the rays through the boxes (and
+        # the pair split if it must be)
+        refine(
+            sol.hierarchy,
+            sol.visibility,
+            gone.receiver,
+            gone.source,
+            sol.threshold,
+            sol.min_area,
+            sol.params.criterion,
+            links=sol.links,
+            form_factor=gone.form_factor,
+            rays=gone.rays,
+            boxes=self.boxes,
+            recast=None if self.recast is None else self.recast.result(),
+        )
+        return len(gone) + self.clusters
+
+
+def _shafts_started(sol, boxes, background: bool) -> _Shafts:
+    """Take out the links whose shaft meets any of ``boxes`` (and cast the cluster links' V again);
+    with ``background``, start casting their V on the worker thread (:class:`_Shafts` refines them
+    when asked)."""
     h, L = sol.hierarchy, sol.links
     lo, hi = element_boxes(h, np.arange(len(h)))  # once per element, then per link end
     hit = np.zeros(len(L), bool)
@@ -161,22 +209,11 @@ def _relink_shafts(sol, boxes) -> int:
         hit,
     )
     gone = L.remove(hit)
-    # their ends did not move: F stands, only V is cast again — the rays through the boxes (and the
-    # pair split if it must be)
-    refine(
-        h,
-        sol.visibility,
-        gone.receiver,
-        gone.source,
-        sol.threshold,
-        sol.min_area,
-        sol.params.criterion,
-        links=L,
-        form_factor=gone.form_factor,
-        rays=gone.rays,
-        boxes=boxes,
-    )
-    return len(gone) + _recast_cluster_links(sol, boxes, lo, hi)
+    clusters = _recast_cluster_links(sol, boxes, lo, hi)
+    recast = None
+    if background and len(gone):
+        recast = sol.visibility.recast_in_background(gone.receiver, gone.source, gone.rays, boxes, CHUNK)
+    return _Shafts(sol, gone, list(boxes), recast, clusters)
 
 
 def _recast_cluster_links(sol, boxes, lo, hi) -> int:
@@ -314,8 +351,14 @@ def move_object(sol, name: str, matrix: np.ndarray, tolerance: float = 1e-4, max
     sol.hierarchy.polygons = sol.polygons
     new_box = _object_box(sol, elements)
     sol.visibility.rebuild(moved=[old_box, new_box])
-    _relink_shafts(sol, [old_box, new_box])
+    # the links whose shafts it crosses are cast again on the worker thread while its own are made
+    # here (nothing moves meanwhile: both only add elements and links); theirs are added after its
+    shafts = _shafts_started(sol, [old_box, new_box], background=True)
     roots = h.roots[sol.polygons.group[h.polygon[h.roots]] == group]
-    _link_object(sol, roots)
+    try:
+        _link_object(sol, roots)
+    finally:
+        shafts.wait()
+    shafts.finish()
     # refined against the B it had where it was (the module docstring): no second round
     return _finish(sol, t, "move", tolerance, max_iterations)

@@ -81,25 +81,31 @@ def refine(
     form_factor: np.ndarray | None = None,
     rays: np.ndarray | None = None,
     boxes=(),
+    recast: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> Links:
     """Refine the candidate pairs into links (appended to ``links``, which is returned). ``radiosity``:
     the B estimate of the criterion (default: the hierarchy's). ``form_factor``: the candidates' F
     where already known (links taken out to be tested again after something moved inside ``boxes``,
     their ends unmoved): only V is cast for them, by :meth:`Visibility.recast` from what each kept
-    (``rays``, default none). Elements are created as needed."""
+    (``rays``, default none) — or, where ``recast`` is given, taken from it: (V, rays to keep) of
+    those candidates, recast already (:meth:`Visibility.recast_in_background`). Elements are created
+    as needed."""
     links = Links() if links is None else links
     accepted, made = [], 0
     receivers = np.asarray(receivers, np.int64)
     if form_factor is not None and rays is None:
         rays = np.full(len(receivers), NO_RAYS, np.int64)
-    queue = [(receivers, np.asarray(sources, np.int64), form_factor, rays)]
+    recast_v, recast_rays = (None, None) if recast is None else recast
+    queue = [(receivers, np.asarray(sources, np.int64), form_factor, rays, recast_v, recast_rays)]
     while queue:
-        recv, src, known, kept_rays = queue.pop()
+        recv, src, known, kept_rays, cast_v, cast_rays = queue.pop()
         if len(recv) > CHUNK:  # bounded memory: a round holds k samples × 3 coordinates per pair
-            rest = [None if a is None else a[CHUNK:] for a in (known, kept_rays)]
+            rest = [None if a is None else a[CHUNK:] for a in (known, kept_rays, cast_v, cast_rays)]
             queue.append((recv[CHUNK:], src[CHUNK:], *rest))
             recv, src = recv[:CHUNK], src[:CHUNK]
-            known, kept_rays = [None if a is None else a[:CHUNK] for a in (known, kept_rays)]
+            known, kept_rays, cast_v, cast_rays = [
+                None if a is None else a[:CHUNK] for a in (known, kept_rays, cast_v, cast_rays)
+            ]
         useful = (h.polygon[recv] != h.polygon[src]) & (channel_max(h.reflectance)[recv] > 0)
         some, every = facing_pairs(h.corners, h.normal, h.centre, recv[useful], src[useful])
         kept = np.flatnonzero(useful)[some]
@@ -111,7 +117,10 @@ def refine(
             vis, cast = None, np.full(len(recv), NO_RAYS, np.int64)
         else:
             ff = known[kept]
-            vis, cast = visibility.recast(recv, src, kept_rays[kept], boxes)
+            if cast_v is not None:
+                vis, cast = cast_v[kept], cast_rays[kept]
+            else:
+                vis, cast = visibility.recast(recv, src, kept_rays[kept], boxes)
         transfer = transfer_estimate(h, recv, src, ff, radiosity)
         area_r, area_s = h.area[recv], h.area[src]
         can_r, can_s = area_r / 4 >= min_area, area_s / 4 >= min_area
@@ -149,7 +158,7 @@ def refine(
         new_recv = np.r_[np.repeat(recv[split_src], 4), (first_r[:, None] + quad).reshape(-1)]
         new_src = np.r_[(first_s[:, None] + quad).reshape(-1), np.repeat(src[split_recv], 4)]
         if len(new_recv):
-            queue.append((new_recv, new_src, None, None))
+            queue.append((new_recv, new_src, None, None, None, None))
     if accepted:
         links.extend(*(np.concatenate(part) for part in zip(*accepted)))
     return links

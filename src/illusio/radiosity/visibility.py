@@ -28,12 +28,14 @@ update keeps its shafts' contents for the same reason.
 from __future__ import annotations
 
 import dataclasses
+import threading
+from concurrent.futures import Future, ThreadPoolExecutor
 
 import numba
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.rays import cast
+from ..core.rays import cast, commit
 from .formfactor import point_polygon
 from .hierarchy import Hierarchy, point_on
 
@@ -421,7 +423,7 @@ def _faces_front(directions, receiver_normal, source_normal, i, p):
     return up > 0 and down < 0
 
 
-@numba.njit(parallel=True, cache=True)
+@numba.njit(parallel=True, cache=True, nogil=True)
 def _recast_samples(
     receivers, sources, samples, seed, point_seed, corners, triangle, receiver_normal, source_normal, offset,
     rays, epoch, box_lo, box_hi, origins, directions, dists, up, clear, exposed, facing, cast_ray, cast_probe,
@@ -497,7 +499,7 @@ def _front_to_front(directions, receiver_normal, source_normal, samples):
     return out
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, nogil=True)
 def _fraction_and_masks(clear, exposed, samples, epoch, keep, facing):
     """V per pair (the clear fraction of its samples that are exposed and ``facing``, front to
     front; 0 when none is) and the masks to keep (clear and exposed bits)."""
@@ -543,6 +545,17 @@ class LinkSamples:
     source_points: np.ndarray
 
 
+_WORKER: ThreadPoolExecutor | None = None
+
+
+def _threads_safe() -> bool:
+    """Can numba's parallel kernels run on two threads at once? (omp and tbb can; workqueue aborts)"""
+    try:
+        return numba.threading_layer() in ("omp", "tbb")
+    except ValueError:  # no parallel kernel has run yet: the layer is not chosen
+        return False
+
+
 class Visibility:
     """Ray casting against the polygons of a hierarchy (rebuilt with :meth:`rebuild` when they move)."""
 
@@ -557,6 +570,8 @@ class Visibility:
         self.rng = np.random.default_rng(seed)
         self.rays = 0
         self.epoch, self._lifts = 0, None
+        # exposed_points' cache and the ray count are shared with recasts on the worker thread
+        self._lock = threading.RLock()
         #: counts the rebuilds: what was measured against the scene before (reach) is stale after
         self.version = 0
         self.rebuild()
@@ -662,7 +677,7 @@ class Visibility:
         rows = rows[exposed[rows]]
         clear = np.zeros(n * k, np.bool_)
         clear[rows] = np.asarray(cast(self.scene, origins[rows], directions[rows], dists[rows], "OCCLUDED")) < 0
-        self.rays += len(rows)
+        self._count(len(rows))
         visibility, _ = _fraction_and_masks(clear, exposed, k, self.epoch, False, facing)
         return visibility
 
@@ -711,7 +726,7 @@ class Visibility:
         (The test the links' V makes of their receiver's samples, for callers with their own points.)"""
         if self.empty or not len(origins):
             return np.ones(len(origins), bool)
-        self.rays += len(origins)
+        self._count(len(origins))
         return self._probe(np.ascontiguousarray(origins, np.float32), np.ascontiguousarray(normals, np.float32))
 
     def exposed_points(self, elements, slots, origins, up, rows=None) -> np.ndarray:
@@ -720,22 +735,27 @@ class Visibility:
         ``elements[i]``'s own grid (element_grids), or, with ``slots`` None, point i % k of
         elements[i // k] (k samples per element given). Each point is probed once against this
         scene, its answer kept for every later link that starts there. Returns (len(rows),) bool."""
-        elements, per = np.asarray(elements, np.int64), 0
-        if slots is None:
-            per, slots = len(origins) // max(len(elements), 1), np.zeros(0, np.uint8)
-        rows = np.arange(len(origins)) if rows is None else np.asarray(rows, np.int64)
-        if self.empty or self.samples > CACHED_POINTS or not len(rows):
-            return self.exposed(origins[rows], up[rows])
-        n = len(self.hierarchy)
-        if len(self._exposure) < n:
-            grown = np.zeros(max(n, 2 * len(self._exposure)), np.uint32)
-            grown[: len(self._exposure)] = self._exposure
-            self._exposure = grown
-        first = _claim_points(self._exposure, elements, slots, per, rows)
-        if len(first):
-            probed = self.exposed(origins[first], up[first])
-            _store_points(self._exposure, elements, slots, per, first, probed)
-        return _read_points(self._exposure, elements, slots, per, rows)
+        with self._lock:
+            elements, per = np.asarray(elements, np.int64), 0
+            if slots is None:
+                per, slots = len(origins) // max(len(elements), 1), np.zeros(0, np.uint8)
+            rows = np.arange(len(origins)) if rows is None else np.asarray(rows, np.int64)
+            if self.empty or self.samples > CACHED_POINTS or not len(rows):
+                return self.exposed(origins[rows], up[rows])
+            n = len(self.hierarchy)
+            if len(self._exposure) < n:
+                grown = np.zeros(max(n, 2 * len(self._exposure)), np.uint32)
+                grown[: len(self._exposure)] = self._exposure
+                self._exposure = grown
+            first = _claim_points(self._exposure, elements, slots, per, rows)
+            if len(first):
+                probed = self.exposed(origins[first], up[first])
+                _store_points(self._exposure, elements, slots, per, first, probed)
+            return _read_points(self._exposure, elements, slots, per, rows)
+
+    def _count(self, rays: int) -> None:
+        with self._lock:
+            self.rays += rays
 
     def point_states(self) -> np.ndarray:
         """(n,) uint64: every element's element_states (ids are never reused: grown, never redone)."""
@@ -766,7 +786,7 @@ class Visibility:
         origins = (points + self.offset * normal[:, None]).reshape(-1, 3).astype(np.float32)
         directions = directions.reshape(-1, 3).astype(np.float32)
         hit = cast(self.scene, origins, directions)
-        self.rays += n * rays
+        self._count(n * rays)
         prim = np.asarray(hit["primID"])
         facing = (np.asarray(hit["Ng"]) * directions).sum(axis=1) < 0
         seen = (prim >= 0) & (facing | self.two_sided[np.maximum(prim, 0)]) & self.reflects[np.maximum(prim, 0)]
@@ -801,7 +821,7 @@ class Visibility:
                 directions = cosine_directions(normal, uv_rays).reshape(-1, 3).astype(np.float32)
                 origins = (h.sample_points(part, uv_points) + self.offset * normal[:, None]).reshape(-1, 3)
                 hit = cast(self.scene, origins.astype(np.float32), directions)
-                self.rays += len(origins)
+                self._count(len(origins))
                 far = (np.asarray(hit["primID"]) < 0) | (np.asarray(hit["tfar"]) > OPEN_DISTANCE * self.extent)
                 self._open[part] = far.reshape(len(part), k).mean(axis=1)
         return self._open[elements]
@@ -814,6 +834,38 @@ class Visibility:
         fresh = [_unmeasured(self._open, np.asarray(members, np.int64), rows) for members, rows in groups]
         self.openness(np.concatenate(fresh) if fresh else np.zeros(0, np.int64))
         return np.ones(len(self.hierarchy)) if self.empty or not len(self._open) else self._open
+
+    def recast_in_background(self, receivers, sources, rays, boxes, chunk: int) -> Future:
+        """:meth:`recast` on a worker thread, ``chunk`` pairs at a time (bounded memory), while the
+        caller goes on (a moved object's own links: the worker's kernels and rays hold no lock, so
+        the two share the cores; what they share — the probes' answers, the ray count — is
+        locked). A future of (V, rays to keep) for every pair. Nothing may move, split or rebuild
+        the scene's polygons until it is done; elements may be added (a refinement). Run at once
+        where numba's threading layer is not thread-safe (workqueue)."""
+        receivers, sources = np.asarray(receivers, np.int64), np.asarray(sources, np.int64)
+        rays = np.asarray(rays, np.int64)
+        boxes = list(boxes)
+
+        def run():
+            parts = [
+                self.recast(receivers[at : at + chunk], sources[at : at + chunk], rays[at : at + chunk], boxes)
+                for at in range(0, len(receivers), chunk)
+            ]
+            if not parts:
+                return np.zeros(0), np.zeros(0, np.int64)
+            return np.concatenate([v for v, _ in parts]), np.concatenate([r for _, r in parts])
+
+        if not _threads_safe():
+            done: Future = Future()
+            done.set_result(run())
+            return done
+        for scene in (self.scene, self._backs):
+            if scene is not None and not self.empty:
+                commit(scene)  # the first query builds the tree: here, not on two threads at once
+        global _WORKER
+        if _WORKER is None:
+            _WORKER = ThreadPoolExecutor(1, "illusio-recast")
+        return _WORKER.submit(run)
 
     def recast(
         self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list
@@ -866,7 +918,7 @@ class Visibility:
             chosen = np.flatnonzero(cast_probe)
             if len(chosen):
                 exposed[chosen] = self.exposed_points(receivers, None, origins, up, chosen)
-            self.rays += int(cast_ray.sum())
+            self._count(int(cast_ray.sum()))
         else:
             clear[:], exposed[:] = True, True
         return _fraction_and_masks(clear, exposed, k, self.epoch, keep, facing)
