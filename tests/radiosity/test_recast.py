@@ -238,13 +238,13 @@ def test_the_shafts_cast_on_the_worker_thread_give_what_the_refinement_casts(mon
     crate's own links are refined (both casting, both asking the probes' shared answers) — and cast
     at once where numba's threading layer cannot run two kernels together —, end as the same links
     with the same V and kept rays, and the same rays counted, as when the refinement casts them."""
-    from illusio.radiosity import visibility
+    from illusio.core import background
 
     inline = _moved_links(background=False)
     assert inline[0] > 50
     for got, want in zip(_moved_links(background=True), inline):
         np.testing.assert_array_equal(got, want)
-    monkeypatch.setattr(visibility, "_threads_safe", lambda: False)
+    monkeypatch.setattr(background, "threads_safe", lambda: False)
     for got, want in zip(_moved_links(background=True), inline):
         np.testing.assert_array_equal(got, want)
 

@@ -29,11 +29,12 @@ from __future__ import annotations
 
 import dataclasses
 import threading
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Future
 
 import numba
 import numpy as np
 
+from ..core import background
 from ..core.errors import InputError
 from ..core.rays import cast, commit
 from .formfactor import point_polygon
@@ -545,17 +546,6 @@ class LinkSamples:
     source_points: np.ndarray
 
 
-_WORKER: ThreadPoolExecutor | None = None
-
-
-def _threads_safe() -> bool:
-    """Can numba's parallel kernels run on two threads at once? (omp and tbb can; workqueue aborts)"""
-    try:
-        return numba.threading_layer() in ("omp", "tbb")
-    except ValueError:  # no parallel kernel has run yet: the layer is not chosen
-        return False
-
-
 class Visibility:
     """Ray casting against the polygons of a hierarchy (rebuilt with :meth:`rebuild` when they move)."""
 
@@ -836,12 +826,11 @@ class Visibility:
         return np.ones(len(self.hierarchy)) if self.empty or not len(self._open) else self._open
 
     def recast_in_background(self, receivers, sources, rays, boxes, chunk: int) -> Future:
-        """:meth:`recast` on a worker thread, ``chunk`` pairs at a time (bounded memory), while the
-        caller goes on (a moved object's own links: the worker's kernels and rays hold no lock, so
-        the two share the cores; what they share — the probes' answers, the ray count — is
-        locked). A future of (V, rays to keep) for every pair. Nothing may move, split or rebuild
-        the scene's polygons until it is done; elements may be added (a refinement). Run at once
-        where numba's threading layer is not thread-safe (workqueue)."""
+        """:meth:`recast` on the worker thread (:mod:`illusio.core.background`), ``chunk`` pairs at a
+        time (bounded memory), while the caller goes on (a moved object's own links are made
+        meanwhile; what the two share — the probes' answers, the ray count — is locked). A future of
+        (V, rays to keep) for every pair. Nothing may move, split or rebuild the scene's polygons
+        until it is done; elements may be added (a refinement)."""
         receivers, sources = np.asarray(receivers, np.int64), np.asarray(sources, np.int64)
         rays = np.asarray(rays, np.int64)
         boxes = list(boxes)
@@ -855,17 +844,11 @@ class Visibility:
                 return np.zeros(0), np.zeros(0, np.int64)
             return np.concatenate([v for v, _ in parts]), np.concatenate([r for _, r in parts])
 
-        if not _threads_safe():
-            done: Future = Future()
-            done.set_result(run())
-            return done
-        for scene in (self.scene, self._backs):
-            if scene is not None and not self.empty:
-                commit(scene)  # the first query builds the tree: here, not on two threads at once
-        global _WORKER
-        if _WORKER is None:
-            _WORKER = ThreadPoolExecutor(1, "illusio-recast")
-        return _WORKER.submit(run)
+        if background.threads_safe():
+            for scene in (self.scene, self._backs):
+                if scene is not None and not self.empty:
+                    commit(scene)  # the first query builds the tree: here, not on two threads at once
+        return background.submit(run)
 
     def recast(
         self, receivers: np.ndarray, sources: np.ndarray, rays: np.ndarray, boxes: list
