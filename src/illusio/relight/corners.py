@@ -107,6 +107,20 @@ def shown_elements(s) -> np.ndarray:
     return shown
 
 
+def geometry_key(s) -> tuple:
+    """What the lamps' basis is kept under: the elements', links' and lamps' counts. Two geometries
+    can share it (a crate dragged to where the counts come out the same): every edit of the
+    geometry drops the basis (:func:`geometry_changed`), so a key met again is never a stale one."""
+    sol = s.solution
+    return (len(sol.hierarchy), len(sol.links), tuple(sol.lamp_names))
+
+
+def geometry_changed(s) -> None:
+    """After an edit of the geometry (a virtual lamp or object added or moved): the lamps' basis was
+    of the geometry before; the next edit gathers directly and the one after makes it again."""
+    s._basis_key = None
+
+
 def corner_radiosity(s, shown: np.ndarray | None = None):
     """The leaf mesh with B at the corners under ``s.scales``. With the links kept, B is linear in
     the lamps' exitances, so the corners' B are gathered once per lamp (and once with every lamp
@@ -114,7 +128,7 @@ def corner_radiosity(s, shown: np.ndarray | None = None):
     virtual object or lamp) the first edit gathers directly and the next makes the basis again."""
     sol = s.solution
     h = sol.hierarchy
-    key = (len(h), len(sol.links), tuple(s.lamp_names))
+    key = geometry_key(s)
     if getattr(s, "_basis_key", None) != key and getattr(s, "_geometry_key", None) != key:
         # the geometry just changed (a virtual object moved): one gather now; the basis waits for
         # a second edit of the same geometry, so dragging an object does not pay for it each step

@@ -46,8 +46,7 @@ class Display:
 
     def prepare_edits(self, s) -> None:
         # the lamps' basis: part of the preparation, so the first edit is as fast as the next
-        sol = s.solution
-        s._geometry_key = (len(sol.hierarchy), len(sol.links), tuple(s.lamp_names))
+        s._geometry_key = corners.geometry_key(s)
         corners.corner_radiosity(s)
 
     def image(self, s) -> np.ndarray:

@@ -12,6 +12,7 @@ from ..radiosity import (
     Polygons,
     quads_from_triangles,
 )
+from .corners import geometry_changed
 from .params import VIRTUAL_LAMP_SIZE
 
 
@@ -28,6 +29,7 @@ def add_lamp(
     require_elements(s, "a virtual lamp")
     start = time.perf_counter()
     s.solution.add_lamp(centre, (size, 0, 0), (0, 0, size), exitance, name)
+    geometry_changed(s)
     s.virtual_groups.add(s.solution.polygons.names.index(name))
     s.times["add lamp"] = time.perf_counter() - start
     return s.image()
@@ -51,6 +53,7 @@ def add_object(s, mesh, name: str, at=(0.0, 0.0, 0.0), reflectance=(0.6, 0.6, 0.
         [name],
     )
     s.solution.add_object(polygons, name)
+    geometry_changed(s)
     s.virtual_groups.add(s.solution.polygons.names.index(name))
     s.times["add object"] = time.perf_counter() - start
     return s.image()
@@ -65,5 +68,6 @@ def move_object(s, name: str, offset) -> np.ndarray:
     move = np.eye(4)
     move[:3, 3] = offset
     s.solution.move_object(name, move)
+    geometry_changed(s)
     s.times["move object"] = time.perf_counter() - start
     return s.image()

@@ -167,8 +167,7 @@ class RelightSession:
         s.strategy = display_for(s.params.method)
         s.display = DisplayPass(s.ctx)
         s._gather = corners.corner_gather()
-        sol = s.solution
-        s._geometry_key = (len(sol.hierarchy), len(sol.links), tuple(sol.lamp_names))
+        s._geometry_key = corners.geometry_key(s)
         if saved.basis is not None:
             s._basis_key, s._basis, s._basis_mesh = saved.basis
         s._prepare_rims()  # not saved: made again from the photograph and the model
