@@ -9,6 +9,7 @@ at once, on the caller's thread.
 
 from __future__ import annotations
 
+import os
 from concurrent.futures import Future, ThreadPoolExecutor
 
 import numba
@@ -16,6 +17,14 @@ import numba
 __all__ = ["submit", "threads_safe"]
 
 _worker: ThreadPoolExecutor | None = None
+
+
+def _forget_worker() -> None:
+    global _worker
+    _worker = None  # a forked child has none of its parent's threads: it starts its own
+
+
+os.register_at_fork(after_in_child=_forget_worker)
 
 
 def threads_safe() -> bool:
