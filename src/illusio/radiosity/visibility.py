@@ -844,10 +844,9 @@ class Visibility:
                 return np.zeros(0), np.zeros(0, np.int64)
             return np.concatenate([v for v, _ in parts]), np.concatenate([r for _, r in parts])
 
-        if background.threads_safe():
-            for scene in (self.scene, self._backs):
-                if scene is not None and not self.empty:
-                    commit(scene)  # the first query builds the tree: here, not on two threads at once
+        for scene in (self.scene, self._backs):
+            if scene is not None and not self.empty:
+                commit(scene)  # the first query builds the tree: here, not on two threads at once
         return background.submit(run)
 
     def recast(
