@@ -399,7 +399,8 @@ def _slab(o0, o1, o2, d0, d1, d2, far, lo, hi):
             if o < lo[c] or o > hi[c]:
                 return False
             continue
-        t0, t1 = (lo[c] - o) / d, (hi[c] - o) / d
+        inverse = 1.0 / d  # one division, not two
+        t0, t1 = (lo[c] - o) * inverse, (hi[c] - o) * inverse
         if t0 > t1:
             t0, t1 = t1, t0
         near, stop = max(near, t0), min(stop, t1)
